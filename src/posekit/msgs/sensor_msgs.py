@@ -1,0 +1,107 @@
+"""sensor_msgs: Image, CameraInfo, Imu, JointState, RegionOfInterest.
+
+Bulk fields are numpy arrays, never per-element Python lists: ``Image.data`` is a 1-D uint8
+array (or bytes), covariances and the camera matrices are float64 arrays of the ROS length.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from posekit.msgs._base import array_aware_eq
+from posekit.msgs.geometry_msgs import Quaternion, Vector3
+from posekit.msgs.std_msgs import Header
+
+__all__ = ["CameraInfo", "Image", "Imu", "JointState", "RegionOfInterest"]
+
+
+def _f64(n: int) -> npt.NDArray[np.float64]:
+    return np.zeros(n, dtype=np.float64)
+
+
+def _empty_f64() -> npt.NDArray[np.float64]:
+    return np.zeros(0, dtype=np.float64)
+
+
+def _empty_u8() -> npt.NDArray[np.uint8]:
+    return np.zeros(0, dtype=np.uint8)
+
+
+@dataclass(slots=True, eq=False)
+class Image:
+    """sensor_msgs/msg/Image: ``data`` holds ``height * step`` bytes as a uint8 array."""
+
+    header: Header = field(default_factory=Header)
+    height: int = 0
+    width: int = 0
+    encoding: str = ""
+    is_bigendian: int = 0
+    step: int = 0
+    data: npt.NDArray[np.uint8] = field(default_factory=_empty_u8)
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/Image"
+    __eq__ = array_aware_eq
+
+
+@dataclass(slots=True)
+class RegionOfInterest:
+    """sensor_msgs/msg/RegionOfInterest."""
+
+    x_offset: int = 0
+    y_offset: int = 0
+    height: int = 0
+    width: int = 0
+    do_rectify: bool = False
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/RegionOfInterest"
+
+
+@dataclass(slots=True, eq=False)
+class CameraInfo:
+    """sensor_msgs/msg/CameraInfo: intrinsics ``k`` (3x3), ``r`` (3x3), ``p`` (3x4), row-major."""
+
+    header: Header = field(default_factory=Header)
+    height: int = 0
+    width: int = 0
+    distortion_model: str = ""
+    d: npt.NDArray[np.float64] = field(default_factory=_empty_f64)
+    k: npt.NDArray[np.float64] = field(default_factory=lambda: _f64(9))
+    r: npt.NDArray[np.float64] = field(default_factory=lambda: _f64(9))
+    p: npt.NDArray[np.float64] = field(default_factory=lambda: _f64(12))
+    binning_x: int = 0
+    binning_y: int = 0
+    roi: RegionOfInterest = field(default_factory=RegionOfInterest)
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/CameraInfo"
+    __eq__ = array_aware_eq
+
+
+@dataclass(slots=True, eq=False)
+class Imu:
+    """sensor_msgs/msg/Imu: orientation, angular velocity (rad/s), linear acceleration (m/s²)."""
+
+    header: Header = field(default_factory=Header)
+    orientation: Quaternion = field(default_factory=Quaternion)
+    orientation_covariance: npt.NDArray[np.float64] = field(default_factory=lambda: _f64(9))
+    angular_velocity: Vector3 = field(default_factory=Vector3)
+    angular_velocity_covariance: npt.NDArray[np.float64] = field(default_factory=lambda: _f64(9))
+    linear_acceleration: Vector3 = field(default_factory=Vector3)
+    linear_acceleration_covariance: npt.NDArray[np.float64] = field(
+        default_factory=lambda: _f64(9)
+    )
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/Imu"
+    __eq__ = array_aware_eq
+
+
+@dataclass(slots=True, eq=False)
+class JointState:
+    """sensor_msgs/msg/JointState: positions (rad), velocities (rad/s), efforts per joint name."""
+
+    header: Header = field(default_factory=Header)
+    name: list[str] = field(default_factory=list)
+    position: npt.NDArray[np.float64] = field(default_factory=_empty_f64)
+    velocity: npt.NDArray[np.float64] = field(default_factory=_empty_f64)
+    effort: npt.NDArray[np.float64] = field(default_factory=_empty_f64)
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/JointState"
+    __eq__ = array_aware_eq

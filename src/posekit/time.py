@@ -1,0 +1,198 @@
+"""Time and Duration modelled on rclpy: integer nanoseconds inside, never float seconds.
+
+``Time()`` is time zero, which tf2 lookups read as "the latest common time".
+"""
+
+from __future__ import annotations
+
+import enum
+from typing import Any, overload
+
+from posekit.msgs import builtin_interfaces
+
+__all__ = ["ClockType", "Duration", "Time"]
+
+_NS_PER_S = 1_000_000_000
+
+
+class ClockType(enum.IntEnum):
+    """Which clock a Time was read from (values as rcl's ``rcl_clock_type_t``)."""
+
+    UNINITIALIZED = 0
+    ROS_TIME = 1
+    SYSTEM_TIME = 2
+    STEADY_TIME = 3
+
+
+def _to_ns(seconds: float | int, nanoseconds: int) -> int:
+    if isinstance(seconds, int):
+        return seconds * _NS_PER_S + int(nanoseconds)
+    # Split off whole seconds first so large float stamps do not lose nanoseconds.
+    whole = int(seconds)
+    return whole * _NS_PER_S + round((seconds - whole) * _NS_PER_S) + int(nanoseconds)
+
+
+class Duration:
+    """A signed span of time in integer nanoseconds (rclpy.duration.Duration)."""
+
+    __slots__ = ("_ns",)
+
+    def __init__(self, *, seconds: float | int = 0, nanoseconds: int = 0) -> None:
+        self._ns = _to_ns(seconds, nanoseconds)
+
+    @property
+    def nanoseconds(self) -> int:
+        """The span in nanoseconds."""
+        return self._ns
+
+    def to_seconds(self) -> float:
+        """The span in seconds (float; only for display and arithmetic, not for keys)."""
+        return self._ns / _NS_PER_S
+
+    def to_msg(self) -> builtin_interfaces.Duration:
+        """As builtin_interfaces/Duration (sec floored, nanosec in [0, 1e9))."""
+        sec, nanosec = divmod(self._ns, _NS_PER_S)
+        return builtin_interfaces.Duration(sec=sec, nanosec=nanosec)
+
+    @classmethod
+    def from_msg(cls, msg: Any) -> Duration:
+        """From anything with ``sec`` and ``nanosec`` fields."""
+        return cls(seconds=int(msg.sec), nanoseconds=int(msg.nanosec))
+
+    def __repr__(self) -> str:
+        return f"Duration(nanoseconds={self._ns})"
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Duration):
+            return self._ns == other._ns
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash(("Duration", self._ns))
+
+    def __lt__(self, other: Duration) -> bool:
+        return self._ns < other._ns
+
+    def __le__(self, other: Duration) -> bool:
+        return self._ns <= other._ns
+
+    def __gt__(self, other: Duration) -> bool:
+        return self._ns > other._ns
+
+    def __ge__(self, other: Duration) -> bool:
+        return self._ns >= other._ns
+
+    def __add__(self, other: Duration) -> Duration:
+        if isinstance(other, Duration):
+            return Duration(nanoseconds=self._ns + other._ns)
+        return NotImplemented
+
+    def __sub__(self, other: Duration) -> Duration:
+        if isinstance(other, Duration):
+            return Duration(nanoseconds=self._ns - other._ns)
+        return NotImplemented
+
+    def __neg__(self) -> Duration:
+        return Duration(nanoseconds=-self._ns)
+
+    def __mul__(self, factor: float) -> Duration:
+        return Duration(nanoseconds=round(self._ns * factor))
+
+    __rmul__ = __mul__
+
+
+class Time:
+    """A point in time in integer nanoseconds (rclpy.time.Time). Never negative."""
+
+    __slots__ = ("_clock_type", "_ns")
+
+    def __init__(
+        self,
+        *,
+        seconds: float | int = 0,
+        nanoseconds: int = 0,
+        clock_type: ClockType = ClockType.SYSTEM_TIME,
+    ) -> None:
+        ns = _to_ns(seconds, nanoseconds)
+        if ns < 0:
+            raise ValueError(f"Time cannot be negative, got {ns} ns")
+        self._ns = ns
+        self._clock_type = ClockType(clock_type)
+
+    @property
+    def nanoseconds(self) -> int:
+        """Nanoseconds since the clock's epoch."""
+        return self._ns
+
+    @property
+    def clock_type(self) -> ClockType:
+        """The clock this time belongs to."""
+        return self._clock_type
+
+    def seconds_nanoseconds(self) -> tuple[int, int]:
+        """Whole seconds and the remaining nanoseconds."""
+        return divmod(self._ns, _NS_PER_S)
+
+    def to_msg(self) -> builtin_interfaces.Time:
+        """As builtin_interfaces/Time."""
+        sec, nanosec = divmod(self._ns, _NS_PER_S)
+        return builtin_interfaces.Time(sec=sec, nanosec=nanosec)
+
+    @classmethod
+    def from_msg(cls, msg: Any, clock_type: ClockType = ClockType.ROS_TIME) -> Time:
+        """From anything with ``sec`` and ``nanosec`` fields (rclpy's default clock is ROS_TIME)."""
+        return cls(seconds=int(msg.sec), nanoseconds=int(msg.nanosec), clock_type=clock_type)
+
+    def __repr__(self) -> str:
+        return f"Time(nanoseconds={self._ns}, clock_type={self._clock_type.name})"
+
+    def _check(self, other: Time) -> None:
+        if self._clock_type != other._clock_type:
+            raise TypeError(
+                f"cannot compare times with different clock types: "
+                f"{self._clock_type.name} vs {other._clock_type.name}"
+            )
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Time):
+            self._check(other)
+            return self._ns == other._ns
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash((self._ns, int(self._clock_type)))
+
+    def __lt__(self, other: Time) -> bool:
+        self._check(other)
+        return self._ns < other._ns
+
+    def __le__(self, other: Time) -> bool:
+        self._check(other)
+        return self._ns <= other._ns
+
+    def __gt__(self, other: Time) -> bool:
+        self._check(other)
+        return self._ns > other._ns
+
+    def __ge__(self, other: Time) -> bool:
+        self._check(other)
+        return self._ns >= other._ns
+
+    def __add__(self, other: Duration) -> Time:
+        if isinstance(other, Duration):
+            return Time(nanoseconds=self._ns + other.nanoseconds, clock_type=self._clock_type)
+        return NotImplemented
+
+    __radd__ = __add__
+
+    @overload
+    def __sub__(self, other: Time) -> Duration: ...
+    @overload
+    def __sub__(self, other: Duration) -> Time: ...
+    def __sub__(self, other: Time | Duration) -> Time | Duration:
+        if isinstance(other, Time):
+            self._check(other)
+            return Duration(nanoseconds=self._ns - other._ns)
+        if isinstance(other, Duration):
+            return Time(nanoseconds=self._ns - other.nanoseconds, clock_type=self._clock_type)
+        return NotImplemented
