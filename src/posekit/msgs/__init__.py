@@ -17,13 +17,34 @@ from posekit.msgs import (
     std_msgs,
     tf2_msgs,
 )
+from posekit.msgs.cdr import from_cdr, to_cdr, type_hash_rihs01
+from posekit.msgs.errors import (
+    CdrError,
+    ImageConversionError,
+    MessageError,
+    UnknownMessageTypeError,
+)
+from posekit.msgs.image import image_to_numpy, numpy_to_image
+from posekit.msgs.registry import MESSAGE_CLASSES, get_message_class, message_type_name
 
 __all__ = [
+    "MESSAGE_CLASSES",
+    "CdrError",
+    "ImageConversionError",
+    "MessageError",
+    "UnknownMessageTypeError",
     "builtin_interfaces",
+    "from_cdr",
     "geometry_msgs",
+    "get_message_class",
+    "image_to_numpy",
+    "message_type_name",
     "nav_msgs",
+    "numpy_to_image",
     "rosgraph_msgs",
     "sensor_msgs",
     "std_msgs",
     "tf2_msgs",
+    "to_cdr",
+    "type_hash_rihs01",
 ]

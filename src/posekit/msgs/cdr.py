@@ -1,0 +1,418 @@
+"""ROS 2 CDR (XCDR1, little endian, 4-byte encapsulation header ``00 01 00 00``) for messages.
+
+``to_cdr(msg)`` produces exactly the bytes that rmw (Fast-CDR) and rosbags emit;
+``from_cdr(data, msg_type)`` decodes them into posekit's message dataclasses. The
+definitions and the generated (de)serializers are rosbags' (``Stores.ROS2_JAZZY``), loaded
+lazily the first time a CDR function runs, so ``import posekit.msgs`` needs numpy only.
+
+How the two libraries meet (no per-message conversion step):
+
+* serialization reads fields by attribute name, so posekit messages, rosbags messages and
+  any duck-typed object with the ROS field names serialize directly. Array fields are
+  checked first (dtype, length, contiguity); a list, ``bytes`` or wrongly typed array is
+  converted on a private proxy, never by mutating the caller's message.
+* deserialization builds posekit's classes directly: the private typestore's class table
+  points at posekit's dataclasses, whose positional field order equals the ROS order.
+  Types posekit does not define (any other Jazzy type) decode to rosbags' classes.
+* a message whose last field is a byte sequence (``sensor_msgs/Image``) is serialized as
+  the rosbags encoding of its small prefix plus one ``bytes.join`` with the pixel buffer:
+  a single copy of the payload (measured in ``benchmarks/runtime_cdr.py``).
+
+Decoded array fields (``Image.data``, covariances, ``CameraInfo.k``...) are zero-copy
+numpy views into ``data``: read-only when ``data`` is ``bytes``. Copy them to modify.
+Errors raise :class:`posekit.msgs.errors.CdrError` with the reason.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import struct
+import threading
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from posekit.msgs.errors import CdrError, UnknownMessageTypeError
+from posekit.msgs.registry import MESSAGE_CLASSES, normalize_type_name
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+__all__ = ["CDR_HEADER_LE", "from_cdr", "get_typestore", "to_cdr", "type_hash_rihs01"]
+
+#: Encapsulation header of every CDR payload posekit emits (CDR_LE, options 0).
+CDR_HEADER_LE = b"\x00\x01\x00\x00"
+
+_EMPTY_U8 = np.zeros(0, dtype=np.uint8)
+_U32 = struct.Struct("<I")
+_SER_ERRORS = (struct.error, TypeError, ValueError, AttributeError, OverflowError, IndexError)
+_deser_errors: tuple[type[BaseException], ...] = (
+    struct.error,
+    TypeError,
+    ValueError,
+    UnicodeDecodeError,
+    IndexError,
+    OverflowError,
+    AttributeError,
+)
+
+_lock = threading.Lock()
+_store: Any = None
+_codecs: dict[str, _Codec] = {}
+
+# Plan entry kinds for array checking.
+_ARR, _MSG, _SEQ = 0, 1, 2
+
+
+@dataclass(slots=True)
+class _Plan:
+    """Which fields of a type (transitively) hold numeric arrays that need checking."""
+
+    fields: tuple[str, ...]
+    entries: tuple[tuple[int, str, Any, int | None], ...]
+
+
+@dataclass(slots=True)
+class _Codec:
+    typename: str
+    getsize: Callable[..., int]
+    serialize: Callable[..., int]
+    deserialize: Callable[..., tuple[Any, int]]
+    cls: type[Any]
+    plan: _Plan | None
+    tail_field: str | None  # last field, when it is an unbounded uint8/byte/char sequence
+
+
+def get_typestore() -> Any:
+    """Return posekit's private rosbags ``Typestore`` (ROS 2 Jazzy definitions).
+
+    Its class table maps posekit's message types to posekit's dataclasses. Use it for
+    ``hash_rihs01``, ``generate_msgdef`` and similar; do not register conflicting types.
+    """
+    global _store, _deser_errors
+    if _store is None:
+        with _lock:
+            if _store is None:
+                from rosbags.serde import SerdeError
+
+                _deser_errors = (*_deser_errors, SerdeError)
+                _store = _build_store()
+    return _store
+
+
+def _build_store() -> Any:
+    from rosbags.typesys import Stores
+    from rosbags.typesys import get_typestore as rosbags_typestore
+    from rosbags.typesys.base import normalize_fieldname
+
+    store = rosbags_typestore(Stores.ROS2_JAZZY)  # a fresh instance: ours to modify
+    for name, cls in MESSAGE_CLASSES.items():
+        ros_fields = [normalize_fieldname(f) for f, _ in store.fielddefs[name][1]]
+        ours = [f.name for f in dataclasses.fields(cls)]
+        if ros_fields != ours:  # positional construction relies on the same order
+            raise RuntimeError(f"{cls.__qualname__} fields {ours} differ from ROS {ros_fields}")
+        store.types[name] = cls
+    return store
+
+
+def _make_plan(store: Any, typename: str, cache: dict[str, _Plan | None]) -> _Plan | None:
+    from rosbags.interfaces import Nodetype
+    from rosbags.serde.utils import ndtype
+    from rosbags.typesys.base import normalize_fieldname
+
+    if typename in cache:
+        return cache[typename]
+    cache[typename] = None  # recursion guard
+    entries: list[tuple[int, str, Any, int | None]] = []
+    names: list[str] = []
+    for raw_name, desc in store.fielddefs[typename][1]:
+        fname = normalize_fieldname(raw_name)
+        names.append(fname)
+        kind = desc[0]
+        if kind == Nodetype.NAME:
+            sub = _make_plan(store, desc[1], cache)
+            if sub is not None:
+                entries.append((_MSG, fname, sub, None))
+        elif kind in (Nodetype.ARRAY, Nodetype.SEQUENCE):
+            (subkind, subinfo), count = desc[1]
+            if subkind == Nodetype.BASE:
+                if subinfo[0] != "string":
+                    dtype = np.dtype(ndtype(subinfo[0]))
+                    length = count if kind == Nodetype.ARRAY else None
+                    entries.append((_ARR, fname, dtype, length))
+            else:
+                sub = _make_plan(store, subinfo, cache)
+                if sub is not None:
+                    entries.append((_SEQ, fname, sub, None))
+    plan = _Plan(tuple(names), tuple(entries)) if entries else None
+    cache[typename] = plan
+    return plan
+
+
+def _codec(typename: str) -> _Codec:
+    codec = _codecs.get(typename)
+    if codec is not None:
+        return codec
+    from rosbags.interfaces import Nodetype
+
+    store = get_typestore()
+    if typename not in store.fielddefs:
+        raise UnknownMessageTypeError(f"unknown message type {typename!r} (not in ROS 2 Jazzy)")
+    with _lock:
+        msgdef = store.get_msgdef(typename)
+        plan = _make_plan(store, typename, {})
+        tail: str | None = None
+        fields = msgdef.fields
+        if fields:
+            name, desc = fields[-1]
+            if (
+                desc[0] == Nodetype.SEQUENCE
+                and desc[1][0][0] == Nodetype.BASE
+                and desc[1][0][1][0] in ("uint8", "byte", "char")
+                and desc[1][1] == 0
+            ):
+                tail = name
+        codec = _Codec(
+            typename,
+            msgdef.getsize_cdr,
+            msgdef.serialize_cdr_le,
+            msgdef.deserialize_cdr_le,
+            msgdef.cls,
+            plan,
+            tail,
+        )
+        _codecs[typename] = codec
+    return codec
+
+
+def _as_array(val: Any, dtype: np.dtype[Any], length: int | None, fname: str) -> Any:
+    if isinstance(val, (bytes, bytearray, memoryview)) and dtype.itemsize == 1:
+        arr = np.frombuffer(val, dtype=dtype)
+    else:
+        try:
+            arr = np.asarray(val)
+            if arr.dtype != dtype:
+                arr = arr.astype(dtype, casting="same_kind")
+        except TypeError as exc:
+            raise CdrError(f"field {fname!r}: cannot be stored as {dtype.name}: {exc}") from exc
+        arr = np.ascontiguousarray(arr).reshape(-1)
+    if length is not None and arr.shape[0] != length:
+        raise CdrError(f"field {fname!r}: expected {length} elements, got {arr.shape[0]}")
+    return arr
+
+
+def _checked(msg: Any, plan: _Plan) -> Any:
+    """Return ``msg`` itself when every array field is already CDR-ready, else a proxy."""
+    changes: dict[str, Any] | None = None
+    for kind, fname, info, length in plan.entries:
+        val = getattr(msg, fname)
+        if kind == _ARR:
+            if (
+                type(val) is np.ndarray
+                and val.dtype == info
+                and val.ndim == 1
+                and (length is None or val.shape[0] == length)
+                and val.flags.c_contiguous
+            ):
+                continue
+            new: Any = _as_array(val, info, length, fname)
+        elif kind == _MSG:
+            new = _checked(val, info)
+            if new is val:
+                continue
+        else:
+            items = [_checked(item, info) for item in val]
+            if all(a is b for a, b in zip(items, val, strict=True)):
+                continue
+            new = items
+        if changes is None:
+            changes = {}
+        changes[fname] = new
+    if changes is None:
+        return msg
+    attrs = {name: getattr(msg, name) for name in plan.fields}
+    attrs.update(changes)
+    return SimpleNamespace(**attrs)
+
+
+def _resolve_name(msg_type: str | type[Any]) -> str:
+    if isinstance(msg_type, str):
+        return normalize_type_name(msg_type)
+    name = getattr(msg_type, "__msgtype__", None)
+    if not isinstance(name, str):
+        raise UnknownMessageTypeError(f"{msg_type!r} is not a message class (no __msgtype__)")
+    return name
+
+
+def to_cdr(msg: Any, msg_type: str | None = None) -> bytes:
+    """Serialize ``msg`` to ROS 2 CDR bytes (with the ``00 01 00 00`` header).
+
+    Args:
+        msg: a posekit message, a rosbags message or any object with the ROS field names.
+        msg_type: ROS type name; defaults to ``msg.__msgtype__``.
+
+    Raises:
+        CdrError: a field does not fit its ROS type (the message names which).
+        UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
+    """
+    typename = _resolve_name(msg_type) if msg_type is not None else _resolve_name(type(msg))
+    codec = _codecs.get(typename) or _codec(typename)
+    store = _store
+    try:
+        if codec.plan is not None:
+            msg = _checked(msg, codec.plan)
+        if codec.tail_field is not None:
+            return _to_cdr_tail(msg, codec, store)
+        size = 4 + codec.getsize(0, msg, store)
+        raw = bytearray(size)
+        raw[1] = 1
+        codec.serialize(memoryview(raw)[4:], 0, msg, store)
+        return bytes(raw)
+    except CdrError:
+        raise
+    except _SER_ERRORS as exc:
+        where = _diagnose(msg, typename, "")
+        reason = where or f"{type(exc).__name__}: {exc}"
+        raise CdrError(f"cannot serialize {typename}: {reason}") from exc
+
+
+_INT_BITS = {
+    "int8": (True, 8),
+    "uint8": (False, 8),
+    "byte": (False, 8),
+    "char": (False, 8),
+    "int16": (True, 16),
+    "uint16": (False, 16),
+    "int32": (True, 32),
+    "uint32": (False, 32),
+    "int64": (True, 64),
+    "uint64": (False, 64),
+}
+
+
+def _diagnose_scalar(val: Any, base: str, path: str) -> str | None:
+    if base == "string":
+        return None if isinstance(val, str) else f"field {path!r}: expected str, got {val!r}"
+    if base in ("float32", "float64"):
+        ok = isinstance(val, (int, float, np.integer, np.floating)) and not isinstance(val, bool)
+        return None if ok else f"field {path!r}: expected a float, got {val!r}"
+    if base == "bool":
+        return None
+    signed, bits = _INT_BITS[base]
+    if not isinstance(val, (int, np.integer)):
+        return f"field {path!r}: expected an integer ({base}), got {val!r}"
+    lo, hi = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
+    if not lo <= int(val) <= hi:
+        return f"field {path!r}: {int(val)} is out of {base} range [{lo}, {hi}]"
+    return None
+
+
+def _diagnose(msg: Any, typename: str, prefix: str) -> str | None:
+    """Find the first field of ``msg`` that cannot be serialized (slow; errors only)."""
+    from rosbags.interfaces import Nodetype
+
+    for raw_name, desc in _store.fielddefs[typename][1]:
+        path = f"{prefix}{raw_name}"
+        try:
+            val = getattr(msg, raw_name)
+        except AttributeError:
+            return f"field {path!r} is missing"
+        kind = desc[0]
+        if kind == Nodetype.BASE:
+            found = _diagnose_scalar(val, desc[1][0], path)
+        elif kind == Nodetype.NAME:
+            found = (
+                f"field {path!r}: expected {desc[1]}, got None"
+                if val is None
+                else _diagnose(val, desc[1], path + ".")
+            )
+        else:
+            (subkind, subinfo), _ = desc[1]
+            found = None
+            try:
+                items = list(val)
+            except TypeError:
+                return f"field {path!r}: expected a sequence, got {val!r}"
+            for i, item in enumerate(items):
+                if subkind == Nodetype.NAME:
+                    found = _diagnose(item, subinfo, f"{path}[{i}].")
+                elif subinfo[0] == "string":
+                    found = _diagnose_scalar(item, "string", f"{path}[{i}]")
+                if found:
+                    break
+        if found:
+            return found
+    return None
+
+
+def _to_cdr_tail(msg: Any, codec: _Codec, store: Any) -> bytes:
+    # Serialize everything but the trailing byte sequence with rosbags (empty sequence), then
+    # patch its length and append the payload: one copy of the (large) buffer.
+    assert codec.plan is not None
+    assert codec.tail_field is not None
+    tail = getattr(msg, codec.tail_field)
+    attrs = {name: getattr(msg, name) for name in codec.plan.fields}
+    attrs[codec.tail_field] = _EMPTY_U8
+    head_msg = SimpleNamespace(**attrs)
+    size = 4 + codec.getsize(0, head_msg, store)
+    raw = bytearray(size)
+    raw[1] = 1
+    codec.serialize(memoryview(raw)[4:], 0, head_msg, store)
+    count = tail.shape[0] if isinstance(tail, np.ndarray) else len(tail)
+    _U32.pack_into(raw, size - 4, count)
+    return b"".join((raw, tail))
+
+
+def from_cdr(data: bytes | bytearray | memoryview, msg_type: str | type[Any]) -> Any:
+    """Decode ROS 2 CDR bytes into a message of ``msg_type`` (class or ``pkg/msg/Type``).
+
+    Little- and big-endian encapsulations are accepted. Array fields of the result are
+    zero-copy views into ``data``.
+
+    Raises:
+        CdrError: truncated, corrupted or trailing-garbage input (the message says why).
+        UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
+    """
+    typename = _resolve_name(msg_type)
+    codec = _codecs.get(typename) or _codec(typename)
+    try:
+        view = data if isinstance(data, memoryview) else memoryview(data)
+    except TypeError as exc:
+        raise CdrError(f"CDR input must be bytes-like, got {type(data).__name__}") from exc
+    if view.ndim != 1 or view.itemsize != 1:
+        view = view.cast("B")
+    if len(view) < 4:
+        raise CdrError(f"{typename}: {len(view)} bytes is shorter than the CDR header")
+    if view[0] != 0 or view[1] > 1:
+        raise CdrError(
+            f"{typename}: unsupported CDR encapsulation {bytes(view[:2]).hex(' ')} "
+            "(expected 00 01 little endian or 00 00 big endian)"
+        )
+    store = _store
+    try:
+        if view[1]:
+            message, pos = codec.deserialize(view[4:], 0, codec.cls, store)
+        else:
+            msgdef = store.get_msgdef(typename)
+            message, pos = msgdef.deserialize_cdr_be(view[4:], 0, codec.cls, store)
+    except _deser_errors as exc:
+        raise CdrError(f"cannot decode {typename}: {exc}") from exc
+    if pos + 4 + 3 < len(view):  # up to 3 bytes of final padding are legal
+        raise CdrError(
+            f"cannot decode {typename}: {len(view) - 4 - pos} unexpected trailing bytes"
+        )
+    return message
+
+
+def type_hash_rihs01(msg_type: str | type[Any]) -> str:
+    """Return the REP-2011 type hash ``RIHS01_<64 hex>`` of a message type.
+
+    Computed by rosbags from the ROS 2 Jazzy definitions (never a pasted table).
+    """
+    typename = _resolve_name(msg_type)
+    store = get_typestore()
+    if typename not in store.fielddefs:
+        raise UnknownMessageTypeError(f"unknown message type {typename!r} (not in ROS 2 Jazzy)")
+    return str(store.hash_rihs01(typename))
