@@ -1,0 +1,68 @@
+"""Simulated cameras, the ArUco box model and renderer, and ArUco detection with PnP.
+
+``camera`` and ``box_model`` need numpy only; ``render`` and ``detector`` import OpenCV
+(``pip install posekit[vision]``) and are loaded on first attribute access.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from posekit.vision.box_model import (
+    ARUCO_BOX,
+    ArucoBoxModel,
+    BoxFace,
+    MarkerGroundTruth,
+    box_pose_matrix,
+    marker_corners_local,
+)
+from posekit.vision.camera import (
+    OAK_RGB_CAMERA,
+    OVERHEAD_CAMERA,
+    R_CAMERA_FRAME_OPTICAL,
+    T_CAMERA_FRAME_OPTICAL,
+    PinholeCamera,
+)
+from posekit.vision.errors import CameraModelError, InvalidImageError, VisionError
+
+_LAZY = {
+    "BoxRenderer": "posekit.vision.render",
+    "VisibleMarker": "posekit.vision.render",
+    "render_boxes": "posekit.vision.render",
+    "ArucoMarkerDetector": "posekit.vision.detector",
+    "MarkerDetection": "posekit.vision.detector",
+    "PoseCandidate": "posekit.vision.detector",
+    "draw_detections": "posekit.vision.detector",
+}
+
+__all__ = [
+    "ARUCO_BOX",
+    "OAK_RGB_CAMERA",
+    "OVERHEAD_CAMERA",
+    "R_CAMERA_FRAME_OPTICAL",
+    "T_CAMERA_FRAME_OPTICAL",
+    "ArucoBoxModel",
+    "ArucoMarkerDetector",
+    "BoxFace",
+    "BoxRenderer",
+    "CameraModelError",
+    "InvalidImageError",
+    "MarkerDetection",
+    "MarkerGroundTruth",
+    "PinholeCamera",
+    "PoseCandidate",
+    "VisibleMarker",
+    "VisionError",
+    "box_pose_matrix",
+    "draw_detections",
+    "marker_corners_local",
+    "render_boxes",
+]
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'posekit.vision' has no attribute {name!r}")
+    return getattr(importlib.import_module(module), name)
