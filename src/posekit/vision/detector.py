@@ -163,6 +163,10 @@ def as_detector_image(image: Any) -> U8Array:
     return image
 
 
+_DEGENERATE_ERROR_PX = 1.0
+_NUDGE = np.array([[1e-3, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]], dtype=np.float32)
+
+
 def _dictionary_id(dictionary: str | int) -> int:
     if isinstance(dictionary, int):
         return dictionary
@@ -265,13 +269,25 @@ class ArucoMarkerDetector:
     ) -> tuple[PoseCandidate, PoseCandidate | None] | None:
         """Both IPPE_SQUARE solutions for one marker's corners (best first), ``None`` on failure."""
         image_points = np.asarray(corners, dtype=np.float32).reshape(4, 2)
+        object_points = self.object_points(marker_size)
         n, rvecs, tvecs, errors = cv2.solvePnPGeneric(
-            self.object_points(marker_size), image_points, self.camera_matrix, self.dist_coeffs,
+            object_points, image_points, self.camera_matrix, self.dist_coeffs,
             flags=cv2.SOLVEPNP_IPPE_SQUARE,
         )
         if not n:
             return None
         errs = np.asarray(errors, dtype=np.float64).reshape(-1)
+        if float(errs.min()) > _DEGENERATE_ERROR_PX:
+            # OpenCV's IPPE returns the identity rotation (tens of pixels of reprojection
+            # error, still "success") when the corners form an exact fronto-parallel square,
+            # as integer corners of a head-on marker can. A 1e-3 px nudge breaks the tie.
+            n2, rvecs2, tvecs2, errors2 = cv2.solvePnPGeneric(
+                object_points, image_points + _NUDGE, self.camera_matrix, self.dist_coeffs,
+                flags=cv2.SOLVEPNP_IPPE_SQUARE,
+            )
+            errs2 = np.asarray(errors2, dtype=np.float64).reshape(-1)
+            if n2 and errs2.size and float(errs2.min()) < float(errs.min()):
+                n, rvecs, tvecs, errs = n2, rvecs2, tvecs2, errs2
         candidates: list[PoseCandidate] = []
         for k in range(int(n)):
             rvec = np.asarray(rvecs[k], dtype=np.float64).reshape(3)
