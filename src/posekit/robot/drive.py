@@ -133,8 +133,9 @@ class RosbotBase:
                 params.wheel_radius * params.effective_wheel_separation
             )
             self._s0 = 1.0 - r_eff / params.wheel_radius
-        self._eta_walk = 0.0
-        self._s_walk = 0.0
+        # The wander starts from its stationary distribution (no transient at spawn).
+        self._eta_walk = slip.yaw_efficiency_walk_std * self._normal() if slip.enabled else 0.0
+        self._s_walk = slip.longitudinal_slip_walk_std * self._normal() if slip.enabled else 0.0
 
     # ------------------------------------------------------------------ commands
     def submit(self, msg: Any, now: float) -> CommandResult:
