@@ -1,0 +1,5 @@
+"""rclpy.duration: ``Duration`` (re-exported from posekit.time)."""
+
+from posekit.time import Duration
+
+__all__ = ["Duration"]

@@ -1,0 +1,11 @@
+"""rclpy.logging (re-exported from posekit.runtime.logging)."""
+
+from posekit.runtime.logging import (
+    LoggingSeverity,
+    RcutilsLogger,
+    get_logger,
+    get_logger_level,
+    set_logger_level,
+)
+
+__all__ = ["LoggingSeverity", "RcutilsLogger", "get_logger", "get_logger_level", "set_logger_level"]

@@ -1,0 +1,62 @@
+"""posekit's rclpy-style runtime: contexts, nodes, executors, clocks, QoS, the in-process bus
+and tf2_ros's broadcasters and listener. See docs/runtime.md.
+
+The rclpy-named facades (:mod:`posekit.rclpy`, :mod:`posekit.tf2_ros`) re-export from here.
+"""
+
+from __future__ import annotations
+
+from posekit.runtime.clock import Clock, JumpThreshold, ROSClock, TimeJump
+from posekit.runtime.context import Context, get_default_context, init, ok, shutdown
+from posekit.runtime.executors import (
+    Executor,
+    Future,
+    MultiThreadedExecutor,
+    SimulatedTimeExecutor,
+    SingleThreadedExecutor,
+    spin,
+    spin_once,
+    spin_until_future_complete,
+)
+from posekit.runtime.logging import get_logger
+from posekit.runtime.node import Node
+from posekit.runtime.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    QoSProfile,
+    ReliabilityPolicy,
+    qos_profile_sensor_data,
+)
+
+__all__ = [
+    "Clock",
+    "Context",
+    "DurabilityPolicy",
+    "Executor",
+    "Future",
+    "HistoryPolicy",
+    "JumpThreshold",
+    "MultiThreadedExecutor",
+    "Node",
+    "QoSProfile",
+    "ROSClock",
+    "ReliabilityPolicy",
+    "SimulatedTimeExecutor",
+    "SingleThreadedExecutor",
+    "TimeJump",
+    "create_node",
+    "get_default_context",
+    "get_logger",
+    "init",
+    "ok",
+    "qos_profile_sensor_data",
+    "shutdown",
+    "spin",
+    "spin_once",
+    "spin_until_future_complete",
+]
+
+
+def create_node(node_name: str, **kwargs: object) -> Node:
+    """rclpy.create_node: ``Node(node_name, **kwargs)``."""
+    return Node(node_name, **kwargs)  # type: ignore[arg-type]

@@ -1,0 +1,343 @@
+"""The in-process bus: publish/subscribe between nodes of one process, no serialization.
+
+Mutation policy ("snapshot + private structure, shared frozen bulk")
+--------------------------------------------------------------------
+Python messages are mutable dataclasses, and rclpy code freely reuses and edits them. So:
+
+1. ``publish(msg)`` takes a **snapshot**: a structural copy of the message tree (new
+   dataclass objects and lists; immutable scalars and ``bytes`` shared). Numpy arrays up to
+   :data:`SMALL_ARRAY_BYTES` (covariances, camera matrices, joint states) are copied; larger
+   arrays (image pixels, point clouds) are **not copied but frozen in place**
+   (``flags.writeable = False``): the publisher hands the buffer over. The publisher may keep
+   editing and re-publishing its message object; only writing *into* a published large
+   array raises ``ValueError: assignment destination is read-only`` (allocate a new array or
+   ``.copy()`` first).
+2. Every subscription receives its **own** structural copy of the snapshot (the last one
+   receives the snapshot itself when no TRANSIENT_LOCAL history keeps it), with small arrays
+   copied again and the frozen large arrays shared. A callback can therefore change any field
+   of its message without another subscriber seeing it, and a 1280x720 image costs the same
+   few microseconds per subscriber as an empty one.
+
+Numbers are in docs/perf_runtime.md (``benchmarks/runtime.py``).
+
+QoS on the bus
+--------------
+* Queues live in the runtime's subscriptions (KEEP_LAST depth drops the oldest undelivered
+  message; KEEP_ALL never drops).
+* RELIABLE vs BEST_EFFORT: in one process nothing is lost in transit, so both deliver every
+  published message to the subscription queue; the observable difference is matching: a
+  BEST_EFFORT publisher does not connect to a RELIABLE subscription (logged as incompatible
+  QoS, as DDS / rmw_zenoh do).
+* TRANSIENT_LOCAL publishers keep their last ``depth`` snapshots; a TRANSIENT_LOCAL
+  subscription created later receives them (oldest first, in original publish order across
+  publishers). A VOLATILE publisher does not match a TRANSIENT_LOCAL subscription.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import itertools
+import threading
+from collections import deque
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from posekit.runtime.qos import (
+    DurabilityPolicy,
+    QoSCompatibility,
+    check_qos_compatibility,
+)
+from posekit.runtime.transport import (
+    EndpointInfo,
+    MessageSink,
+    PublisherEndpoint,
+    SubscriptionEndpoint,
+    TopicTypeMismatchError,
+    Transport,
+)
+
+__all__ = ["SMALL_ARRAY_BYTES", "InProcessBus", "snapshot"]
+
+#: Arrays up to this many bytes are copied on publish and per subscriber; larger ones are
+#: frozen and shared.
+SMALL_ARRAY_BYTES = 4096
+
+_ATOMIC: frozenset[type] = frozenset(
+    {int, float, str, bool, bytes, complex, type(None), np.float64, np.float32, np.int64,
+     np.int32, np.uint8, np.uint32, np.bool_}
+)
+_copiers: dict[type, Callable[[Any], Any]] = {}
+
+
+def snapshot(value: Any) -> Any:
+    """The bus's copy of a message (policy in the module docstring)."""
+    t = type(value)
+    if t in _ATOMIC:
+        return value
+    fn = _copiers.get(t)
+    if fn is None:
+        fn = _make_copier(t)
+    return fn(value)
+
+
+def _copy_array(a: np.ndarray) -> np.ndarray:
+    if a.nbytes <= SMALL_ARRAY_BYTES:
+        return a.copy()
+    if a.flags.writeable:
+        a.flags.writeable = False
+    return a
+
+
+def _copy_list(items: list[Any]) -> list[Any]:
+    atomic = _ATOMIC
+    return [x if type(x) in atomic else snapshot(x) for x in items]
+
+
+def _copy_tuple(items: tuple[Any, ...]) -> tuple[Any, ...]:
+    return tuple(_copy_list(list(items)))
+
+
+def _copy_dict(d: dict[Any, Any]) -> dict[Any, Any]:
+    return {k: snapshot(v) for k, v in d.items()}
+
+
+def _make_copier(t: type) -> Callable[[Any], Any]:
+    fn: Callable[[Any], Any]
+    if issubclass(t, np.ndarray):
+        fn = _copy_array
+    elif t is list:
+        fn = _copy_list
+    elif t is tuple:
+        fn = _copy_tuple
+    elif t is dict:
+        fn = _copy_dict
+    elif t in (bytearray,):
+        fn = bytearray
+    elif isinstance(t, type) and issubclass(t, np.generic):
+        fn = _identity
+    elif dataclasses.is_dataclass(t):
+        fn = _dataclass_copier(t)
+    else:
+        fn = copy.deepcopy
+    _copiers[t] = fn
+    return fn
+
+
+def _identity(x: Any) -> Any:
+    return x
+
+
+def _dataclass_copier(cls: type) -> Callable[[Any], Any]:
+    """Generate ``copy(o)`` assigning each field, copying only non-atomic values."""
+    names = [f.name for f in dataclasses.fields(cls)]
+    lines = ["def copy_msg(o):", "    n = new(cls)"]
+    for name in names:
+        lines.append(f"    v = o.{name}")
+        lines.append(f"    n.{name} = v if type(v) in atomic else snap(v)")
+    lines.append("    return n")
+    namespace: dict[str, Any] = {"new": object.__new__, "cls": cls, "atomic": _ATOMIC,
+                                 "snap": snapshot}
+    if getattr(cls, "__dataclass_params__").frozen:  # noqa: B009
+        # Frozen dataclasses cannot be assigned; they are immutable, share unless they hold
+        # mutable members.
+        return copy.deepcopy
+    exec("\n".join(lines), namespace)  # generated from field names only
+    fn: Callable[[Any], Any] = namespace["copy_msg"]
+    return fn
+
+
+class _Topic:
+    __slots__ = ("msg_type", "name", "publishers", "subscriptions")
+
+    def __init__(self, name: str, msg_type: type) -> None:
+        self.name = name
+        self.msg_type = msg_type
+        self.publishers: list[_BusPublisher] = []
+        self.subscriptions: list[_BusSubscription] = []
+
+
+class _BusSubscription(SubscriptionEndpoint):
+    def __init__(self, bus: InProcessBus, info: EndpointInfo, sink: MessageSink) -> None:
+        self._bus = bus
+        self.info = info
+        self.sink = sink
+        self.alive = True
+
+    def destroy(self) -> None:
+        if self.alive:
+            self.alive = False
+            self._bus._remove_subscription(self)
+
+    @property
+    def publisher_count(self) -> int:
+        return self._bus._matched_publishers(self)
+
+
+class _BusPublisher(PublisherEndpoint):
+    def __init__(self, bus: InProcessBus, info: EndpointInfo) -> None:
+        self._bus = bus
+        self.info = info
+        self.alive = True
+        self.matched: tuple[_BusSubscription, ...] = ()
+        self.history: deque[tuple[int, Any]] | None = None
+        if info.qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL:
+            self.history = deque(maxlen=info.qos.queue_limit)
+        self._type = info.msg_type
+
+    def publish(self, msg: Any) -> None:
+        if not self.alive:
+            raise RuntimeError(f"publisher on '{self.info.topic}' has been destroyed")
+        if type(msg) is not self._type and not isinstance(msg, self._type):
+            raise TypeError(
+                f"publisher on '{self.info.topic}' expects {self._type.__name__}, "
+                f"got {type(msg).__name__}"
+            )
+        subs = self.matched
+        history = self.history
+        if history is None:
+            if not subs:
+                return
+            snap = snapshot(msg)
+            last = len(subs) - 1
+            for i, sub in enumerate(subs):
+                sub.sink(snap if i == last else snapshot(snap))
+            return
+        snap = snapshot(msg)
+        history.append((next(self._bus._seq), snap))
+        for sub in subs:
+            sub.sink(snapshot(snap))
+
+    def destroy(self) -> None:
+        if self.alive:
+            self.alive = False
+            self._bus._remove_publisher(self)
+
+    @property
+    def subscription_count(self) -> int:
+        return len(self.matched)
+
+
+class InProcessBus(Transport):
+    """Topic registry and zero-serialization delivery inside one process."""
+
+    name = "inprocess"
+
+    def __init__(self) -> None:
+        self._topics: dict[str, _Topic] = {}
+        self._lock = threading.RLock()
+        self._seq = itertools.count()
+
+    # -- graph ------------------------------------------------------------------------
+    def _topic_for(self, info: EndpointInfo) -> _Topic:
+        topic = self._topics.get(info.topic)
+        if topic is None or not (topic.publishers or topic.subscriptions):
+            topic = _Topic(info.topic, info.msg_type)
+            self._topics[info.topic] = topic
+        elif topic.msg_type is not info.msg_type:
+            raise TopicTypeMismatchError(
+                f"topic '{info.topic}' already carries {topic.msg_type.__module__}."
+                f"{topic.msg_type.__qualname__}; cannot create an endpoint of type "
+                f"{info.msg_type.__module__}.{info.msg_type.__qualname__} (node "
+                f"'{info.node_name}')"
+            )
+        return topic
+
+    @staticmethod
+    def _compatible(pub: _BusPublisher, sub: _BusSubscription) -> bool:
+        result = check_qos_compatibility(pub.info.qos, sub.info.qos)
+        if result == QoSCompatibility.OK:
+            return True
+        topic = pub.info.topic
+        pub.info.logger.warning(
+            f"New subscription discovered on topic '{topic}', requesting incompatible QoS. "
+            f"No messages will be sent to it. Last incompatible policy: {result.value}"
+        )
+        sub.info.logger.warning(
+            f"New publisher discovered on topic '{topic}', offering incompatible QoS. "
+            f"No messages will be received from it. Last incompatible policy: {result.value}"
+        )
+        return False
+
+    def _rematch(self, topic: _Topic) -> None:
+        for pub in topic.publishers:
+            pub.matched = tuple(
+                s for s in topic.subscriptions
+                if check_qos_compatibility(pub.info.qos, s.info.qos) == QoSCompatibility.OK
+            )
+
+    def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        with self._lock:
+            topic = self._topic_for(info)
+            pub = _BusPublisher(self, info)
+            for sub in topic.subscriptions:
+                self._compatible(pub, sub)
+            topic.publishers.append(pub)
+            self._rematch(topic)
+            return pub
+
+    def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        with self._lock:
+            topic = self._topic_for(info)
+            sub = _BusSubscription(self, info, sink)
+            late: list[tuple[int, Any]] = []
+            for pub in topic.publishers:
+                if self._compatible(pub, sub) and pub.history is not None and (
+                    info.qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL
+                ):
+                    late.extend(pub.history)
+            topic.subscriptions.append(sub)
+            self._rematch(topic)
+        late.sort(key=lambda item: item[0])
+        for _, snap in late:
+            sink(snapshot(snap))
+        return sub
+
+    def _remove_publisher(self, pub: _BusPublisher) -> None:
+        with self._lock:
+            topic = self._topics.get(pub.info.topic)
+            if topic is not None and pub in topic.publishers:
+                topic.publishers.remove(pub)
+            pub.matched = ()
+
+    def _remove_subscription(self, sub: _BusSubscription) -> None:
+        with self._lock:
+            topic = self._topics.get(sub.info.topic)
+            if topic is not None and sub in topic.subscriptions:
+                topic.subscriptions.remove(sub)
+                self._rematch(topic)
+
+    def _matched_publishers(self, sub: _BusSubscription) -> int:
+        topic = self._topics.get(sub.info.topic)
+        if topic is None:
+            return 0
+        return sum(1 for p in topic.publishers if sub in p.matched)
+
+    def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        with self._lock:
+            return sorted(
+                (t.name, [t.publishers[0].info.type_name if t.publishers
+                          else t.subscriptions[0].info.type_name])
+                for t in self._topics.values()
+                if t.publishers or t.subscriptions
+            )
+
+    def count_publishers(self, topic: str) -> int:
+        t = self._topics.get(topic)
+        return len(t.publishers) if t is not None else 0
+
+    def count_subscribers(self, topic: str) -> int:
+        t = self._topics.get(topic)
+        return len(t.subscriptions) if t is not None else 0
+
+    def close(self) -> None:
+        with self._lock:
+            for topic in self._topics.values():
+                for pub in topic.publishers:
+                    pub.alive = False
+                    pub.matched = ()
+                for sub in topic.subscriptions:
+                    sub.alive = False
+            self._topics.clear()

@@ -1,0 +1,56 @@
+"""Callback groups (rclpy.callback_groups): which callbacks may run concurrently.
+
+Only the MultiThreadedExecutor runs callbacks concurrently. Callbacks of one
+MutuallyExclusiveCallbackGroup (each node's default group) never overlap; callbacks of a
+ReentrantCallbackGroup may.
+"""
+
+from __future__ import annotations
+
+import threading
+
+__all__ = ["CallbackGroup", "MutuallyExclusiveCallbackGroup", "ReentrantCallbackGroup"]
+
+
+class CallbackGroup:
+    """Base class; ``can_execute`` / ``beginning_execution`` / ``ending_execution``."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+
+    def can_execute(self) -> bool:
+        """Whether another callback of this group may start now."""
+        return True
+
+    def beginning_execution(self) -> bool:
+        """Claim the group for one callback; False if not possible."""
+        return True
+
+    def ending_execution(self) -> None:
+        """Release the claim."""
+
+
+class ReentrantCallbackGroup(CallbackGroup):
+    """Callbacks may run in parallel."""
+
+
+class MutuallyExclusiveCallbackGroup(CallbackGroup):
+    """At most one callback of the group runs at a time."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._active = False
+
+    def can_execute(self) -> bool:
+        return not self._active
+
+    def beginning_execution(self) -> bool:
+        with self._lock:
+            if self._active:
+                return False
+            self._active = True
+            return True
+
+    def ending_execution(self) -> None:
+        with self._lock:
+            self._active = False

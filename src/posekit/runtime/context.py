@@ -1,0 +1,185 @@
+"""Context: the lifetime of a "ROS process" (``init`` / ``ok`` / ``shutdown``).
+
+A context owns the transports its nodes use (one instance per transport name, so nodes of a
+context share one in-process bus), the global command-line rules given to ``init(args=...)``
+(``--ros-args -p name:=value -r from:=to``) and a sequence counter that orders every message
+and timer of the context (what makes simulated runs deterministic).
+
+Different contexts are isolated from each other, like separate processes; tests use a fresh
+``Context()`` each to avoid leaking latched messages.
+"""
+
+from __future__ import annotations
+
+import itertools
+import threading
+import weakref
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
+
+from posekit.runtime.names import RemapRule, parse_remap_rules
+from posekit.runtime.parameters import parse_parameter_value
+from posekit.runtime.transport import Transport, create_transport, selected_transport_name
+
+if TYPE_CHECKING:
+    from posekit.runtime.executors import Executor
+
+__all__ = [
+    "Context",
+    "NotInitializedException",
+    "get_default_context",
+    "init",
+    "ok",
+    "parse_ros_args",
+    "shutdown",
+    "try_shutdown",
+]
+
+
+class NotInitializedException(RuntimeError):  # noqa: N818 - rclpy name
+    """A node or executor was used with a context that is not initialized (call init())."""
+
+    def __init__(self, what: str = "") -> None:
+        super().__init__(
+            f"{what + ': ' if what else ''}the context is not initialized; call "
+            "rclpy.init() (posekit.runtime.context.init()) first"
+        )
+
+
+def parse_ros_args(args: Sequence[str] | None) -> tuple[dict[str, Any], list[RemapRule]]:
+    """Parameters (``-p name:=value``) and remaps (``-r from:=to``) after ``--ros-args``."""
+    params: dict[str, Any] = {}
+    remaps: list[str] = []
+    if not args:
+        return params, []
+    in_ros = False
+    it = iter(args)
+    for arg in it:
+        if arg == "--ros-args":
+            in_ros = True
+            continue
+        if arg == "--":
+            in_ros = False
+            continue
+        if not in_ros:
+            continue
+        if arg in ("-p", "--param"):
+            spec = next(it, None)
+            if spec is None or ":=" not in spec:
+                raise ValueError(f"expected name:=value after {arg}, got {spec!r}")
+            name, value = spec.split(":=", 1)
+            params[name] = parse_parameter_value(value)
+        elif arg in ("-r", "--remap"):
+            spec = next(it, None)
+            if spec is None or ":=" not in spec:
+                raise ValueError(f"expected from:=to after {arg}, got {spec!r}")
+            remaps.append(spec)
+        else:
+            raise ValueError(f"unsupported ROS argument {arg!r} (supported: -p, -r)")
+    return params, parse_remap_rules(remaps)
+
+
+class Context:
+    """Lifetime, transports and global rules of a set of nodes."""
+
+    def __init__(self) -> None:
+        self._ok = False
+        self._lock = threading.RLock()
+        self._transport_name: str | None = None
+        self._transports: dict[str, Transport] = {}
+        self._on_shutdown: list[Callable[[], None]] = []
+        self._executors: weakref.WeakSet[Executor] = weakref.WeakSet()
+        self.seq = itertools.count()
+        self.global_parameters: dict[str, Any] = {}
+        self.global_remaps: list[RemapRule] = []
+        self.args: list[str] = []
+
+    def init(self, args: Sequence[str] | None = None, *, transport: str | None = None) -> None:
+        """Initialize; ``args`` may carry ``--ros-args -p k:=v -r a:=b`` for every node."""
+        with self._lock:
+            if self._ok:
+                raise RuntimeError("Context.init() must only be called once")
+            self.global_parameters, self.global_remaps = parse_ros_args(args)
+            self.args = list(args or [])
+            self._transport_name = transport
+            self.seq = itertools.count()
+            self._ok = True
+
+    def ok(self) -> bool:
+        """True between init() and shutdown()."""
+        return self._ok
+
+    def transport(self, name: str | None = None) -> Transport:
+        """The context's transport called ``name`` (default: the selected one), created once."""
+        if not self._ok:
+            raise NotInitializedException("transport")
+        chosen = selected_transport_name(name or self._transport_name)
+        with self._lock:
+            transport = self._transports.get(chosen)
+            if transport is None:
+                transport = create_transport(chosen)
+                self._transports[chosen] = transport
+            return transport
+
+    def _register_executor(self, executor: Executor) -> None:
+        self._executors.add(executor)
+
+    def on_shutdown(self, callback: Callable[[], None]) -> None:
+        """Run ``callback`` when the context shuts down."""
+        with self._lock:
+            self._on_shutdown.append(callback)
+
+    def shutdown(self) -> None:
+        """Stop: executors return from spin, transports close. Raises if not initialized."""
+        with self._lock:
+            if not self._ok:
+                raise RuntimeError("Context must be initialized before it can be shutdown")
+            self._ok = False
+            callbacks = list(self._on_shutdown)
+            self._on_shutdown.clear()
+            transports = list(self._transports.values())
+            self._transports.clear()
+        for executor in list(self._executors):
+            executor.wake()
+        for cb in callbacks:
+            cb()
+        for transport in transports:
+            transport.close()
+
+    def try_shutdown(self) -> None:
+        """shutdown() if initialized, else nothing."""
+        if self._ok:
+            self.shutdown()
+
+
+_default_context = Context()
+
+
+def get_default_context() -> Context:
+    """The context used when none is given."""
+    return _default_context
+
+
+def init(
+    *,
+    args: Sequence[str] | None = None,
+    context: Context | None = None,
+    transport: str | None = None,
+) -> None:
+    """rclpy.init: initialize ``context`` (default: the global one)."""
+    (context or _default_context).init(args, transport=transport)
+
+
+def shutdown(*, context: Context | None = None) -> None:
+    """rclpy.shutdown."""
+    (context or _default_context).shutdown()
+
+
+def try_shutdown(*, context: Context | None = None) -> None:
+    """rclpy.try_shutdown."""
+    (context or _default_context).try_shutdown()
+
+
+def ok(*, context: Context | None = None) -> bool:
+    """rclpy.ok."""
+    return (context or _default_context).ok()

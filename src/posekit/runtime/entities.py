@@ -1,0 +1,237 @@
+"""Publisher, Subscription and Timer: what ``Node.create_*`` returns (rclpy's classes)."""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from posekit.runtime.callback_groups import CallbackGroup
+from posekit.runtime.clock import Clock
+from posekit.runtime.qos import QoSProfile
+from posekit.runtime.transport import PublisherEndpoint, SubscriptionEndpoint
+
+if TYPE_CHECKING:
+    from posekit.runtime.node import Node
+
+__all__ = ["Publisher", "Subscription", "Timer"]
+
+
+class Publisher:
+    """Publishes messages of one type on one topic."""
+
+    def __init__(
+        self,
+        node: Node,
+        msg_type: type,
+        topic: str,
+        qos: QoSProfile,
+        endpoint: PublisherEndpoint,
+    ) -> None:
+        self._node = node
+        self.msg_type = msg_type
+        self._topic = topic
+        self.qos_profile = qos
+        self._endpoint = endpoint
+        # Hot path: bind once.
+        self.publish: Callable[[Any], None] = endpoint.publish
+
+    @property
+    def topic_name(self) -> str:
+        """Fully qualified (expanded, remapped) topic name."""
+        return self._topic
+
+    @property
+    def topic(self) -> str:
+        """Same as topic_name."""
+        return self._topic
+
+    def get_subscription_count(self) -> int:
+        """Matched subscriptions."""
+        return self._endpoint.subscription_count
+
+    def destroy(self) -> bool:
+        """Same as ``node.destroy_publisher(self)``."""
+        return self._node.destroy_publisher(self)
+
+    def _destroy(self) -> None:
+        self._endpoint.destroy()
+
+    def __repr__(self) -> str:
+        return f"Publisher({self.msg_type.__name__}, '{self._topic}')"
+
+
+class Subscription:
+    """Receives messages of one type on one topic; the executor calls ``callback(msg)``.
+
+    Undelivered messages wait in a queue bounded by the QoS depth (KEEP_LAST drops the
+    oldest); each queued entry carries the context-wide sequence number of its arrival.
+    """
+
+    def __init__(
+        self,
+        node: Node,
+        msg_type: type,
+        topic: str,
+        callback: Callable[[Any], Any],
+        qos: QoSProfile,
+        callback_group: CallbackGroup,
+    ) -> None:
+        self._node = node
+        self.msg_type = msg_type
+        self._topic = topic
+        self.callback = callback
+        self.qos_profile = qos
+        self.callback_group = callback_group
+        self.queue: deque[tuple[int, Any]] = deque(maxlen=qos.queue_limit)
+        self._seq = node.context.seq
+        self._endpoint: SubscriptionEndpoint | None = None
+        self.destroyed = False
+
+    def _attach(self, endpoint: SubscriptionEndpoint) -> None:
+        self._endpoint = endpoint
+
+    def _enqueue(self, msg: Any) -> None:
+        """Transport sink: queue ``msg`` and tell the node's executor."""
+        if self.destroyed:
+            return
+        seq = next(self._seq)
+        self.queue.append((seq, msg))
+        executor = self._node._executor
+        if executor is not None:
+            executor._message_ready(seq, self)
+
+    @property
+    def topic_name(self) -> str:
+        """Fully qualified (expanded, remapped) topic name."""
+        return self._topic
+
+    @property
+    def topic(self) -> str:
+        """Same as topic_name."""
+        return self._topic
+
+    def get_publisher_count(self) -> int:
+        """Matched publishers."""
+        return self._endpoint.publisher_count if self._endpoint is not None else 0
+
+    def destroy(self) -> bool:
+        """Same as ``node.destroy_subscription(self)``."""
+        return self._node.destroy_subscription(self)
+
+    def _destroy(self) -> None:
+        self.destroyed = True
+        self.queue.clear()
+        if self._endpoint is not None:
+            self._endpoint.destroy()
+
+    def __repr__(self) -> str:
+        return f"Subscription({self.msg_type.__name__}, '{self._topic}')"
+
+
+class Timer:
+    """Calls ``callback()`` every ``period`` on ``clock`` (first call one period after start).
+
+    Like rcl: if the clock moved past several periods at once, missed calls are skipped and
+    the schedule stays on the original grid; a backward jump of the clock restarts the
+    period from the new time.
+    """
+
+    def __init__(
+        self,
+        node: Node,
+        callback: Callable[[], Any],
+        period_ns: int,
+        clock: Clock,
+        callback_group: CallbackGroup,
+        autostart: bool = True,
+    ) -> None:
+        if period_ns < 0:
+            raise ValueError(f"timer period must be >= 0, got {period_ns} ns")
+        self._node = node
+        self.callback = callback
+        self._period_ns = int(period_ns)
+        self.clock = clock
+        self.callback_group = callback_group
+        self.seq = next(node.context.seq)
+        self._canceled = not autostart
+        now = clock.now_ns()
+        self._last_ns = now
+        self._next_ns = now + self._period_ns
+        self.destroyed = False
+
+    @property
+    def timer_period_ns(self) -> int:
+        """Period in nanoseconds."""
+        return self._period_ns
+
+    @timer_period_ns.setter
+    def timer_period_ns(self, value: int) -> None:
+        self._period_ns = int(value)
+        self.reset()
+
+    @property
+    def next_call_ns(self) -> int:
+        """Clock time (ns) of the next call."""
+        return self._next_ns
+
+    def is_canceled(self) -> bool:
+        """True after cancel()."""
+        return self._canceled
+
+    def cancel(self) -> None:
+        """Stop calling until reset()."""
+        self._canceled = True
+
+    def reset(self) -> None:
+        """Restart: next call one period from now."""
+        now = self.clock.now_ns()
+        self._canceled = False
+        self._last_ns = now
+        self._next_ns = now + self._period_ns
+        executor = self._node._executor
+        if executor is not None:
+            executor.wake()
+
+    def _check_jump(self, now: int) -> None:
+        if now < self._last_ns:
+            self._last_ns = now
+            self._next_ns = now + self._period_ns
+
+    def is_ready(self) -> bool:
+        """Whether the next call is due."""
+        if self._canceled or self.destroyed:
+            return False
+        now = self.clock.now_ns()
+        self._check_jump(now)
+        return now >= self._next_ns
+
+    def time_until_next_call(self) -> int | None:
+        """Nanoseconds until the next call (<= 0 if due), None if canceled."""
+        if self._canceled or self.destroyed:
+            return None
+        now = self.clock.now_ns()
+        self._check_jump(now)
+        return self._next_ns - now
+
+    def time_since_last_call(self) -> int:
+        """Nanoseconds since the last call (or the start)."""
+        return self.clock.now_ns() - self._last_ns
+
+    def _mark_called(self) -> None:
+        now = self.clock.now_ns()
+        self._last_ns = now
+        nxt = self._next_ns + self._period_ns
+        if nxt <= now and self._period_ns > 0:
+            missed = (now - nxt) // self._period_ns + 1
+            nxt += missed * self._period_ns
+        elif self._period_ns == 0:
+            nxt = now
+        self._next_ns = nxt
+
+    def destroy(self) -> bool:
+        """Same as ``node.destroy_timer(self)``."""
+        return self._node.destroy_timer(self)
+
+    def __repr__(self) -> str:
+        return f"Timer(period={self._period_ns} ns, clock={self.clock.clock_type.name})"

@@ -1,0 +1,602 @@
+"""Executors: who calls the callbacks, in which order and at which (simulated) time.
+
+* :class:`SingleThreadedExecutor`: one thread runs timers, subscription callbacks and tasks
+  one at a time. Ready timers first (earliest due first, then creation order), then queued
+  messages in arrival order across all subscriptions (context-wide sequence numbers).
+* :class:`MultiThreadedExecutor`: the same selection, ``num_threads`` workers; callbacks of a
+  MutuallyExclusiveCallbackGroup (the node default) never overlap.
+* :class:`SimulatedTimeExecutor` (a stepped executor): owns simulated time. It runs every
+  callback that is ready at the current sim time, then jumps straight to the next timer due
+  time (no sleeping), sets every node's clock and publishes ``/clock``. Messages are delivered
+  at the sim time they were published (zero latency). With the same inputs the sequence of
+  callbacks and messages is identical run after run. ``real_time_factor=1.0`` paces it to the
+  wall clock instead.
+
+An exception raised by a callback is logged by the callback's node logger with the traceback
+(``[ERROR] [...] [node]: Exception in timer callback ...``) and does not stop the executor
+or other callbacks. ``KeyboardInterrupt``/``SystemExit`` still propagate.
+"""
+
+from __future__ import annotations
+
+import inspect
+import os
+import threading
+import time
+import traceback
+from collections import deque
+from collections.abc import Callable, Coroutine
+from typing import Any
+
+from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
+from posekit.runtime.callback_groups import CallbackGroup
+from posekit.runtime.clock import ROSClock
+from posekit.runtime.context import Context, get_default_context
+from posekit.runtime.entities import Subscription, Timer
+from posekit.runtime.node import Node
+from posekit.runtime.parameters import Parameter
+from posekit.runtime.qos import QoSProfile
+from posekit.runtime.task import Future, Task
+from posekit.time import ClockType, Duration, Time
+
+__all__ = [
+    "Executor",
+    "ExternalShutdownException",
+    "Future",
+    "MultiThreadedExecutor",
+    "SimulatedTimeExecutor",
+    "SingleThreadedExecutor",
+    "Task",
+    "get_global_executor",
+    "spin",
+    "spin_once",
+    "spin_until_future_complete",
+]
+
+_TIMER = 0
+_MESSAGE = 1
+_TASK = 2
+
+
+class ExternalShutdownException(Exception):  # noqa: N818 - rclpy name
+    """The context was shut down while spinning (rclpy.executors.ExternalShutdownException)."""
+
+
+class Executor:
+    """Base executor (see the module docstring for the callback order)."""
+
+    def __init__(self, *, context: Context | None = None) -> None:
+        self._context = context or get_default_context()
+        self._nodes: list[Node] = []
+        self._fifo: deque[tuple[int, Subscription]] = deque()
+        self._tasks: deque[Task] = deque()
+        self._timers: list[Timer] = []
+        self._wake_event = threading.Event()
+        self._lock = threading.RLock()
+        self._is_shutdown = False
+        #: Number of callbacks that raised (each was logged).
+        self.callback_exceptions = 0
+        self._context._register_executor(self)
+
+    @property
+    def context(self) -> Context:
+        """The context whose shutdown stops this executor."""
+        return self._context
+
+    # -- nodes ------------------------------------------------------------------------
+    def add_node(self, node: Node) -> bool:
+        """Add ``node``; False if it is already here. A node has at most one executor."""
+        with self._lock:
+            if node in self._nodes:
+                return False
+            if node._executor is not None:
+                node._executor.remove_node(node)
+            self._nodes.append(node)
+            node._executor = self
+            pending = sorted(
+                ((seq, sub) for sub in node._subscriptions for seq, _ in list(sub.queue)),
+                key=lambda item: item[0],
+            )
+            self._fifo.extend(pending)
+            self._rebuild_timers()
+        self.wake()
+        return True
+
+    def remove_node(self, node: Node) -> None:
+        """Remove ``node`` (its queued messages stay queued in its subscriptions)."""
+        with self._lock:
+            if node in self._nodes:
+                self._nodes.remove(node)
+                node._executor = None
+                self._rebuild_timers()
+        self.wake()
+
+    def get_nodes(self) -> list[Node]:
+        """Nodes in this executor."""
+        return list(self._nodes)
+
+    def _node_changed(self, node: Node) -> None:
+        with self._lock:
+            self._rebuild_timers()
+        self.wake()
+
+    def _rebuild_timers(self) -> None:
+        self._timers = sorted((t for n in self._nodes for t in n._timers), key=lambda t: t.seq)
+
+    def wake(self) -> None:
+        """Interrupt a wait (new work, shutdown)."""
+        self._wake_event.set()
+
+    def _message_ready(self, seq: int, sub: Subscription) -> None:
+        self._fifo.append((seq, sub))
+        if not self._wake_event.is_set():
+            self._wake_event.set()
+
+    # -- tasks ------------------------------------------------------------------------
+    def _schedule_task(self, task: Task) -> None:
+        self._tasks.append(task)
+        self.wake()
+
+    def create_task(self, callback: Callable[..., Any] | Coroutine[Any, Any, Any],
+                    *args: Any, **kwargs: Any) -> Task:
+        """Run ``callback`` (a coroutine, coroutine function or plain callable) on this
+        executor; the returned Task is a Future of its result."""
+        coro: Coroutine[Any, Any, Any]
+        if inspect.iscoroutine(callback):
+            coro = callback
+        elif inspect.iscoroutinefunction(callback):
+            coro = callback(*args, **kwargs)
+        else:
+            fn = callback
+
+            async def run_plain() -> Any:
+                return fn(*args, **kwargs)  # type: ignore[operator]
+
+            coro = run_plain()
+        task = Task(coro, self._schedule_task)
+        self._schedule_task(task)
+        return task
+
+    # -- selecting work ---------------------------------------------------------------
+    def _take_ready(self) -> tuple[int, Any, Any] | None:
+        """Claim the next ready callback: (kind, entity, payload) or None."""
+        with self._lock:
+            if self._tasks:
+                return (_TASK, self._tasks.popleft(), None)
+            best: Timer | None = None
+            for timer in self._timers:
+                if timer.is_ready() and timer.callback_group.can_execute() and (
+                    best is None or timer._next_ns < best._next_ns
+                ):
+                    best = timer
+            if best is not None and best.callback_group.beginning_execution():
+                best._mark_called()
+                return (_TIMER, best, None)
+            fifo = self._fifo
+            skipped: list[tuple[int, Subscription]] = []
+            found: tuple[int, Any, Any] | None = None
+            while fifo:
+                entry = fifo.popleft()
+                seq, sub = entry
+                queue = sub.queue
+                if sub.destroyed or not queue or queue[0][0] > seq or (
+                    sub._node._executor is not self
+                ):
+                    continue  # stale: delivered, dropped by KEEP_LAST, or moved away
+                if not sub.callback_group.beginning_execution():
+                    skipped.append(entry)
+                    continue
+                _, msg = queue.popleft()
+                found = (_MESSAGE, sub, msg)
+                break
+            if skipped:
+                fifo.extendleft(reversed(skipped))
+            return found
+
+    def _has_ready(self) -> bool:
+        if self._tasks:
+            return True
+        return any(t.is_ready() for t in self._timers) or any(
+            s.queue for n in self._nodes for s in n._subscriptions
+        )
+
+    # -- running ----------------------------------------------------------------------
+    def _execute(self, work: tuple[int, Any, Any]) -> None:
+        kind, entity, payload = work
+        if kind == _TASK:
+            entity.step()
+            return
+        group: CallbackGroup = entity.callback_group
+        try:
+            result = entity.callback(payload) if kind == _MESSAGE else entity.callback()
+            if inspect.iscoroutine(result):
+                task = Task(result, self._schedule_task)
+                node = entity._node
+                what = self._describe(kind, entity)
+                task.add_done_callback(lambda f: self._report_future(node, what, f))
+                self._schedule_task(task)
+        except Exception:
+            self._report(entity._node, self._describe(kind, entity), traceback.format_exc())
+        finally:
+            group.ending_execution()
+
+    @staticmethod
+    def _describe(kind: int, entity: Any) -> str:
+        if kind == _MESSAGE:
+            return f"subscription callback on '{entity.topic_name}'"
+        return "timer callback"
+
+    def _report(self, node: Node, what: str, tb: str) -> None:
+        self.callback_exceptions += 1
+        node.get_logger().error(f"Exception in {what}:\n{tb.rstrip()}")
+
+    def _report_future(self, node: Node, what: str, future: Future) -> None:
+        exc = future.exception()
+        if exc is not None:
+            tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
+            self._report(node, what, tb)
+
+    def _wall_wait_s(self) -> float | None:
+        """Seconds until the next wall-clock timer (None: no wall timer)."""
+        best: int | None = None
+        for timer in self._timers:
+            clock = timer.clock
+            if isinstance(clock, ROSClock) and clock.ros_time_is_active:
+                continue  # woken by /clock messages instead
+            remaining = timer.time_until_next_call()
+            if remaining is not None and (best is None or remaining < best):
+                best = remaining
+        return None if best is None else max(0.0, best / 1e9)
+
+    def _wait_for_work(self, timeout_sec: float | None) -> tuple[int, Any, Any] | None:
+        deadline = None
+        if timeout_sec is not None and timeout_sec >= 0:
+            deadline = time.monotonic() + timeout_sec
+        while self._context.ok() and not self._is_shutdown:
+            self._wake_event.clear()
+            work = self._take_ready()
+            if work is not None:
+                return work
+            wait = self._wall_wait_s()
+            if deadline is not None:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return None
+                wait = remaining if wait is None else min(wait, remaining)
+            self._wake_event.wait(wait)
+        return None
+
+    def spin_once(self, timeout_sec: float | None = None) -> None:
+        """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""
+        work = self._wait_for_work(timeout_sec)
+        if work is not None:
+            self._execute(work)
+
+    def spin(self) -> None:
+        """Run callbacks until the context shuts down or shutdown() is called."""
+        while self._context.ok() and not self._is_shutdown:
+            self.spin_once()
+
+    def spin_some(self, max_duration: float = 0.0) -> None:
+        """Run what is ready now (and for up to ``max_duration`` s more), then return."""
+        end = time.monotonic() + max_duration
+        while self._context.ok() and not self._is_shutdown:
+            work = self._take_ready()
+            if work is None:
+                remaining = end - time.monotonic()
+                if remaining <= 0:
+                    return
+                work = self._wait_for_work(remaining)
+                if work is None:
+                    return
+            self._execute(work)
+
+    def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
+        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed."""
+        future.add_done_callback(lambda _f: self.wake())
+        if timeout_sec is None or timeout_sec < 0:
+            while self._context.ok() and not self._is_shutdown and not future.done():
+                self.spin_once()
+            return
+        end = time.monotonic() + timeout_sec
+        while self._context.ok() and not future.done():
+            remaining = end - time.monotonic()
+            if remaining <= 0:
+                return
+            self.spin_once(remaining)
+
+    def spin_once_until_future_complete(
+        self, future: Future, timeout_sec: float | None = None
+    ) -> None:
+        """spin_once, returning early if ``future`` completes."""
+        future.add_done_callback(lambda _f: self.wake())
+        if not future.done():
+            self.spin_once(timeout_sec)
+
+    def shutdown(self, timeout_sec: float | None = None) -> bool:
+        """Stop spinning and drop the nodes."""
+        del timeout_sec
+        self._is_shutdown = True
+        for node in list(self._nodes):
+            self.remove_node(node)
+        self.wake()
+        return True
+
+
+class SingleThreadedExecutor(Executor):
+    """Runs callbacks one at a time in the spinning thread."""
+
+
+class MultiThreadedExecutor(Executor):
+    """``num_threads`` worker threads (default: CPU count, at least 2) run callbacks;
+    callback groups decide what may overlap. ``spin_once`` runs in the calling thread."""
+
+    def __init__(self, num_threads: int | None = None, *, context: Context | None = None) -> None:
+        super().__init__(context=context)
+        self._num_threads = num_threads or max(2, os.cpu_count() or 2)
+        if self._num_threads < 1:
+            raise ValueError("num_threads must be >= 1")
+
+    @property
+    def num_threads(self) -> int:
+        """How many workers spin() starts."""
+        return self._num_threads
+
+    def _worker(self) -> None:
+        while self._context.ok() and not self._is_shutdown:
+            work = self._wait_for_work(0.05)
+            if work is not None:
+                self._execute(work)
+                self.wake()  # a group was released: another worker may now proceed
+
+    def spin(self) -> None:
+        workers = [
+            threading.Thread(target=self._worker, name=f"posekit-executor-{i}", daemon=True)
+            for i in range(self._num_threads - 1)
+        ]
+        for w in workers:
+            w.start()
+        try:
+            self._worker()
+        finally:
+            self._is_shutdown_workers(workers)
+
+    def _is_shutdown_workers(self, workers: list[threading.Thread]) -> None:
+        if self._context.ok() and not self._is_shutdown:
+            return
+        for w in workers:
+            w.join(timeout=1.0)
+
+
+def _to_ns(t: float | int | Time | Duration) -> int:
+    if isinstance(t, Time | Duration):
+        return t.nanoseconds
+    return round(float(t) * 1e9)
+
+
+class SimulatedTimeExecutor(Executor):
+    """A stepped executor that owns simulated ROS time (see the module docstring).
+
+    Nodes added get ``use_sim_time=True``. Timers on other clocks (an explicit system or
+    steady clock) are still checked, against the wall clock, which makes them the only
+    non-deterministic part of a stepped run.
+    """
+
+    def __init__(
+        self,
+        *,
+        context: Context | None = None,
+        start_time: float | Time = 0.0,
+        real_time_factor: float | None = None,
+        publish_clock: bool = True,
+    ) -> None:
+        super().__init__(context=context)
+        self._now_ns = _to_ns(start_time)
+        if self._now_ns < 0:
+            raise ValueError("start_time must be >= 0")
+        if real_time_factor is not None and real_time_factor <= 0:
+            raise ValueError("real_time_factor must be > 0 (or None for as fast as possible)")
+        self.real_time_factor = real_time_factor
+        self._publish_clock = publish_clock
+        self._clock_node: Node | None = None
+        self._clock_pub: Any = None
+        self._anchor: tuple[float, int] | None = None
+        #: Callbacks executed so far.
+        self.callbacks_run = 0
+
+    # -- time -------------------------------------------------------------------------
+    @property
+    def now_ns(self) -> int:
+        """Current simulated time in nanoseconds."""
+        return self._now_ns
+
+    def now(self) -> Time:
+        """Current simulated time."""
+        return Time(nanoseconds=self._now_ns, clock_type=ClockType.ROS_TIME)
+
+    def add_node(self, node: Node) -> bool:
+        if not node.get_parameter("use_sim_time").value:
+            node.set_parameters([Parameter("use_sim_time", value=True)])
+        node._time_source.set_time_ns(self._now_ns)
+        return super().add_node(node)
+
+    def _publish_clock_msg(self) -> None:
+        if not self._publish_clock:
+            return
+        if self._clock_pub is None:
+            self._clock_node = Node("posekit_sim_clock", context=self._context)
+            self._clock_pub = self._clock_node.create_publisher(
+                ClockMsg, "/clock", QoSProfile(depth=1)
+            )
+        msg = ClockMsg()
+        msg.clock.sec, msg.clock.nanosec = divmod(self._now_ns, 1_000_000_000)
+        self._clock_pub.publish(msg)
+
+    def set_time(self, t: float | Time) -> None:
+        """Jump to ``t`` (seconds or Time), forwards or backwards; jump callbacks fire."""
+        ns = _to_ns(t)
+        if ns < 0:
+            raise ValueError("simulated time cannot be negative")
+        self._now_ns = ns
+        self._anchor = None
+        for node in list(self._nodes):
+            node._time_source.set_time_ns(ns)
+        self._publish_clock_msg()
+
+    def _advance(self, ns: int) -> None:
+        if ns == self._now_ns:
+            return
+        if self.real_time_factor is not None:
+            if self._anchor is None:
+                self._anchor = (time.monotonic(), self._now_ns)
+            wall0, sim0 = self._anchor
+            due = wall0 + (ns - sim0) / 1e9 / self.real_time_factor
+            delay = due - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+        self._now_ns = ns
+        for node in list(self._nodes):
+            node._time_source.set_time_ns(ns)
+        self._publish_clock_msg()
+
+    def _next_timer_ns(self) -> int | None:
+        best: int | None = None
+        for timer in self._timers:
+            if timer.is_canceled() or timer.destroyed:
+                continue
+            clock = timer.clock
+            if not (isinstance(clock, ROSClock) and clock.ros_time_is_active):
+                continue
+            timer.is_ready()  # applies backward-jump rescheduling
+            due = max(timer.next_call_ns, self._now_ns)
+            if best is None or due < best:
+                best = due
+        return best
+
+    # -- running ----------------------------------------------------------------------
+    def _run_ready(self) -> int:
+        count = 0
+        while self._context.ok() and not self._is_shutdown:
+            work = self._take_ready()
+            if work is None:
+                break
+            self._execute(work)
+            count += 1
+        self.callbacks_run += count
+        return count
+
+    def run_until(self, t: float | Time) -> int:
+        """Advance simulated time to ``t`` (seconds or Time), running every callback due on
+        the way in time order; returns the number of callbacks run."""
+        target = _to_ns(t)
+        if target < self._now_ns:
+            raise ValueError(
+                f"run_until({target / 1e9} s) is before the current sim time "
+                f"{self._now_ns / 1e9} s; use set_time() to jump back"
+            )
+        start = self.callbacks_run
+        while self._context.ok() and not self._is_shutdown:
+            self._run_ready()
+            nxt = self._next_timer_ns()
+            if nxt is None or nxt > target:
+                self._advance(target)
+                self._run_ready()
+                break
+            self._advance(nxt)
+        return self.callbacks_run - start
+
+    def run_for(self, seconds: float | Duration) -> int:
+        """run_until(now + seconds)."""
+        return self.run_until(Time(nanoseconds=self._now_ns + _to_ns(seconds)))
+
+    def spin_once(self, timeout_sec: float | None = None) -> None:
+        """Run one ready callback; if none, jump to the next timer and run one there. With no
+        timers at all, wait up to ``timeout_sec`` wall seconds for an outside message."""
+        work = self._take_ready()
+        if work is None:
+            nxt = self._next_timer_ns()
+            if nxt is not None:
+                self._advance(nxt)
+                work = self._take_ready()
+            else:
+                work = self._wait_for_work(timeout_sec)
+        if work is not None:
+            self._execute(work)
+            self.callbacks_run += 1
+
+    def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
+        """Step until ``future`` is done; ``timeout_sec`` counts *simulated* seconds."""
+        future.add_done_callback(lambda _f: self.wake())
+        end = None if timeout_sec is None or timeout_sec < 0 else self._now_ns + _to_ns(timeout_sec)
+        while self._context.ok() and not self._is_shutdown and not future.done():
+            if not self._run_ready():
+                nxt = self._next_timer_ns()
+                if nxt is None:
+                    self._wait_for_work(0.01)
+                    continue
+                if end is not None and nxt > end:
+                    self._advance(max(end, self._now_ns))
+                    self._run_ready()
+                    return
+                self._advance(nxt)
+
+    def shutdown(self, timeout_sec: float | None = None) -> bool:
+        result = super().shutdown(timeout_sec)
+        if self._clock_node is not None and self._context.ok():
+            self._clock_node.destroy_node()
+        return result
+
+
+# -- module-level rclpy functions ---------------------------------------------------------
+_global_executors: dict[int, Executor] = {}
+
+
+def get_global_executor(context: Context | None = None) -> Executor:
+    """The SingleThreadedExecutor used by spin()/spin_once() without an executor."""
+    ctx = context or get_default_context()
+    executor = _global_executors.get(id(ctx))
+    if executor is None or executor._context is not ctx or executor._is_shutdown:
+        executor = SingleThreadedExecutor(context=ctx)
+        _global_executors[id(ctx)] = executor
+        key = id(ctx)
+
+        def forget() -> None:
+            _global_executors.pop(key, None)
+
+        ctx.on_shutdown(forget)
+    return executor
+
+
+def spin_once(node: Node, *, executor: Executor | None = None,
+              timeout_sec: float | None = None) -> None:
+    """rclpy.spin_once: one callback of ``node`` (global executor unless given)."""
+    executor = executor or get_global_executor(node.context)
+    added = executor.add_node(node)
+    try:
+        executor.spin_once(timeout_sec=timeout_sec)
+    finally:
+        if added and executor is _global_executors.get(id(node.context)):
+            pass  # keep the node: removing would re-sort its queue on every call
+
+
+def spin(node: Node, executor: Executor | None = None) -> None:
+    """rclpy.spin: run ``node``'s callbacks until shutdown."""
+    executor = executor or get_global_executor(node.context)
+    executor.add_node(node)
+    try:
+        executor.spin()
+    finally:
+        if node.executor is executor and executor is not None:
+            executor.remove_node(node)
+
+
+def spin_until_future_complete(
+    node: Node,
+    future: Future,
+    executor: Executor | None = None,
+    timeout_sec: float | None = None,
+) -> None:
+    """rclpy.spin_until_future_complete."""
+    executor = executor or get_global_executor(node.context)
+    executor.add_node(node)
+    executor.spin_until_future_complete(future, timeout_sec)

@@ -1,0 +1,222 @@
+"""rclpy-style loggers: ``get_logger(name).info(...)`` printing ROS 2's console line.
+
+Line format (rcutils' default): ``[INFO] [1700000000.123456789] [talker]: message``, written
+to stderr (as rcutils does). Severities: debug, info, warn/warning, error, fatal. Each call
+accepts rclpy's keywords:
+
+* ``throttle_duration_sec=s``: from one call site, print at most once per ``s`` seconds;
+* ``once=True``: print only the first time that call site runs;
+* ``skip_first=True``: skip the first time (with throttling: the first window).
+
+A call site is identified by the caller's code location, as rclpy does.
+
+posekit deviation: a node's logger stamps lines and measures throttle windows with the
+*node's clock*, so in simulated time logs carry sim time and a stepped run prints identical
+output every time (rclpy always uses the wall clock). Standalone loggers use the wall clock.
+
+Output goes to the registered sinks (default: one that writes to ``sys.stderr``); tests and
+tools can add their own with :func:`add_sink` (each receives a :class:`LogRecord`).
+"""
+
+from __future__ import annotations
+
+import enum
+import sys
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from types import FrameType
+
+__all__ = [
+    "LogRecord",
+    "LoggingSeverity",
+    "RcutilsLogger",
+    "add_sink",
+    "format_line",
+    "get_logger",
+    "get_logger_level",
+    "remove_sink",
+    "set_logger_level",
+]
+
+
+class LoggingSeverity(enum.IntEnum):
+    """rcutils log severities."""
+
+    UNSET = 0
+    DEBUG = 10
+    INFO = 20
+    WARN = 30
+    ERROR = 40
+    FATAL = 50
+
+
+_LABEL = {
+    LoggingSeverity.DEBUG: "DEBUG",
+    LoggingSeverity.INFO: "INFO",
+    LoggingSeverity.WARN: "WARN",
+    LoggingSeverity.ERROR: "ERROR",
+    LoggingSeverity.FATAL: "FATAL",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class LogRecord:
+    """One emitted log line: severity, logger name, stamp (ns) and message."""
+
+    severity: LoggingSeverity
+    name: str
+    stamp_ns: int
+    message: str
+
+    @property
+    def line(self) -> str:
+        """The console line."""
+        return format_line(self.severity, self.stamp_ns, self.name, self.message)
+
+
+def format_line(severity: LoggingSeverity, stamp_ns: int, name: str, message: str) -> str:
+    """``[SEVERITY] [sec.nanosec] [name]: message`` (nanoseconds zero-padded to 9 digits)."""
+    sec, nsec = divmod(stamp_ns, 1_000_000_000)
+    return f"[{_LABEL.get(severity, severity.name)}] [{sec}.{nsec:09d}] [{name}]: {message}"
+
+
+def _stderr_sink(record: LogRecord) -> None:
+    stream = sys.stderr
+    stream.write(record.line + "\n")
+    stream.flush()
+
+
+_sinks: list[Callable[[LogRecord], None]] = [_stderr_sink]
+_levels: dict[str, LoggingSeverity] = {}
+_default_level = LoggingSeverity.INFO
+_lock = threading.Lock()
+
+
+def add_sink(sink: Callable[[LogRecord], None]) -> None:
+    """Also send every emitted record to ``sink``."""
+    with _lock:
+        _sinks.append(sink)
+
+
+def remove_sink(sink: Callable[[LogRecord], None]) -> None:
+    """Stop sending records to ``sink`` (the default stderr sink can be removed too)."""
+    with _lock:
+        if sink in _sinks:
+            _sinks.remove(sink)
+
+
+def set_logger_level(name: str, level: LoggingSeverity | int) -> None:
+    """Set the threshold of the logger ``name`` (and of its children without their own)."""
+    with _lock:
+        _levels[name] = LoggingSeverity(level)
+
+
+def get_logger_level(name: str) -> LoggingSeverity:
+    """The effective threshold of ``name``: its own, its nearest ancestor's, else INFO."""
+    parts = name.split(".") if name else []
+    while parts:
+        level = _levels.get(".".join(parts))
+        if level is not None and level != LoggingSeverity.UNSET:
+            return level
+        parts.pop()
+    return _levels.get("", _default_level)
+
+
+class RcutilsLogger:
+    """A named logger (rclpy's ``RcutilsLogger`` API)."""
+
+    def __init__(self, name: str = "", clock_ns: Callable[[], int] | None = None) -> None:
+        self.name = name
+        self._clock_ns = clock_ns if clock_ns is not None else time.time_ns
+        # Per call site: (times called, last emitted stamp or None).
+        self._sites: dict[tuple[object, int], list[int | None]] = {}
+
+    def get_child(self, name: str) -> RcutilsLogger:
+        """Logger ``<self>.<name>`` sharing this logger's clock."""
+        if not name:
+            raise ValueError("child logger name must not be empty")
+        full = f"{self.name}.{name}" if self.name else name
+        return RcutilsLogger(full, self._clock_ns)
+
+    def set_level(self, level: LoggingSeverity | int) -> None:
+        """Set this logger's threshold."""
+        set_logger_level(self.name, level)
+
+    def get_effective_level(self) -> LoggingSeverity:
+        """The threshold in force for this logger."""
+        return get_logger_level(self.name)
+
+    def is_enabled_for(self, severity: LoggingSeverity | int) -> bool:
+        """Whether a message of ``severity`` would be printed."""
+        return severity >= self.get_effective_level()
+
+    def _emit(
+        self,
+        message: object,
+        severity: LoggingSeverity,
+        frame: FrameType | None,
+        throttle_duration_sec: float | None = None,
+        throttle_time_source_type: object = None,
+        skip_first: bool = False,
+        once: bool = False,
+    ) -> bool:
+        del throttle_time_source_type  # the logger's own clock is used (module docstring)
+        if severity < self.get_effective_level():
+            return False
+        filtered = once or skip_first or throttle_duration_sec is not None
+        now = self._clock_ns()
+        if filtered:
+            key = (frame.f_code, frame.f_lineno) if frame is not None else (None, 0)
+            site = self._sites.setdefault(key, [0, None])
+            calls = int(site[0] or 0)
+            site[0] = calls + 1
+            if once and calls > 0:
+                return False
+            if throttle_duration_sec is not None:
+                last = site[1]
+                if last is not None and now - last < round(throttle_duration_sec * 1e9):
+                    return False
+                site[1] = now
+                if skip_first and last is None:
+                    return False
+            elif skip_first and calls == 0:
+                return False
+        record = LogRecord(severity, self.name, now, str(message))
+        with _lock:
+            sinks = list(_sinks)
+        for sink in sinks:
+            sink(record)
+        return True
+
+    def log(self, message: object, severity: LoggingSeverity | int, **kwargs: object) -> bool:
+        """Log at ``severity``; returns whether the line was emitted."""
+        return self._emit(message, LoggingSeverity(severity), sys._getframe(1), **kwargs)  # type: ignore[arg-type]
+
+    def debug(self, message: object, **kwargs: object) -> bool:
+        """Log at DEBUG."""
+        return self._emit(message, LoggingSeverity.DEBUG, sys._getframe(1), **kwargs)  # type: ignore[arg-type]
+
+    def info(self, message: object, **kwargs: object) -> bool:
+        """Log at INFO."""
+        return self._emit(message, LoggingSeverity.INFO, sys._getframe(1), **kwargs)  # type: ignore[arg-type]
+
+    def warning(self, message: object, **kwargs: object) -> bool:
+        """Log at WARN."""
+        return self._emit(message, LoggingSeverity.WARN, sys._getframe(1), **kwargs)  # type: ignore[arg-type]
+
+    warn = warning
+
+    def error(self, message: object, **kwargs: object) -> bool:
+        """Log at ERROR."""
+        return self._emit(message, LoggingSeverity.ERROR, sys._getframe(1), **kwargs)  # type: ignore[arg-type]
+
+    def fatal(self, message: object, **kwargs: object) -> bool:
+        """Log at FATAL."""
+        return self._emit(message, LoggingSeverity.FATAL, sys._getframe(1), **kwargs)  # type: ignore[arg-type]
+
+
+def get_logger(name: str = "") -> RcutilsLogger:
+    """A wall-clock logger called ``name`` (rclpy.logging.get_logger)."""
+    return RcutilsLogger(name)

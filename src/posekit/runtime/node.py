@@ -1,0 +1,510 @@
+"""Node: rclpy's Node API over posekit's transports, executors and clocks.
+
+``Node(name, namespace=..., parameter_overrides=..., remappings=..., context=...)``. Topic
+names are validated, expanded in the node's namespace and remapped (posekit.runtime.names);
+the QoS argument is a :class:`QoSProfile` or an int depth. Every node declares
+``use_sim_time`` (default False); setting it true makes ``get_clock()`` follow ``/clock``.
+
+Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context,
+the :func:`node_defaults` scope (used by posekit.launch), then the constructor arguments.
+"""
+
+from __future__ import annotations
+
+import contextvars
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from posekit.runtime.clock import Clock, ROSClock
+from posekit.runtime.context import Context, NotInitializedException, get_default_context
+from posekit.runtime.entities import Publisher, Subscription, Timer
+from posekit.runtime.logging import RcutilsLogger
+from posekit.runtime.names import (
+    RemapRule,
+    normalize_namespace,
+    parse_remap_rules,
+    resolve_topic_name,
+    validate_node_name,
+)
+from posekit.runtime.parameters import (
+    OnSetCallback,
+    Parameter,
+    ParameterDescriptor,
+    ParameterStore,
+    SetParametersResult,
+)
+from posekit.runtime.qos import QoSProfile, to_qos_profile
+from posekit.runtime.time_source import TimeSource
+from posekit.runtime.transport import EndpointInfo, Transport
+
+if TYPE_CHECKING:
+    from posekit.runtime.executors import Executor
+
+__all__ = ["Node", "NodeDefaults", "node_defaults"]
+
+
+@dataclass
+class NodeDefaults:
+    """Overrides applied to every Node constructed inside :func:`node_defaults`."""
+
+    name: str | None = None
+    namespace: str | None = None
+    parameters: dict[str, Any] = field(default_factory=dict)
+    remappings: list[RemapRule] = field(default_factory=list)
+    context: Context | None = None
+
+
+_defaults: contextvars.ContextVar[NodeDefaults | None] = contextvars.ContextVar(
+    "posekit_node_defaults", default=None
+)
+
+
+@contextmanager
+def node_defaults(
+    *,
+    name: str | None = None,
+    namespace: str | None = None,
+    parameters: Mapping[str, Any] | None = None,
+    remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
+    context: Context | None = None,
+) -> Iterator[NodeDefaults]:
+    """Nodes created in this block get this name/namespace/parameters/remaps/context.
+
+    This is how a launch description configures node classes whose ``__init__`` hard-codes
+    ``super().__init__("name")`` (ROS does the same with ``--ros-args`` of the process).
+    """
+    value = NodeDefaults(
+        name, namespace, dict(parameters or {}), parse_remap_rules(remappings), context
+    )
+    token = _defaults.set(value)
+    try:
+        yield value
+    finally:
+        _defaults.reset(token)
+
+
+def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | None, str | None]:
+    name = ns = None
+    for rule in rules:
+        if rule.node is not None and rule.node != node_name:
+            continue
+        if rule.from_name == "__node" or rule.from_name == "__name":
+            name = rule.to_name
+        elif rule.from_name == "__ns":
+            ns = rule.to_name
+    return name, ns
+
+
+class Node:
+    """A ROS 2 node (rclpy.node.Node API)."""
+
+    def __init__(
+        self,
+        node_name: str,
+        *,
+        context: Context | None = None,
+        cli_args: Sequence[str] | None = None,
+        namespace: str | None = None,
+        use_global_arguments: bool = True,
+        enable_rosout: bool = True,
+        start_parameter_services: bool = True,
+        parameter_overrides: Sequence[Parameter] | Mapping[str, Any] | None = None,
+        allow_undeclared_parameters: bool = False,
+        automatically_declare_parameters_from_overrides: bool = False,
+        remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
+        transport: str | Transport | None = None,
+    ) -> None:
+        del enable_rosout, start_parameter_services  # no /rosout or parameter services
+        scope = _defaults.get()
+        self._context = context or (scope.context if scope else None) or get_default_context()
+        if not self._context.ok():
+            raise NotInitializedException(f"cannot create node '{node_name}'")
+        validate_node_name(node_name)
+
+        from posekit.runtime.context import parse_ros_args
+
+        cli_params, cli_remaps = parse_ros_args(cli_args)
+        rules: list[RemapRule] = []
+        overrides: dict[str, Any] = {}
+        if use_global_arguments:
+            rules.extend(self._context.global_remaps)
+            overrides.update(self._context.global_parameters)
+        if scope is not None:
+            rules = list(scope.remappings) + rules
+            overrides.update(scope.parameters)
+        rules = parse_remap_rules(remappings) + cli_remaps + rules
+        overrides.update(cli_params)
+
+        name_remap, ns_remap = _special_remaps(rules, node_name)
+        if scope is not None and scope.name:
+            node_name = scope.name
+        if scope is not None and scope.namespace is not None and namespace is None:
+            namespace = scope.namespace
+        if name_remap:
+            node_name = name_remap
+        if ns_remap:
+            namespace = ns_remap
+        self._name = validate_node_name(node_name)
+        self._namespace = normalize_namespace(namespace)
+        self._remap_rules = [r for r in rules if not r.from_name.startswith("__")]
+
+        if isinstance(parameter_overrides, Mapping):
+            overrides.update(parameter_overrides)
+        elif parameter_overrides is not None:
+            overrides.update({p.name: p.value for p in parameter_overrides})
+
+        if isinstance(transport, Transport):
+            self._transport = transport
+        else:
+            self._transport = self._context.transport(transport)
+
+        self._executor: Executor | None = None
+        self._publishers: list[Publisher] = []
+        self._subscriptions: list[Subscription] = []
+        self._timers: list[Timer] = []
+        self._destroyed = False
+        self.default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
+        self._callback_groups: list[CallbackGroup] = [self.default_callback_group]
+
+        self._clock = ROSClock()
+        logger_name = (self._namespace.strip("/").replace("/", ".") + "." + self._name).lstrip(".")
+        self._logger = RcutilsLogger(logger_name, self._clock.now_ns)
+        self._parameters = ParameterStore.create(
+            self._name, overrides, allow_undeclared_parameters
+        )
+        self._time_source = TimeSource(self)
+        self._time_source.attach_clock(self._clock)
+        self._parameters.add_post_set(self._on_parameters_set)
+        self._parameters.add_on_set(self._check_use_sim_time)
+        self.declare_parameter("use_sim_time", False)
+        if automatically_declare_parameters_from_overrides:
+            for pname, value in overrides.items():
+                if not self._parameters.has(pname):
+                    self.declare_parameter(pname, value)
+
+    # -- identity ---------------------------------------------------------------------
+    @property
+    def context(self) -> Context:
+        """The context the node lives in."""
+        return self._context
+
+    @property
+    def executor(self) -> Executor | None:
+        """The executor the node was added to, if any."""
+        return self._executor
+
+    @executor.setter
+    def executor(self, new_executor: Executor | None) -> None:
+        if new_executor is self._executor:
+            return
+        if self._executor is not None:
+            self._executor.remove_node(self)
+        if new_executor is not None:
+            new_executor.add_node(self)
+
+    @property
+    def transport(self) -> Transport:
+        """The transport carrying this node's messages."""
+        return self._transport
+
+    def get_name(self) -> str:
+        """The node's name (after remapping)."""
+        return self._name
+
+    def get_namespace(self) -> str:
+        """The node's namespace, '/' for the root."""
+        return self._namespace
+
+    def get_fully_qualified_name(self) -> str:
+        """``/ns/name``."""
+        return ("" if self._namespace == "/" else self._namespace) + "/" + self._name
+
+    def get_logger(self) -> RcutilsLogger:
+        """The node's logger (named after the node, stamped with the node's clock)."""
+        return self._logger
+
+    def get_clock(self) -> ROSClock:
+        """The node's ROS clock (sim time when use_sim_time is true)."""
+        return self._clock
+
+    def resolve_topic_name(self, topic: str, *, only_expand: bool = False) -> str:
+        """Expand (and unless ``only_expand``, remap) a topic name as this node would."""
+        rules: Sequence[RemapRule] = () if only_expand else self._remap_rules
+        return resolve_topic_name(topic, self._name, self._namespace, rules)
+
+    # -- entities ---------------------------------------------------------------------
+    def _check_alive(self) -> None:
+        if self._destroyed:
+            raise RuntimeError(f"node '{self.get_fully_qualified_name()}' has been destroyed")
+        if not self._context.ok():
+            raise NotInitializedException(f"node '{self._name}'")
+
+    def _info(self, msg_type: type, topic: str, qos: QoSProfile) -> EndpointInfo:
+        if not isinstance(msg_type, type):
+            raise TypeError(f"message type must be a class, got {msg_type!r}")
+        return EndpointInfo(topic, msg_type, qos, self._name, self._namespace, self._logger)
+
+    def create_publisher(
+        self,
+        msg_type: type,
+        topic: str,
+        qos_profile: QoSProfile | int,
+        *,
+        callback_group: CallbackGroup | None = None,
+        event_callbacks: object = None,
+        qos_overriding_options: object = None,
+        publisher_class: object = None,
+    ) -> Publisher:
+        """Publisher of ``msg_type`` on ``topic`` (relative names use the node namespace)."""
+        del callback_group, event_callbacks, qos_overriding_options, publisher_class
+        self._check_alive()
+        qos = to_qos_profile(qos_profile)
+        full = self.resolve_topic_name(topic)
+        endpoint = self._transport.advertise(self._info(msg_type, full, qos))
+        pub = Publisher(self, msg_type, full, qos, endpoint)
+        self._publishers.append(pub)
+        return pub
+
+    def create_subscription(
+        self,
+        msg_type: type,
+        topic: str,
+        callback: Callable[[Any], Any],
+        qos_profile: QoSProfile | int,
+        *,
+        callback_group: CallbackGroup | None = None,
+        event_callbacks: object = None,
+        qos_overriding_options: object = None,
+        raw: bool = False,
+    ) -> Subscription:
+        """Subscription calling ``callback(msg)`` from the executor for each message."""
+        del event_callbacks, qos_overriding_options
+        if raw:
+            raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
+        self._check_alive()
+        if not callable(callback):
+            raise TypeError(f"subscription callback must be callable, got {callback!r}")
+        qos = to_qos_profile(qos_profile)
+        full = self.resolve_topic_name(topic)
+        group = callback_group or self.default_callback_group
+        sub = Subscription(self, msg_type, full, callback, qos, group)
+        self._subscriptions.append(sub)
+        try:
+            endpoint = self._transport.subscribe(self._info(msg_type, full, qos), sub._enqueue)
+        except BaseException:
+            self._subscriptions.remove(sub)
+            raise
+        sub._attach(endpoint)
+        if self._executor is not None:
+            self._executor._node_changed(self)
+        return sub
+
+    def create_timer(
+        self,
+        timer_period_sec: float,
+        callback: Callable[[], Any],
+        callback_group: CallbackGroup | None = None,
+        clock: Clock | None = None,
+        autostart: bool = True,
+    ) -> Timer:
+        """Timer calling ``callback()`` every ``timer_period_sec`` seconds of ``clock``
+        (default: the node clock, so sim time under use_sim_time)."""
+        self._check_alive()
+        if not callable(callback):
+            raise TypeError(f"timer callback must be callable, got {callback!r}")
+        period_ns = round(float(timer_period_sec) * 1e9)
+        if period_ns < 0:
+            raise ValueError(f"timer period must be >= 0 s, got {timer_period_sec}")
+        timer = Timer(
+            self,
+            callback,
+            period_ns,
+            clock or self._clock,
+            callback_group or self.default_callback_group,
+            autostart,
+        )
+        self._timers.append(timer)
+        if self._executor is not None:
+            self._executor._node_changed(self)
+        return timer
+
+    def create_rate(self, frequency: float, clock: Clock | None = None) -> Any:
+        """Not provided: sleeping in callbacks blocks executors; use a timer."""
+        raise NotImplementedError("create_rate is not supported; use create_timer")
+
+    def destroy_publisher(self, publisher: Publisher) -> bool:
+        """Remove a publisher; False if it is not this node's."""
+        if publisher in self._publishers:
+            self._publishers.remove(publisher)
+            publisher._destroy()
+            return True
+        return False
+
+    def destroy_subscription(self, subscription: Subscription) -> bool:
+        """Remove a subscription (safe inside its own callback); False if unknown."""
+        if subscription in self._subscriptions:
+            self._subscriptions.remove(subscription)
+            subscription._destroy()
+            if self._executor is not None:
+                self._executor._node_changed(self)
+            return True
+        return False
+
+    def destroy_timer(self, timer: Timer) -> bool:
+        """Remove a timer; False if unknown."""
+        if timer in self._timers:
+            self._timers.remove(timer)
+            timer.destroyed = True
+            if self._executor is not None:
+                self._executor._node_changed(self)
+            return True
+        return False
+
+    def create_callback_group(self, reentrant: bool = False) -> CallbackGroup:
+        """Convenience: a new callback group registered with the node."""
+        from posekit.runtime.callback_groups import ReentrantCallbackGroup
+
+        group: CallbackGroup = (
+            ReentrantCallbackGroup() if reentrant else MutuallyExclusiveCallbackGroup()
+        )
+        self._callback_groups.append(group)
+        return group
+
+    @property
+    def publishers(self) -> Iterator[Publisher]:
+        """This node's publishers."""
+        return iter(list(self._publishers))
+
+    @property
+    def subscriptions(self) -> Iterator[Subscription]:
+        """This node's subscriptions."""
+        return iter(list(self._subscriptions))
+
+    @property
+    def timers(self) -> Iterator[Timer]:
+        """This node's timers."""
+        return iter(list(self._timers))
+
+    def destroy_node(self) -> bool:
+        """Destroy every entity and leave the executor; the node is unusable afterwards."""
+        if self._destroyed:
+            return True
+        if self._executor is not None:
+            self._executor.remove_node(self)
+        for pub in list(self._publishers):
+            self.destroy_publisher(pub)
+        for sub in list(self._subscriptions):
+            self.destroy_subscription(sub)
+        for timer in list(self._timers):
+            self.destroy_timer(timer)
+        self._time_source.destroy()
+        self._destroyed = True
+        return True
+
+    # -- graph ------------------------------------------------------------------------
+    def get_topic_names_and_types(self, no_demangle: bool = False) -> list[tuple[str, list[str]]]:
+        """Every topic known to the node's transport, with type names."""
+        del no_demangle
+        return self._transport.get_topic_names_and_types()
+
+    def count_publishers(self, topic_name: str) -> int:
+        """Publishers on ``topic_name`` (expanded and remapped like the node's own topics)."""
+        return self._transport.count_publishers(self.resolve_topic_name(topic_name))
+
+    def count_subscribers(self, topic_name: str) -> int:
+        """Subscriptions on ``topic_name``."""
+        return self._transport.count_subscribers(self.resolve_topic_name(topic_name))
+
+    # -- parameters -------------------------------------------------------------------
+    def _check_use_sim_time(self, params: list[Parameter]) -> SetParametersResult:
+        for p in params:
+            if p.name == "use_sim_time" and p.type_ != Parameter.Type.BOOL:
+                return SetParametersResult(False, "use_sim_time parameter must be a boolean")
+        return SetParametersResult(True)
+
+    def _on_parameters_set(self, params: list[Parameter]) -> None:
+        for p in params:
+            if p.name == "use_sim_time":
+                self._time_source.ros_time_is_active = bool(p.value)
+
+    def declare_parameter(
+        self,
+        name: str,
+        value: Any = None,
+        descriptor: ParameterDescriptor | None = None,
+        ignore_override: bool = False,
+    ) -> Parameter:
+        """Declare ``name`` with a default; a launch/override value wins. Returns it."""
+        return self._parameters.declare(name, value, descriptor, ignore_override)
+
+    def declare_parameters(
+        self,
+        namespace: str,
+        parameters: Sequence[tuple[Any, ...]],
+        ignore_override: bool = False,
+    ) -> list[Parameter]:
+        """Declare ``(name, value[, descriptor])`` tuples under ``namespace.``."""
+        out = []
+        for item in parameters:
+            name = f"{namespace}.{item[0]}" if namespace else str(item[0])
+            value = item[1] if len(item) > 1 else None
+            desc = item[2] if len(item) > 2 else None
+            out.append(self.declare_parameter(name, value, desc, ignore_override))
+        return out
+
+    def undeclare_parameter(self, name: str) -> None:
+        """Remove a declared parameter."""
+        self._parameters.undeclare(name)
+
+    def has_parameter(self, name: str) -> bool:
+        """Whether ``name`` is declared."""
+        return self._parameters.has(name)
+
+    def get_parameter(self, name: str) -> Parameter:
+        """The declared parameter (``.value`` holds the value)."""
+        return self._parameters.get(name)
+
+    def get_parameters(self, names: Sequence[str]) -> list[Parameter]:
+        """Several declared parameters."""
+        return [self._parameters.get(n) for n in names]
+
+    def get_parameter_or(self, name: str, alternative_value: Parameter | None = None) -> Parameter:
+        """The parameter if declared, else ``alternative_value`` (or a NOT_SET one)."""
+        if self._parameters.has(name):
+            return self._parameters.get(name)
+        return alternative_value if alternative_value is not None else Parameter(name)
+
+    def get_parameters_by_prefix(self, prefix: str) -> dict[str, Parameter]:
+        """Declared parameters under ``prefix.`` keyed by the rest of the name."""
+        pre = prefix + "." if prefix else ""
+        return {
+            n[len(pre):]: self._parameters.get(n)
+            for n in self._parameters.names()
+            if n.startswith(pre)
+        }
+
+    def set_parameters(self, parameter_list: Sequence[Parameter]) -> list[SetParametersResult]:
+        """Set each parameter; one result per parameter."""
+        return self._parameters.set(parameter_list)
+
+    def set_parameters_atomically(self, parameter_list: Sequence[Parameter]) -> SetParametersResult:
+        """Set all or none."""
+        return self._parameters.set_atomically(parameter_list)
+
+    def describe_parameter(self, name: str) -> ParameterDescriptor:
+        """The descriptor of a declared parameter."""
+        return self._parameters.descriptor(name)
+
+    def add_on_set_parameters_callback(self, callback: OnSetCallback) -> None:
+        """Validate (and possibly refuse) parameter changes."""
+        self._parameters.add_on_set(callback)
+
+    def remove_on_set_parameters_callback(self, callback: OnSetCallback) -> None:
+        """Undo add_on_set_parameters_callback."""
+        self._parameters.remove_on_set(callback)
+
+    def __repr__(self) -> str:
+        return f"Node('{self.get_fully_qualified_name()}')"

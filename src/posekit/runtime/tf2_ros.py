@@ -1,0 +1,225 @@
+"""tf2_ros's node-level classes: TransformBroadcaster, StaticTransformBroadcaster,
+TransformListener (QoS and behaviour from specs/tf2.md §9).
+
+* ``TransformBroadcaster(node)``: ``/tf``, KEEP_LAST 100, RELIABLE, VOLATILE;
+  ``sendTransform(t | [t, ...])`` publishes one ``TFMessage``.
+* ``StaticTransformBroadcaster(node)``: ``/tf_static``, KEEP_LAST 1, TRANSIENT_LOCAL (latched).
+  It keeps ONE cumulative TFMessage and republishes everything it was ever given on every
+  call; a transform whose ``child_frame_id`` was already sent **replaces** the old entry in
+  place (C++ tf2_ros and current rolling; Python jazzy ignored re-sends, see ros2/geometry2
+  #704/#820). Transforms are copied when sent, so editing the object afterwards has no effect.
+* ``TransformListener(buffer, node)``: subscribes ``/tf`` (KEEP_LAST 100, VOLATILE) and
+  ``/tf_static`` (KEEP_LAST 100, TRANSIENT_LOCAL, so it also receives static transforms sent
+  before it existed), in a ReentrantCallbackGroup; every transform goes to
+  ``buffer.set_transform(t, authority)`` / ``buffer.set_transform_static(t, authority)``.
+  When the node clock jumps back in time (any backward jump, like C++ tf2_ros; bag loops
+  under ``use_sim_time``) it logs ``Detected jump back in time. Clearing tf buffer.`` as a
+  warning and calls ``buffer.clear()``; switching the time source clears it too.
+  ``spin_thread=False`` is posekit's default; ``True`` moves the two subscriptions to a
+  hidden helper node spun by its own SingleThreadedExecutor thread, so a callback of
+  ``node`` may block in ``lookup_transform(..., timeout=...)`` while transforms keep arriving.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Iterable
+from typing import Any, Protocol
+
+from posekit.msgs.geometry_msgs import TransformStamped
+from posekit.msgs.tf2_msgs import TFMessage
+from posekit.runtime.bus import snapshot
+from posekit.runtime.callback_groups import ReentrantCallbackGroup
+from posekit.runtime.clock import ClockChange, JumpThreshold, TimeJump
+from posekit.runtime.node import Node
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
+from posekit.time import Duration
+
+__all__ = [
+    "DynamicBroadcasterQoS",
+    "DynamicListenerQoS",
+    "StaticBroadcasterQoS",
+    "StaticListenerQoS",
+    "StaticTransformBroadcaster",
+    "TransformBroadcaster",
+    "TransformListener",
+]
+
+
+def DynamicListenerQoS(depth: int = 100) -> QoSProfile:
+    """tf2_ros::DynamicListenerQoS: KEEP_LAST depth, RELIABLE, VOLATILE."""
+    return QoSProfile(depth=depth)
+
+
+def DynamicBroadcasterQoS(depth: int = 100) -> QoSProfile:
+    """tf2_ros::DynamicBroadcasterQoS: KEEP_LAST depth, RELIABLE, VOLATILE."""
+    return QoSProfile(depth=depth)
+
+
+def StaticListenerQoS(depth: int = 100) -> QoSProfile:
+    """tf2_ros::StaticListenerQoS: KEEP_LAST depth, RELIABLE, TRANSIENT_LOCAL."""
+    return QoSProfile(
+        depth=depth, history=HistoryPolicy.KEEP_LAST, durability=DurabilityPolicy.TRANSIENT_LOCAL
+    )
+
+
+def StaticBroadcasterQoS(depth: int = 1) -> QoSProfile:
+    """tf2_ros::StaticBroadcasterQoS: KEEP_LAST depth (1), RELIABLE, TRANSIENT_LOCAL."""
+    return QoSProfile(
+        depth=depth, history=HistoryPolicy.KEEP_LAST, durability=DurabilityPolicy.TRANSIENT_LOCAL
+    )
+
+
+class _BufferLike(Protocol):
+    def set_transform(self, transform: Any, authority: str) -> Any: ...
+
+    def set_transform_static(self, transform: Any, authority: str) -> Any: ...
+
+    def clear(self) -> Any: ...
+
+
+def _as_list(transform: TransformStamped | Iterable[TransformStamped]) -> list[Any]:
+    if isinstance(transform, list | tuple):
+        return list(transform)
+    if hasattr(transform, "child_frame_id"):
+        return [transform]
+    return list(transform)
+
+
+class TransformBroadcaster:
+    """Publishes dynamic transforms on /tf."""
+
+    def __init__(
+        self, node: Node, qos: QoSProfile | int | None = None, *, topic: str = "/tf"
+    ) -> None:
+        self.node = node
+        self.pub_tf = node.create_publisher(
+            TFMessage, topic, qos if qos is not None else DynamicBroadcasterQoS()
+        )
+
+    def sendTransform(self, transform: TransformStamped | Iterable[TransformStamped]) -> None:
+        """Publish one TFMessage holding ``transform`` (one or a list)."""
+        self.pub_tf.publish(TFMessage(transforms=_as_list(transform)))
+
+    send_transform = sendTransform
+
+
+class StaticTransformBroadcaster:
+    """Publishes a latched, cumulative TFMessage on /tf_static (replace by child_frame_id)."""
+
+    def __init__(
+        self, node: Node, qos: QoSProfile | int | None = None, *, topic: str = "/tf_static"
+    ) -> None:
+        self.node = node
+        self.pub_tf = node.create_publisher(
+            TFMessage, topic, qos if qos is not None else StaticBroadcasterQoS()
+        )
+        self._by_child: dict[str, TransformStamped] = {}
+
+    def sendTransform(self, transform: TransformStamped | Iterable[TransformStamped]) -> None:
+        """Add/replace ``transform`` (one or a list) and republish all static transforms."""
+        for t in _as_list(transform):
+            # Replacing keeps the entry's position (dict order), as C++ replaces in place.
+            self._by_child[t.child_frame_id] = snapshot(t)
+        self.pub_tf.publish(TFMessage(transforms=list(self._by_child.values())))
+
+    send_transform = sendTransform
+
+    @property
+    def transforms(self) -> list[TransformStamped]:
+        """The cumulative list currently latched."""
+        return list(self._by_child.values())
+
+
+class TransformListener:
+    """Fills a tf2 buffer from /tf and /tf_static (see the module docstring)."""
+
+    AUTHORITY = "default_authority"
+
+    def __init__(
+        self,
+        buffer: _BufferLike,
+        node: Node,
+        *,
+        spin_thread: bool = False,
+        qos: QoSProfile | int | None = None,
+        static_qos: QoSProfile | int | None = None,
+        tf_topic: str = "/tf",
+        tf_static_topic: str = "/tf_static",
+    ) -> None:
+        self.buffer = buffer
+        self.node = node
+        self._thread: threading.Thread | None = None
+        self._executor: Any = None
+        self._helper: Node | None = None
+        sub_node = node
+        if spin_thread:
+            from posekit.runtime.executors import SingleThreadedExecutor
+
+            self._helper = Node(
+                f"{node.get_name()}_tf_listener",
+                namespace=node.get_namespace(),
+                context=node.context,
+                parameter_overrides={
+                    "use_sim_time": node.get_parameter("use_sim_time").value
+                },
+            )
+            sub_node = self._helper
+        self.group = ReentrantCallbackGroup()
+        self.tf_sub = sub_node.create_subscription(
+            TFMessage,
+            tf_topic,
+            self.callback,
+            qos if qos is not None else DynamicListenerQoS(),
+            callback_group=self.group,
+        )
+        self.tf_static_sub = sub_node.create_subscription(
+            TFMessage,
+            tf_static_topic,
+            self.static_callback,
+            static_qos if static_qos is not None else StaticListenerQoS(),
+            callback_group=self.group,
+        )
+        self._jump_handle = node.get_clock().create_jump_callback(
+            JumpThreshold(min_backward=Duration(nanoseconds=-1), on_clock_change=True),
+            post_callback=self._on_jump,
+        )
+        if spin_thread and self._helper is not None:
+            self._executor = SingleThreadedExecutor(context=node.context)
+            self._executor.add_node(self._helper)
+            self._thread = threading.Thread(
+                target=self._executor.spin, name="posekit-tf-listener", daemon=True
+            )
+            self._thread.start()
+
+    def callback(self, msg: TFMessage) -> None:
+        """/tf: each transform -> buffer.set_transform."""
+        for t in msg.transforms:
+            self.buffer.set_transform(t, self.AUTHORITY)
+
+    def static_callback(self, msg: TFMessage) -> None:
+        """/tf_static: each transform -> buffer.set_transform_static."""
+        for t in msg.transforms:
+            self.buffer.set_transform_static(t, self.AUTHORITY)
+
+    def _on_jump(self, jump: TimeJump) -> None:
+        if jump.clock_change in (ClockChange.ROS_TIME_ACTIVATED, ClockChange.ROS_TIME_DEACTIVATED):
+            self.node.get_logger().warning("Detected time source change. Clearing tf buffer.")
+        else:
+            self.node.get_logger().warning("Detected jump back in time. Clearing tf buffer.")
+        self.buffer.clear()
+
+    def unregister(self) -> None:
+        """Stop listening (subscriptions destroyed, jump callback removed, thread stopped)."""
+        self._jump_handle.unregister()
+        owner = self._helper or self.node
+        owner.destroy_subscription(self.tf_sub)
+        owner.destroy_subscription(self.tf_static_sub)
+        if self._executor is not None:
+            self._executor.shutdown()
+        if self._thread is not None:
+            self._thread.join(timeout=1.0)
+            self._thread = None
+        if self._helper is not None:
+            self._helper.destroy_node()
+            self._helper = None

@@ -1,0 +1,195 @@
+"""The small interface between nodes and whatever carries their messages.
+
+A :class:`Transport` connects publishers to subscriptions on named topics and answers graph
+questions. Nodes only use this interface, so a transport that crosses processes (Zenoh,
+later) plugs in without touching node or executor code. The default is
+:class:`posekit.runtime.bus.InProcessBus` (name ``"inprocess"``).
+
+Contract for implementations:
+
+* ``advertise(info)`` returns a :class:`PublisherEndpoint`; ``publish(msg)`` must not keep a
+  reference the caller could later mutate (the in-process bus snapshots, a network transport
+  serializes).
+* ``subscribe(info, sink)`` returns a :class:`SubscriptionEndpoint`; the transport calls
+  ``sink(msg)`` once per delivered message with an object this subscription owns, possibly
+  from another thread and possibly before ``subscribe`` returns (TRANSIENT_LOCAL history).
+  Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
+* QoS matching (reliability / durability offer vs request) is the transport's job; it should
+  log incompatible pairs on ``info.logger``.
+
+Selection: ``Node(..., transport="zenoh")``, else ``init(transport=...)`` of the context,
+else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names map to
+factories in a registry (:func:`register_transport`); each context creates one instance per
+name and shares it among its nodes.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from posekit.runtime.logging import RcutilsLogger
+from posekit.runtime.qos import QoSProfile
+
+__all__ = [
+    "ENV_TRANSPORT",
+    "EndpointInfo",
+    "MessageSink",
+    "PublisherEndpoint",
+    "SubscriptionEndpoint",
+    "TopicTypeMismatchError",
+    "Transport",
+    "UnknownTransportError",
+    "create_transport",
+    "register_transport",
+    "registered_transports",
+    "selected_transport_name",
+]
+
+ENV_TRANSPORT = "POSEKIT_TRANSPORT"
+
+MessageSink = Callable[[Any], None]
+
+
+class TopicTypeMismatchError(TypeError):
+    """An endpoint was created on a topic that already carries another message type."""
+
+
+class UnknownTransportError(ValueError):
+    """No transport is registered under the requested name."""
+
+
+def message_type_name(msg_type: type) -> str:
+    """``geometry_msgs/msg/Twist`` for posekit/rosbags classes, else the qualified class name."""
+    name = getattr(msg_type, "__msgtype__", None)
+    if isinstance(name, str):
+        return name
+    return f"{msg_type.__module__}.{msg_type.__qualname__}"
+
+
+@dataclass(frozen=True, slots=True)
+class EndpointInfo:
+    """Who creates an endpoint, on which (fully qualified) topic, with what type and QoS."""
+
+    topic: str
+    msg_type: type
+    qos: QoSProfile
+    node_name: str
+    node_namespace: str
+    logger: RcutilsLogger
+
+    @property
+    def type_name(self) -> str:
+        """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``."""
+        return message_type_name(self.msg_type)
+
+
+class PublisherEndpoint(ABC):
+    """A publisher's handle on the transport."""
+
+    @abstractmethod
+    def publish(self, msg: Any) -> None:
+        """Send ``msg`` to every matched subscription."""
+
+    @abstractmethod
+    def destroy(self) -> None:
+        """Leave the graph; further publish() calls raise."""
+
+    @property
+    @abstractmethod
+    def subscription_count(self) -> int:
+        """How many matched subscriptions there are now."""
+
+
+class SubscriptionEndpoint(ABC):
+    """A subscription's handle on the transport."""
+
+    @abstractmethod
+    def destroy(self) -> None:
+        """Leave the graph; the sink is not called afterwards."""
+
+    @property
+    @abstractmethod
+    def publisher_count(self) -> int:
+        """How many matched publishers there are now."""
+
+
+class Transport(ABC):
+    """Carries messages between endpoints (see the module docstring for the contract)."""
+
+    name: str = "abstract"
+
+    @abstractmethod
+    def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        """Create a publisher endpoint."""
+
+    @abstractmethod
+    def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        """Create a subscription endpoint delivering to ``sink``."""
+
+    @abstractmethod
+    def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every topic with at least one endpoint, sorted, with its type names."""
+
+    @abstractmethod
+    def count_publishers(self, topic: str) -> int:
+        """Publishers on a fully qualified topic."""
+
+    @abstractmethod
+    def count_subscribers(self, topic: str) -> int:
+        """Subscriptions on a fully qualified topic."""
+
+    def close(self) -> None:  # noqa: B027 - optional hook
+        """Release resources (called by Context.shutdown)."""
+
+
+TransportFactory = Callable[[], Transport]
+_registry: dict[str, TransportFactory | str] = {
+    "inprocess": "posekit.runtime.bus:InProcessBus",
+    # Registered lazily by name so importing the runtime never imports zenoh.
+    "zenoh": "posekit.transport.zenoh:ZenohTransport",
+}
+
+
+def register_transport(name: str, factory: TransportFactory | str) -> None:
+    """Make ``name`` selectable; ``factory`` is a callable or a ``"module:attr"`` string."""
+    _registry[name] = factory
+
+
+def registered_transports() -> list[str]:
+    """The selectable transport names."""
+    return sorted(_registry)
+
+
+def selected_transport_name(explicit: str | None = None) -> str:
+    """``explicit`` if given, else $POSEKIT_TRANSPORT, else ``"inprocess"``."""
+    if explicit:
+        return explicit
+    return os.environ.get(ENV_TRANSPORT, "").strip() or "inprocess"
+
+
+def create_transport(name: str) -> Transport:
+    """Instantiate the transport registered as ``name``."""
+    factory = _registry.get(name)
+    if factory is None:
+        raise UnknownTransportError(
+            f"unknown transport {name!r} (from {ENV_TRANSPORT} or a node/context option); "
+            f"known: {', '.join(registered_transports())}"
+        )
+    if isinstance(factory, str):
+        module_name, _, attr = factory.partition(":")
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError as exc:
+            raise UnknownTransportError(
+                f"transport {name!r} is not available: {exc}"
+            ) from exc
+        factory = getattr(module, attr)
+    transport = factory()
+    if not isinstance(transport, Transport):
+        raise TypeError(f"transport factory for {name!r} returned {transport!r}")
+    return transport
