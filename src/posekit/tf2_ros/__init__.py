@@ -8,8 +8,6 @@ listener from :mod:`posekit.runtime.tf2_ros`. Submodules mirror tf2_ros
 
 from __future__ import annotations
 
-from typing import Any
-
 from posekit.runtime.tf2_ros import (
     DynamicBroadcasterQoS,
     DynamicListenerQoS,
@@ -19,6 +17,7 @@ from posekit.runtime.tf2_ros import (
     TransformBroadcaster,
     TransformListener,
 )
+from posekit.tf2 import Buffer
 from posekit.tf2.exceptions import (
     ConnectivityException,
     ExtrapolationException,
@@ -47,12 +46,3 @@ __all__ = [
     "TypeException",
 ]
 
-
-def __getattr__(name: str) -> Any:
-    # Buffer is resolved on first use so this facade imports even while posekit.tf2 is
-    # being assembled (and so importing broadcasters alone never loads the buffer).
-    if name == "Buffer":
-        from posekit.tf2 import Buffer
-
-        return Buffer
-    raise AttributeError(f"module 'posekit.tf2_ros' has no attribute {name!r}")

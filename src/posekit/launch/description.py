@@ -1,0 +1,203 @@
+"""Launch descriptions: which node classes/factories to run, with what names, parameters and
+remappings (a Python subset of ROS 2 ``launch`` / ``launch_ros``).
+
+A node entry names something that *creates* posekit nodes: a Node subclass, a function
+returning a node (or a list of nodes), or a ``"package.module:attr"`` string. Name,
+namespace, parameters and remappings are applied to every node the factory creates, the way
+ROS passes ``--ros-args`` to a process, so node classes that hard-code
+``super().__init__("name")`` can be renamed and configured from the launch file.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "DeclareLaunchArgument",
+    "LaunchConfiguration",
+    "LaunchDescription",
+    "LaunchDescriptionError",
+    "Node",
+    "register_executable",
+    "resolve_factory",
+]
+
+
+class LaunchDescriptionError(ValueError):
+    """A launch description or launch file is malformed."""
+
+
+_executables: dict[tuple[str, str], Callable[[], Any] | str] = {}
+
+
+def register_executable(package: str, executable: str, factory: Callable[[], Any] | str) -> None:
+    """Make ``Node(package=..., executable=...)`` resolvable (how ``ros2 run`` names map to
+    posekit node factories)."""
+    _executables[(package, executable)] = factory
+
+
+def resolve_factory(target: Callable[[], Any] | str) -> Callable[[], Any]:
+    """A callable from a callable or a ``"module:attr"`` string."""
+    if callable(target):
+        return target
+    if isinstance(target, str) and ":" in target:
+        module_name, _, attr = target.partition(":")
+        try:
+            obj: Any = importlib.import_module(module_name)
+        except ImportError as exc:
+            raise LaunchDescriptionError(f"cannot import {module_name!r}: {exc}") from exc
+        for part in attr.split("."):
+            obj = getattr(obj, part, None)
+            if obj is None:
+                raise LaunchDescriptionError(f"{target!r}: no attribute {part!r}")
+        if not callable(obj):
+            raise LaunchDescriptionError(f"{target!r} is not callable")
+        return obj  # type: ignore[no-any-return]
+    raise LaunchDescriptionError(
+        f"expected a node class, a factory or 'module:attr', got {target!r}"
+    )
+
+
+@dataclass(frozen=True)
+class LaunchConfiguration:
+    """The value of a launch argument, resolved when the description runs."""
+
+    name: str
+    default: Any = None
+
+
+@dataclass(frozen=True)
+class DeclareLaunchArgument:
+    """Declare a launch argument ``name:=value`` with an optional default."""
+
+    name: str
+    default_value: Any = None
+    description: str = ""
+
+
+def _parameters_from(item: Mapping[str, Any] | str | Path, node_name: str | None) -> dict[str, Any]:
+    if isinstance(item, Mapping):
+        return dict(item)
+    path = Path(item)
+    try:
+        import yaml
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise LaunchDescriptionError(f"reading {path} needs PyYAML: {exc}") from exc
+    data = yaml.safe_load(path.read_text()) or {}
+    out: dict[str, Any] = {}
+    for key, section in data.items():
+        if not isinstance(section, Mapping):
+            continue
+        name = key.strip("/").split("/")[-1]
+        if key in ("/**", "**") or node_name is None or name == node_name:
+            params = section.get("ros__parameters", {})
+            out.update(_flatten(params))
+    return out
+
+
+def _flatten(params: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for k, v in params.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, Mapping):
+            out.update(_flatten(v, key + "."))
+        else:
+            out[key] = v
+    return out
+
+
+@dataclass
+class Node:
+    """One node (or node factory) to run.
+
+    Args:
+        package_or_callable: node class / factory / ``"module:attr"``; or use
+            ``package=``/``executable=`` for a registered executable.
+        name: overrides the node name(s) the factory chooses.
+        namespace: namespace for the node(s).
+        parameters: dicts and/or YAML parameter files (``node: ros__parameters: ...``),
+            merged in order; values may be :class:`LaunchConfiguration`.
+        remappings: ``[("from", "to"), ...]`` or ``["from:=to"]``.
+    """
+
+    package_or_callable: Callable[[], Any] | str | None = None
+    name: str | None = None
+    namespace: str | None = None
+    parameters: Sequence[Mapping[str, Any] | str | Path] | Mapping[str, Any] = field(
+        default_factory=list
+    )
+    remappings: Sequence[tuple[str, str] | str] = field(default_factory=list)
+    package: str | None = None
+    executable: str | None = None
+    output: str = "screen"
+
+    def factory(self) -> Callable[[], Any]:
+        """The callable creating the node(s)."""
+        if self.package_or_callable is not None:
+            return resolve_factory(self.package_or_callable)
+        if self.package and self.executable:
+            target = _executables.get((self.package, self.executable))
+            if target is None:
+                raise LaunchDescriptionError(
+                    f"no executable '{self.executable}' registered for package '{self.package}'"
+                )
+            return resolve_factory(target)
+        raise LaunchDescriptionError("Node needs package_or_callable or package+executable")
+
+    def resolved_parameters(self, arguments: Mapping[str, Any]) -> dict[str, Any]:
+        """Merged parameters with launch configurations substituted."""
+        items: Iterable[Mapping[str, Any] | str | Path]
+        items = [self.parameters] if isinstance(self.parameters, Mapping) else self.parameters
+        merged: dict[str, Any] = {}
+        for item in items:
+            merged.update(_parameters_from(item, self.name))
+        return {k: _substitute(v, arguments) for k, v in merged.items()}
+
+
+def _substitute(value: Any, arguments: Mapping[str, Any]) -> Any:
+    if isinstance(value, LaunchConfiguration):
+        if value.name in arguments:
+            return arguments[value.name]
+        if value.default is not None:
+            return value.default
+        raise LaunchDescriptionError(f"launch argument '{value.name}' has no value")
+    return value
+
+
+class LaunchDescription:
+    """An ordered list of :class:`Node` and :class:`DeclareLaunchArgument` entries."""
+
+    def __init__(self, entities: Iterable[Node | DeclareLaunchArgument] = ()) -> None:
+        self.entities: list[Node | DeclareLaunchArgument] = []
+        for e in entities:
+            self.add_action(e)
+
+    def add_action(self, entity: Node | DeclareLaunchArgument) -> None:
+        """Append an entry."""
+        if not isinstance(entity, Node | DeclareLaunchArgument):
+            raise LaunchDescriptionError(
+                f"launch entries must be posekit.launch Node or DeclareLaunchArgument, "
+                f"got {entity!r}"
+            )
+        self.entities.append(entity)
+
+    add_entity = add_action
+
+    @property
+    def nodes(self) -> list[Node]:
+        """The node entries."""
+        return [e for e in self.entities if isinstance(e, Node)]
+
+    def arguments(self, given: Mapping[str, Any] | None = None) -> dict[str, Any]:
+        """Declared defaults overridden by ``given``."""
+        out = {
+            e.name: e.default_value
+            for e in self.entities
+            if isinstance(e, DeclareLaunchArgument) and e.default_value is not None
+        }
+        out.update(given or {})
+        return out

@@ -1,0 +1,212 @@
+"""Run a launch description in this process with one executor.
+
+``launch(description, duration=60.0)`` runs in simulated time by default (a
+SimulatedTimeExecutor: as fast as the CPU allows, deterministic); ``sim_time=False`` spins a
+wall-clock executor. ``run_launch_file(path)`` loads ``FILE.py`` whose
+``generate_launch_description()`` returns a :class:`LaunchDescription`; :func:`main` is the
+entry point the ``posekit launch`` CLI calls.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from posekit.launch.description import LaunchDescription, LaunchDescriptionError
+from posekit.runtime.context import Context
+from posekit.runtime.executors import (
+    Executor,
+    MultiThreadedExecutor,
+    SimulatedTimeExecutor,
+    SingleThreadedExecutor,
+)
+from posekit.runtime.node import Node, node_defaults
+from posekit.runtime.parameters import parse_parameter_value
+
+__all__ = ["LaunchRun", "launch", "load_launch_file", "main", "run_launch_file", "start"]
+
+
+@dataclass
+class LaunchRun:
+    """A started launch: its context, executor, nodes and the objects the factories returned."""
+
+    context: Context
+    executor: Executor
+    nodes: list[Node] = field(default_factory=list)
+    created: list[Any] = field(default_factory=list)
+
+    def node(self, name: str) -> Node:
+        """The node called ``name`` (or fully qualified ``/ns/name``)."""
+        for n in self.nodes:
+            if name in (n.get_name(), n.get_fully_qualified_name()):
+                return n
+        raise KeyError(f"no node named {name!r}; have {[n.get_name() for n in self.nodes]}")
+
+    def shutdown(self) -> None:
+        """Destroy the nodes and shut the context down."""
+        self.executor.shutdown()
+        for n in self.nodes:
+            n.destroy_node()
+        self.context.try_shutdown()
+
+
+def _collect_nodes(obj: Any) -> list[Node]:
+    if isinstance(obj, Node):
+        return [obj]
+    if isinstance(obj, list | tuple):
+        return [n for item in obj for n in _collect_nodes(item)]
+    return []
+
+
+def start(
+    description: LaunchDescription,
+    *,
+    sim_time: bool = True,
+    real_time_factor: float | None = None,
+    launch_arguments: Mapping[str, Any] | None = None,
+    context: Context | None = None,
+    multithreaded: bool = False,
+) -> LaunchRun:
+    """Create every node of ``description`` in a fresh (or given) context and add them to one
+    executor; nothing runs until the caller spins/steps ``run.executor``."""
+    if not isinstance(description, LaunchDescription):
+        raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
+    ctx = context or Context()
+    if not ctx.ok():
+        ctx.init()
+    executor: Executor
+    if sim_time:
+        executor = SimulatedTimeExecutor(context=ctx, real_time_factor=real_time_factor)
+    elif multithreaded:
+        executor = MultiThreadedExecutor(context=ctx)
+    else:
+        executor = SingleThreadedExecutor(context=ctx)
+    run = LaunchRun(ctx, executor)
+    arguments = description.arguments(launch_arguments)
+    for entry in description.nodes:
+        params = entry.resolved_parameters(arguments)
+        if sim_time:
+            params.setdefault("use_sim_time", True)
+        with node_defaults(
+            name=entry.name,
+            namespace=entry.namespace,
+            parameters=params,
+            remappings=list(entry.remappings),
+            context=ctx,
+        ):
+            created = entry.factory()()
+        nodes = _collect_nodes(created)
+        if not nodes:
+            raise LaunchDescriptionError(
+                f"launch entry {entry.package_or_callable or entry.executable!r} did not "
+                f"return a posekit Node (got {created!r})"
+            )
+        run.created.append(created)
+        for n in nodes:
+            executor.add_node(n)
+            run.nodes.append(n)
+    return run
+
+
+def launch(
+    description: LaunchDescription,
+    *,
+    duration: float | None = None,
+    sim_time: bool = True,
+    real_time_factor: float | None = None,
+    launch_arguments: Mapping[str, Any] | None = None,
+    context: Context | None = None,
+    shutdown: bool = True,
+) -> LaunchRun:
+    """Start ``description`` and run it for ``duration`` seconds (sim seconds in sim time;
+    ``None`` = until shutdown / Ctrl-C). Returns the run (already shut down if ``shutdown``)."""
+    run = start(
+        description,
+        sim_time=sim_time,
+        real_time_factor=real_time_factor,
+        launch_arguments=launch_arguments,
+        context=context,
+    )
+    try:
+        executor = run.executor
+        if isinstance(executor, SimulatedTimeExecutor):
+            if duration is None:
+                executor.spin()
+            else:
+                executor.run_for(duration)
+        elif duration is None:
+            executor.spin()
+        else:
+            end = time.monotonic() + duration
+            while run.context.ok() and time.monotonic() < end:
+                executor.spin_once(timeout_sec=max(0.0, end - time.monotonic()))
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if shutdown:
+            run.shutdown()
+    return run
+
+
+def load_launch_file(path: str | Path) -> LaunchDescription:
+    """Import ``path`` and call its ``generate_launch_description()``."""
+    p = Path(path)
+    if not p.is_file():
+        raise LaunchDescriptionError(f"launch file {p} does not exist")
+    spec = importlib.util.spec_from_file_location(f"posekit_launch_{p.stem}", p)
+    if spec is None or spec.loader is None:
+        raise LaunchDescriptionError(f"cannot load {p} as Python")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    generate = getattr(module, "generate_launch_description", None)
+    if generate is None:
+        raise LaunchDescriptionError(f"{p} has no generate_launch_description() function")
+    description = generate()
+    if not isinstance(description, LaunchDescription):
+        raise LaunchDescriptionError(
+            f"{p}: generate_launch_description() returned {type(description).__name__}, "
+            "not a posekit.launch.LaunchDescription"
+        )
+    return description
+
+
+def run_launch_file(path: str | Path, **kwargs: Any) -> LaunchRun:
+    """load_launch_file + launch (same keyword arguments as :func:`launch`)."""
+    return launch(load_launch_file(path), **kwargs)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``posekit launch FILE.py [name:=value ...] [--duration S] [--wall] [--rtf R]``."""
+    parser = argparse.ArgumentParser(prog="posekit launch", description=__doc__)
+    parser.add_argument("file", help="launch file with generate_launch_description()")
+    parser.add_argument("arguments", nargs="*", help="launch arguments name:=value")
+    parser.add_argument("--duration", type=float, default=None,
+                        help="seconds to run (simulated seconds unless --wall)")
+    parser.add_argument("--wall", action="store_true", help="wall-clock time, not sim time")
+    parser.add_argument("--rtf", type=float, default=None,
+                        help="pace simulated time at this real-time factor (1.0 = real time)")
+    ns = parser.parse_args(argv)
+    arguments: dict[str, Any] = {}
+    for item in ns.arguments:
+        if ":=" not in item:
+            parser.error(f"launch arguments look like name:=value, got {item!r}")
+        key, value = item.split(":=", 1)
+        arguments[key] = parse_parameter_value(value)
+    try:
+        run_launch_file(
+            ns.file,
+            duration=ns.duration,
+            sim_time=not ns.wall,
+            real_time_factor=ns.rtf,
+            launch_arguments=arguments,
+        )
+    except LaunchDescriptionError as exc:
+        print(f"posekit launch: {exc}", file=sys.stderr)
+        return 2
+    return 0
