@@ -29,12 +29,14 @@ def test_stale_command_rejected_with_reason() -> None:
     base = RosbotBase(slip=IDEAL)
     res = base.submit_velocity(0.3, 0.0, stamp=9.4, now=10.0)
     assert not res.accepted
-    assert "stale" in res.reason and "0.500" in res.reason
+    assert "stale" in res.reason
+    assert "0.500" in res.reason
     assert base.last_command_stamp is None
     base.step(10.0)
     assert base.state.commanded_v == 0.0  # the rejected command did not move the robot
     ok = base.submit_velocity(0.3, 0.0, stamp=9.6, now=10.0)
-    assert ok.accepted and ok.reason == ""
+    assert ok.accepted
+    assert ok.reason == ""
 
 
 def test_zero_stamp_means_now_and_nan_is_rejected() -> None:
@@ -42,10 +44,12 @@ def test_zero_stamp_means_now_and_nan_is_rejected() -> None:
     msg = TwistStamped()
     msg.twist.linear.x = 0.2
     res = base.submit(msg, now=5.0)
-    assert res.accepted and "zero header stamp" in res.reason
+    assert res.accepted
+    assert "zero header stamp" in res.reason
     assert base.last_command_stamp == 5.0
     bad = base.submit_velocity(float("nan"), 0.0, stamp=5.0, now=5.0)
-    assert not bad.accepted and "non-finite" in bad.reason
+    assert not bad.accepted
+    assert "non-finite" in bad.reason
 
 
 def test_stopped_stream_halts_within_timeout_plus_braking() -> None:
@@ -68,7 +72,8 @@ def test_stopped_stream_halts_within_timeout_plus_braking() -> None:
     # ...and completely stopped by timeout + v / a_max (+ one tick).
     stop_by = t_last + p.cmd_vel_timeout + 0.5 / p.max_linear_acceleration + 0.011
     after = arr[arr[:, 0] >= stop_by]
-    assert np.all(after[:, 1] == 0.0) and np.all(after[:, 2] == 0.0)
+    assert np.all(after[:, 1] == 0.0)
+    assert np.all(after[:, 2] == 0.0)
     x_stop = base.pose[0]
     _run(base, 1.0, None, t0=t + 2.0)
     assert base.pose[0] == x_stop
@@ -114,7 +119,8 @@ def test_ideal_base_matches_command_and_odometry_exactly() -> None:
         odom.update(*base.wheel_angles, (k + 1) * 0.01)
     x, y, yaw = base.pose
     assert (odom.x, odom.y, odom.yaw_unwrapped) == pytest.approx((x, y, yaw), abs=1e-9)
-    assert base.state.v == pytest.approx(0.4) and base.state.omega == pytest.approx(0.7)
+    assert base.state.v == pytest.approx(0.4)
+    assert base.state.omega == pytest.approx(0.7)
 
 
 def test_nominal_slip_is_the_course_calibration() -> None:

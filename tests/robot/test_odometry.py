@@ -17,7 +17,7 @@ def test_circle_from_encoder_increments(v: float, w: float) -> None:
     p = DriveParams()
     r, L = p.wheel_radius * 0.95, 0.186 * 1.36  # the course's effective values
     odom = WheelOdometry(p)
-    for k in range(0, 201):  # 10 s at 20 Hz
+    for k in range(201):  # 10 s at 20 Hz
         t = k * 0.05
         left = (v - w * L / 2) * t / r
         right = (v + w * L / 2) * t / r
@@ -45,7 +45,8 @@ def test_message_fields() -> None:
     odom.update(0.0, 0.0, 0.0)
     odom.update(1.0, 2.0, 0.05)
     msg = odom.to_msg()
-    assert msg.header.frame_id == "odom" and msg.child_frame_id == "base_link"
+    assert msg.header.frame_id == "odom"
+    assert msg.child_frame_id == "base_link"
     assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == (0, 50_000_000)
     assert np.allclose(np.diag(msg.pose.covariance.reshape(6, 6)), [1e-3] * 5 + [1e-2])
     assert np.allclose(

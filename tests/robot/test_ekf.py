@@ -1,0 +1,125 @@
+"""The planar EKF: convergence, wrapping, sequential = batch update, message conventions."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from posekit.robot.ekf import VX, VY, VYAW, YAW, Ekf2D, Measurement
+from posekit.robot.imu import ImuModel
+from posekit.robot.odometry import WheelOdometry
+
+
+def test_sequential_scalar_update_equals_batch_kalman_update() -> None:
+    rng = np.random.default_rng(0)
+    ekf = Ekf2D(t0=0.0)
+    a = rng.normal(size=(6, 6))
+    ekf.covariance = a @ a.T + 0.1 * np.eye(6)
+    ekf.state[:] = rng.normal(size=6) * 0.1
+    P, s = ekf.covariance.copy(), ekf.state.copy()
+    z = np.array([0.3, -0.1, 0.2])
+    r = np.array([0.01, 0.02, 0.03])
+    ekf.update(Measurement(0.0, (VX, VY, VYAW), tuple(z), tuple(r)))
+    # Batch textbook update with H selecting (vx, vy, vyaw).
+    H = np.zeros((3, 6))
+    H[[0, 1, 2], [VX, VY, VYAW]] = 1.0
+    S = H @ P @ H.T + np.diag(r)
+    K = P @ H.T @ np.linalg.inv(S)
+    s_ref = s + K @ (z - H @ s)
+    P_ref = (np.eye(6) - K @ H) @ P
+    assert np.allclose(ekf.state, s_ref, atol=1e-12)
+    assert np.allclose(ekf.covariance, P_ref, atol=1e-12)
+
+
+def test_prediction_follows_constant_body_velocity() -> None:
+    ekf = Ekf2D(t0=0.0, initial_pose=(1.0, 2.0, math.pi / 2))
+    ekf.state[VX] = 0.5
+    ekf.predict_to(2.0)
+    assert ekf.pose == pytest.approx((1.0, 3.0, math.pi / 2))
+    # Covariance grows with the process noise.
+    assert ekf.covariance[0, 0] > 1e-9
+    assert ekf.covariance[1, 1] > 1e-9
+
+
+def test_converges_on_consistent_measurements() -> None:
+    """Straight drive at 0.3 m/s: odometry vx and IMU yaw make x = 0.3 t."""
+    ekf = Ekf2D(t0=0.0)
+    for k in range(1, 201):
+        t = 0.05 * k
+        ekf.add_wheel_twist(t, 0.3, 0.0, 0.0, (3.3e-5, 3.3e-5, 2.8e-3))
+        ekf.add_imu(t, 0.0, 0.0, (1.9e-3, 2.0e-3))
+        ekf.step(t)
+    assert ekf.state[VX] == pytest.approx(0.3, abs=1e-3)
+    assert ekf.pose[0] == pytest.approx(0.3 * 10.0, abs=0.02)
+    assert ekf.pose[1] == pytest.approx(0.0, abs=1e-6)
+
+
+def test_yaw_innovation_is_wrapped() -> None:
+    ekf = Ekf2D(t0=0.0, initial_pose=(0.0, 0.0, 3.1))
+    ekf.add_imu(0.0, 3.1, 0.0, (1.9e-3, 2.0e-3))  # reference reading
+    # True heading turns across +pi to -3.1 (i.e. +3.183): the filter must go the short way.
+    for k in range(1, 21):
+        t = 0.05 * k
+        ekf.add_imu(
+            t,
+            3.1 + 0.0042 * k - 2 * math.pi * (3.1 + 0.0042 * k > math.pi),
+            0.084,
+            (1.9e-3, 2.0e-3),
+        )
+        ekf.step(t)
+        assert abs(ekf.state[YAW]) > 3.0  # never swings through zero
+    assert math.cos(ekf.state[YAW] - (3.1 + 0.084)) == pytest.approx(1.0, abs=1e-3)
+
+
+def test_relative_imu_yaw() -> None:
+    ekf = Ekf2D(t0=0.0)
+    ekf.add_imu(0.05, 1.0, 0.0, (1e-4, 1e-4))
+    ekf.add_imu(0.10, 1.2, 0.0, (1e-4, 1e-4))
+    ekf.step(0.05)
+    assert ekf.pose[2] == pytest.approx(0.0, abs=1e-6)
+    ekf.step(0.10)
+    assert ekf.pose[2] == pytest.approx(0.2, abs=0.02)
+
+
+def test_queue_processed_in_stamp_order_and_old_measurements_fused() -> None:
+    ekf = Ekf2D(t0=0.0)
+    ekf.add_wheel_twist(0.10, 1.0, 0.0, 0.0, (1e-6, 1e-6, 1e-6))
+    ekf.add_wheel_twist(0.05, 0.0, 0.0, 0.0, (1e-6, 1e-6, 1e-6))
+    ekf.step(0.05)  # only the 0.05 measurement is due
+    assert ekf.state[VX] == pytest.approx(0.0, abs=1e-6)
+    ekf.step(0.10)
+    assert ekf.state[VX] == pytest.approx(1.0, abs=1e-3)
+    vx1, p1 = ekf.state[VX], ekf.covariance[VX, VX]
+    ekf.add_wheel_twist(0.02, 0.5, 0.0, 0.0, (1e-6, 1e-6, 1e-6))  # older than filter time
+    ekf.step(0.10)
+    # Fused without prediction: a scalar Kalman step from the current prior.
+    assert ekf.t == 0.10
+    gain = p1 / (p1 + 1e-6)
+    assert ekf.state[VX] == pytest.approx(vx1 + gain * (0.5 - vx1), rel=1e-9)
+
+
+def test_messages_round_trip_into_filter() -> None:
+    odom = WheelOdometry()
+    odom.update(0.0, 0.0, 0.0)
+    odom.update(1.0, 1.0, 0.05)
+    imu = ImuModel(seed=0)
+    ekf = Ekf2D(t0=0.0)
+    ekf.add_odometry_msg(odom.to_msg())
+    ekf.add_imu_msg(imu.to_msg(imu.sample(0.05, 0.0, 0.0, 0.0, 0.0)))
+    ekf.step(0.05)
+    # One scalar Kalman step on vx: prior variance 1e-9 + q_vx * dt, measurement 3.3e-5.
+    prior = 1e-9 + 0.025 * 0.05
+    assert ekf.state[VX] == pytest.approx(odom.v * prior / (prior + 3.3e-5), rel=1e-9)
+    out = ekf.to_msg()
+    assert out.header.frame_id == "odom"
+    assert out.child_frame_id == "base_link"
+    cov = out.pose.covariance.reshape(6, 6)
+    assert cov[0, 0] == ekf.covariance[0, 0]
+    assert cov[5, 5] == ekf.covariance[2, 2]
+    assert cov[0, 5] == ekf.covariance[0, 2]
+    tf = ekf.to_transform()
+    assert (tf.header.frame_id, tf.child_frame_id) == ("odom", "base_link")
+    assert tf.transform.translation.x == out.pose.pose.position.x
+    assert (tf.header.stamp.sec, tf.header.stamp.nanosec) == (0, 50_000_000)
