@@ -305,7 +305,7 @@ class BufferCore:
     def _validate(self, name: str, arg: str) -> int:
         """Frame id of ``name``, else tf2's InvalidArgument/Lookup exception naming ``arg``."""
         fid = self._ids.get(name)
-        if fid:
+        if fid and name[0] != "/":  # "//x" inserts as "/x", which lookups must still refuse
             return fid
         if not name:
             raise InvalidArgumentException(
@@ -321,7 +321,7 @@ class BufferCore:
     def _validate_msg(self, name: str, arg: str) -> tuple[int, str]:
         """Non-raising validation for canTransform: (id or 0, message)."""
         fid = self._ids.get(name)
-        if fid:
+        if fid and name[0] != "/":
             return fid, ""
         if not name:
             why = "in tf2 frame_ids cannot be empty"
