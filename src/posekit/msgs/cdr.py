@@ -61,6 +61,7 @@ _deser_errors: tuple[type[BaseException], ...] = (
 _lock = threading.Lock()
 _store: Any = None
 _codecs: dict[str, _Codec] = {}
+_class_codecs: dict[type[Any], _Codec] = {}  # fast path keyed by the message's class
 
 # Plan entry kinds for array checking.
 _ARR, _MSG, _SEQ = 0, 1, 2
@@ -82,6 +83,7 @@ class _Codec:
     deserialize: Callable[..., tuple[Any, int]]
     cls: type[Any]
     plan: _Plan | None
+    fast_ok: Callable[[Any], bool] | None  # True when every array field is already CDR-ready
     tail_field: str | None  # last field, when it is an unbounded uint8/byte/char sequence
 
 
@@ -181,10 +183,44 @@ def _codec(typename: str) -> _Codec:
             msgdef.deserialize_cdr_le,
             msgdef.cls,
             plan,
+            _compile_fast_check(plan) if plan is not None else None,
             tail,
         )
         _codecs[typename] = codec
     return codec
+
+
+def _compile_fast_check(plan: _Plan) -> Callable[[Any], bool] | None:
+    """Compile ``plan`` into one flat function of attribute-path checks (None if it has
+    sequences of messages, which :func:`_checked` walks instead)."""
+    lines = ["def fast_ok(msg):"]
+    env: dict[str, Any] = {"ndarray": np.ndarray}
+
+    def walk(p: _Plan, path: str) -> bool:
+        for kind, fname, info, length in p.entries:
+            if kind == _SEQ:
+                return False
+            if kind == _MSG:
+                if not walk(info, f"{path}.{fname}"):
+                    return False
+                continue
+            k = len(env)
+            env[f"dt{k}"] = info
+            shape = f"v.shape[0] == {length}" if length is not None else "True"
+            lines.append(f"    v = {path}.{fname}")
+            lines.append(
+                f"    if not (type(v) is ndarray and v.ndim == 1 and v.dtype == dt{k} "
+                f"and {shape} and v.flags.c_contiguous):"
+            )
+            lines.append("        return False")
+        return True
+
+    if not walk(plan, "msg"):
+        return None
+    lines.append("    return True")
+    exec("\n".join(lines), env)  # generated from ROS field names only
+    fn: Callable[[Any], bool] = env["fast_ok"]
+    return fn
 
 
 def _as_array(val: Any, dtype: np.dtype[Any], length: int | None, fname: str) -> Any:
@@ -257,11 +293,16 @@ def to_cdr(msg: Any, msg_type: str | None = None) -> bytes:
         CdrError: a field does not fit its ROS type (the message names which).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
-    typename = _resolve_name(msg_type) if msg_type is not None else _resolve_name(type(msg))
-    codec = _codecs.get(typename) or _codec(typename)
+    codec = _class_codecs.get(type(msg)) if msg_type is None else None
+    if codec is None:
+        name = _resolve_name(msg_type) if msg_type is not None else _resolve_name(type(msg))
+        codec = _codecs.get(name) or _codec(name)
+        if msg_type is None:
+            _class_codecs[type(msg)] = codec
+    typename = codec.typename
     store = _store
     try:
-        if codec.plan is not None:
+        if codec.plan is not None and (codec.fast_ok is None or not codec.fast_ok(msg)):
             msg = _checked(msg, codec.plan)
         if codec.tail_field is not None:
             return _to_cdr_tail(msg, codec, store)
@@ -375,8 +416,13 @@ def from_cdr(data: bytes | bytearray | memoryview, msg_type: str | type[Any]) ->
         CdrError: truncated, corrupted or trailing-garbage input (the message says why).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
-    typename = _resolve_name(msg_type)
-    codec = _codecs.get(typename) or _codec(typename)
+    codec = _class_codecs.get(msg_type) if not isinstance(msg_type, str) else None
+    if codec is None:
+        name = _resolve_name(msg_type)
+        codec = _codecs.get(name) or _codec(name)
+        if not isinstance(msg_type, str):
+            _class_codecs[msg_type] = codec
+    typename = codec.typename
     try:
         view = data if isinstance(data, memoryview) else memoryview(data)
     except TypeError as exc:
