@@ -1,0 +1,43 @@
+"""posekit.geometry: rotations, rigid transforms and planar poses (numpy only).
+
+The bottom layer of posekit; it imports nothing else from the package. Public API:
+
+* :class:`Rotation` - SO(3), scipy-like (one or a batch), plus ROS ``from_rpy``/``as_rpy``
+  and the lecture's world/body composition helpers.
+* :class:`Transform` - SE(3) ``T_a_b`` with ``T_a_c = T_a_b * T_b_c``.
+* :class:`Pose2D` - SE(2) with exact ``exp``/``log`` for arc odometry.
+* duck-typed ROS message conversions, named errors and :class:`GimbalLockWarning`.
+
+Conventions (quaternion order ``(x, y, z, w)`` unless ``scalar_first=True``, active
+rotations, lowercase extrinsic / uppercase intrinsic Euler) are in ``docs/conventions.md``.
+"""
+
+from __future__ import annotations
+
+from posekit.geometry._quat import EULER_SEQUENCES
+from posekit.geometry.errors import (
+    GeometryError,
+    GimbalLockWarning,
+    InvalidQuaternionError,
+    NonFiniteError,
+    NonOrthonormalMatrixError,
+    ShapeError,
+    UnknownSequenceError,
+    ZeroAxisError,
+)
+from posekit.geometry.rotation import Rotation, compose_body, compose_world
+
+__all__ = [
+    "EULER_SEQUENCES",
+    "GeometryError",
+    "GimbalLockWarning",
+    "InvalidQuaternionError",
+    "NonFiniteError",
+    "NonOrthonormalMatrixError",
+    "Rotation",
+    "ShapeError",
+    "UnknownSequenceError",
+    "ZeroAxisError",
+    "compose_body",
+    "compose_world",
+]

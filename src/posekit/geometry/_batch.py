@@ -1,0 +1,230 @@
+"""Vectorised quaternion kernels on ``(N, 4)`` float64 arrays in (x, y, z, w) order.
+
+The batch counterparts of :mod:`posekit.geometry._quat`: same formulas, same branch rules,
+so a batch result equals a loop of singles to rounding. Inputs are assumed validated and
+unit-norm (the public classes do that); outputs are fresh arrays.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from posekit.geometry._lazy import lazy_module
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    F64 = npt.NDArray[np.float64]
+    Bools = npt.NDArray[np.bool_]
+else:
+    np = lazy_module("numpy")
+
+from posekit.geometry._quat import GIMBAL_EPS, euler_params
+from posekit.geometry.errors import InvalidQuaternionError
+
+__all__ = [
+    "from_euler",
+    "from_matrix",
+    "from_rotvec",
+    "multiply",
+    "normalize",
+    "rotate",
+    "slerp",
+    "to_euler",
+    "to_matrix",
+    "to_rotvec",
+    "wrap",
+]
+
+
+
+def normalize(q: F64) -> F64:
+    """Unit copies of an ``(N, 4)`` array; raise on NaN/inf/zero rows (naming the first)."""
+    n = np.sqrt(np.einsum("ij,ij->i", q, q))
+    bad = ~((n > 0.0) & np.isfinite(n))
+    if bad.any():
+        idx = int(np.flatnonzero(bad)[0])
+        raise InvalidQuaternionError(
+            f"{int(bad.sum())} of {len(q)} quaternions encode no rotation (NaN, inf or zero "
+            f"norm); first bad one at index {idx}: {q[idx].tolist()}"
+        )
+    return np.asarray(q / n[:, None], dtype=np.float64)
+
+
+def multiply(a: F64, b: F64) -> F64:
+    """Row-wise Hamilton product ``a ⊗ b`` (broadcasts a single row against many)."""
+    ax, ay, az, aw = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
+    bx, by, bz, bw = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
+    n = max(a.shape[0], b.shape[0])
+    out = np.empty((n, 4))
+    out[:, 0] = aw * bx + ax * bw + ay * bz - az * by
+    out[:, 1] = aw * by - ax * bz + ay * bw + az * bx
+    out[:, 2] = aw * bz + ax * by - ay * bx + az * bw
+    out[:, 3] = aw * bw - ax * bx - ay * by - az * bz
+    return out
+
+
+def rotate(q: F64, v: F64) -> F64:
+    """Rotate vectors ``v`` (``(N, 3)``) by unit quaternions ``q`` (rows broadcast)."""
+    u = q[..., :3]
+    w = q[..., 3:4]
+    t = 2.0 * np.cross(u, v)
+    return np.asarray(v + w * t + np.cross(u, t), dtype=np.float64)
+
+
+def to_matrix(q: F64) -> F64:
+    """``(N, 3, 3)`` rotation matrices of unit quaternions."""
+    x, y, z, w = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    x2, y2, z2 = 2.0 * x, 2.0 * y, 2.0 * z
+    xx, yy, zz = x * x2, y * y2, z * z2
+    xy, xz, yz = x * y2, x * z2, y * z2
+    wx, wy, wz = w * x2, w * y2, w * z2
+    m = np.empty((q.shape[0], 3, 3))
+    m[:, 0, 0] = 1.0 - yy - zz
+    m[:, 0, 1] = xy - wz
+    m[:, 0, 2] = xz + wy
+    m[:, 1, 0] = xy + wz
+    m[:, 1, 1] = 1.0 - xx - zz
+    m[:, 1, 2] = yz - wx
+    m[:, 2, 0] = xz - wy
+    m[:, 2, 1] = yz + wx
+    m[:, 2, 2] = 1.0 - xx - yy
+    return m
+
+
+def from_matrix(m: F64) -> F64:
+    """Unit quaternions of ``(N, 3, 3)`` rotation matrices, same branch rule as the scalar path."""
+    m00, m01, m02 = m[:, 0, 0], m[:, 0, 1], m[:, 0, 2]
+    m10, m11, m12 = m[:, 1, 0], m[:, 1, 1], m[:, 1, 2]
+    m20, m21, m22 = m[:, 2, 0], m[:, 2, 1], m[:, 2, 2]
+    trace = m00 + m11 + m22
+    q = np.empty((m.shape[0], 4))
+    b0 = trace > 0.0
+    b1 = ~b0 & (m00 >= m11) & (m00 >= m22)
+    b2 = ~b0 & ~b1 & (m11 >= m22)
+    b3 = ~(b0 | b1 | b2)
+    # Each branch: (index of the large component, the other three as (index, numerator)).
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for mask, big, diag, rest in (
+            (b0, 3, trace + 1.0, ((0, m21 - m12), (1, m02 - m20), (2, m10 - m01))),
+            (b1, 0, m00 - m11 - m22 + 1.0, ((3, m21 - m12), (1, m10 + m01), (2, m20 + m02))),
+            (b2, 1, m11 - m22 - m00 + 1.0, ((3, m02 - m20), (2, m21 + m12), (0, m01 + m10))),
+            (b3, 2, m22 - m00 - m11 + 1.0, ((3, m10 - m01), (0, m02 + m20), (1, m12 + m21))),
+        ):
+            if not mask.any():
+                continue
+            s = np.sqrt(diag[mask])
+            q[mask, big] = 0.5 * s
+            s = 0.5 / s
+            for idx, num in rest:
+                q[mask, idx] = num[mask] * s
+    return np.asarray(q / np.linalg.norm(q, axis=1)[:, None], dtype=np.float64)
+
+
+def wrap(a: F64) -> F64:
+    """Wrap angles to [-π, π] (values already inside are untouched, like the scalar path)."""
+    out = a.copy()
+    outside = (a < -np.pi) | (a > np.pi)
+    if outside.any():
+        v = a[outside]
+        out[outside] = v - 2.0 * np.pi * np.floor((v + np.pi) / (2.0 * np.pi))
+    return out
+
+
+def _elementary(axis: int, angle: F64) -> F64:
+    q = np.zeros((angle.shape[0], 4))
+    h = 0.5 * angle
+    q[:, axis] = np.sin(h)
+    q[:, 3] = np.cos(h)
+    return q
+
+
+def from_euler(seq: str, angles: F64) -> F64:
+    """Quaternions of ``(N, 3)`` Euler angles (rad) in the sequence's order; ``w >= 0``."""
+    i, j, k, extrinsic, proper, _ = euler_params(seq)
+    a, b, c = angles[:, 0], angles[:, 1], angles[:, 2]
+    if not extrinsic:
+        a, c = c, a
+    last = i if proper else k
+    q = multiply(_elementary(j, b), _elementary(i, a))
+    q = multiply(_elementary(last, c), q)
+    q[q[:, 3] < 0.0] *= -1.0
+    return q
+
+
+def to_euler(seq: str, q: F64) -> tuple[F64, Bools]:
+    """``(N, 3)`` Euler angles (rad) and the gimbal-lock mask (see ``quat_to_euler_xyzw``)."""
+    i, j, k, extrinsic, proper, parity = euler_params(seq)
+    w = q[:, 3]
+    qi, qj, qk = q[:, i], q[:, j], q[:, k] * parity
+    if proper:
+        a, b, c, d = w, qi, qj, qk
+    else:
+        a, b, c, d = w - qj, qi + qk, qj + w, qk - qi
+    middle = 2.0 * np.arctan2(np.hypot(c, d), np.hypot(a, b))
+    half_sum = np.arctan2(b, a)
+    half_diff = np.arctan2(d, c)
+    first = half_sum - half_diff
+    third = half_sum + half_diff
+    lock0 = np.abs(middle) <= GIMBAL_EPS
+    lock_pi = np.abs(middle - np.pi) <= GIMBAL_EPS
+    locked = lock0 | lock_pi
+    if locked.any():
+        if extrinsic:
+            first = np.where(lock0, 2.0 * half_sum, np.where(lock_pi, -2.0 * half_diff, first))
+            third = np.where(locked, 0.0, third)
+        else:
+            third = np.where(lock0, 2.0 * half_sum, np.where(lock_pi, 2.0 * half_diff, third))
+            first = np.where(locked, 0.0, first)
+    if not proper:
+        third = third * parity
+        middle -= np.pi / 2.0
+    out = np.empty((q.shape[0], 3))
+    if extrinsic:
+        out[:, 0], out[:, 2] = wrap(first), wrap(third)
+    else:
+        out[:, 0], out[:, 2] = wrap(third), wrap(first)
+    out[:, 1] = middle
+    return out, locked
+
+
+def from_rotvec(r: F64) -> F64:
+    """Quaternions of ``(N, 3)`` rotation vectors (rad)."""
+    angle = np.sqrt(np.einsum("ij,ij->i", r, r))
+    small = angle < 1e-6
+    a2 = angle * angle
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(small, 0.5 - a2 / 48.0 + a2 * a2 / 3840.0, np.sin(0.5 * angle) / angle)
+    q = np.empty((r.shape[0], 4))
+    q[:, :3] = r * scale[:, None]
+    q[:, 3] = np.cos(0.5 * angle)
+    return q
+
+
+def to_rotvec(q: F64) -> F64:
+    """``(N, 3)`` rotation vectors (angle in [0, π]) of unit quaternions."""
+    q = np.where(q[:, 3:4] < 0.0, -q, q)
+    s = np.sqrt(np.einsum("ij,ij->i", q[:, :3], q[:, :3]))
+    angle = 2.0 * np.arctan2(s, q[:, 3])
+    a2 = angle * angle
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(angle < 1e-3, 2.0 + a2 / 12.0 + 7.0 * a2 * a2 / 2880.0, angle / s)
+    return np.asarray(q[:, :3] * scale[:, None], dtype=np.float64)
+
+
+def slerp(q1: F64, q2: F64, t: F64) -> F64:
+    """Row-wise tf2-formula slerp (shortest arc); rows broadcast, ``t`` has shape ``(N,)``."""
+    dot = np.sum(q1 * q2, axis=-1)
+    n = np.sqrt(np.sum(q1 * q1, axis=-1) * np.sum(q2 * q2, axis=-1))
+    theta = np.arccos(np.minimum(np.abs(dot) / n, 1.0))
+    zero = theta == 0.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = 1.0 / np.sin(theta)
+        s0 = np.sin((1.0 - t) * theta) * d
+        s1 = np.sin(t * theta) * d
+    s1 = np.where(dot < 0.0, -s1, s1)
+    s0 = np.where(zero, 1.0, s0)
+    s1 = np.where(zero, 0.0, s1)
+    out = q1 * s0[..., None] + q2 * s1[..., None]
+    return np.asarray(np.broadcast_to(out, (t.shape[0], 4)), dtype=np.float64).copy()
