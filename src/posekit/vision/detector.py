@@ -32,8 +32,9 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from posekit.geometry import Rotation
 from posekit.msgs.sensor_msgs import CameraInfo
-from posekit.vision._se3 import make_transform, matrix_to_quat_xyzw
+from posekit.vision._se3 import make_transform
 from posekit.vision.box_model import marker_corners_local
 from posekit.vision.errors import CameraModelError, InvalidImageError
 
@@ -291,12 +292,11 @@ class ArucoMarkerDetector:
         candidates: list[PoseCandidate] = []
         for k in range(int(n)):
             rvec = np.asarray(rvecs[k], dtype=np.float64).reshape(3)
-            R, _ = cv2.Rodrigues(rvec)
             candidates.append(
                 PoseCandidate(
                     rvec=rvec,
                     translation=np.asarray(tvecs[k], dtype=np.float64).reshape(3),
-                    quaternion_xyzw=matrix_to_quat_xyzw(R),
+                    quaternion_xyzw=Rotation.from_rotvec(rvec).as_quat(canonical=True),
                     reprojection_error=float(errs[k]) if k < errs.size else math.nan,
                 )
             )

@@ -326,23 +326,26 @@ class BoxRenderer:
             tex, H, (w_roi, h_roi), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
             borderValue=(0, 0, 0, 0),
         )
+        # Both channels come out premultiplied by coverage (the border is 0), so composite
+        # "over" in premultiplied form: roi = roi * (1 - a) + black * a + (white - black) * g.
         grey = warped[:, :, 0].astype(np.float32)
-        alpha = warped[:, :, 1].astype(np.float32)
+        cover = warped[:, :, 1].astype(np.float32)
         if clipped:
             mask = np.zeros((h_roi, w_roi), dtype=np.uint8)
             pts = np.round((uv - (x0, y0)) * 16.0).astype(np.int32)
             cv2.fillConvexPoly(mask, pts, 255, lineType=cv2.LINE_AA, shift=4)
-            np.minimum(alpha, mask.astype(np.float32), out=alpha)
+            m = mask.astype(np.float32) * np.float32(1.0 / 255.0)
+            grey *= m
+            cover *= m
         light = self.ambient + self.diffuse * max(0.0, float(face_normal_world @ self._to_sun))
         white = 255.0 * min(light, 1.0)
         black = 0.06 * white
-        # value = black + (white - black) * grey / 255; canvas += (value - canvas) * alpha / 255
         roi = canvas[y0:y1, x0:x1]
-        value = grey * np.float32((white - black) / 255.0) + np.float32(black)
-        value -= roi
-        value *= alpha
-        value *= np.float32(1.0 / 255.0)
-        roi += value
+        cover *= np.float32(1.0 / 255.0)
+        grey *= np.float32((white - black) / 255.0)
+        grey += cover * np.float32(black)
+        grey -= roi * cover
+        roi += grey
 
     def render(
         self, T_world_optical: npt.ArrayLike, boxes_T_world_box: Sequence[npt.ArrayLike]
