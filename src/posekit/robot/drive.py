@@ -36,6 +36,10 @@ from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, DriveParams, SlipP
 __all__ = ["BaseState", "CommandResult", "RosbotBase", "stamp_to_seconds"]
 
 
+def _clamp(value: float, low: float, high: float) -> float:
+    return low if value < low else high if value > high else value
+
+
 def stamp_to_seconds(stamp: Any) -> float:
     """Seconds of a builtin_interfaces/Time-like object (``sec``, ``nanosec``)."""
     return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
@@ -119,18 +123,27 @@ class RosbotBase:
         self._target_v = 0.0
         self._target_w = 0.0
         self._cmd_stamp: float | None = None
+        self._l_eff = params.effective_wheel_separation
+        self._r_left = params.effective_left_wheel_radius
+        self._r_right = params.effective_right_wheel_radius
+        self._ou_coeffs: dict[float, tuple[float, float]] = {}
         if slip.enabled:
             self._eta0 = slip.nominal_yaw_efficiency(params) * (
                 1.0 + slip.yaw_efficiency_run_std * self._normal()
             )
-            self._s0 = slip.nominal_longitudinal_slip(params) + (
-                1.0 - slip.nominal_longitudinal_slip(params)
-            ) * slip.longitudinal_slip_run_std * self._normal()
+            self._s0 = (
+                slip.nominal_longitudinal_slip(params)
+                + (1.0 - slip.nominal_longitudinal_slip(params))
+                * slip.longitudinal_slip_run_std
+                * self._normal()
+            )
         else:
             # Ideal base: exactly what the controller's effective geometry predicts.
             r_eff = 0.5 * (params.effective_left_wheel_radius + params.effective_right_wheel_radius)
-            self._eta0 = r_eff * params.track_width / (
-                params.wheel_radius * params.effective_wheel_separation
+            self._eta0 = (
+                r_eff
+                * params.track_width
+                / (params.wheel_radius * params.effective_wheel_separation)
             )
             self._s0 = 1.0 - r_eff / params.wheel_radius
         # The wander starts from its stationary distribution (no transient at spawn).
@@ -187,21 +200,27 @@ class RosbotBase:
         else:
             tv, tw = self._target_v, self._target_w
         # SpeedLimiter: acceleration first, then velocity.
-        dv_max = p.max_linear_acceleration * dt
-        dw_max = p.max_angular_acceleration * dt
-        v = min(max(tv, self._v_cmd - dv_max), self._v_cmd + dv_max)
-        w = min(max(tw, self._w_cmd - dw_max), self._w_cmd + dw_max)
-        v = min(max(v, -p.max_linear_velocity), p.max_linear_velocity)
-        w = min(max(w, -p.max_angular_velocity), p.max_angular_velocity)
+        v = _clamp(
+            tv,
+            self._v_cmd - p.max_linear_acceleration * dt,
+            self._v_cmd + p.max_linear_acceleration * dt,
+        )
+        w = _clamp(
+            tw,
+            self._w_cmd - p.max_angular_acceleration * dt,
+            self._w_cmd + p.max_angular_acceleration * dt,
+        )
+        v = _clamp(v, -p.max_linear_velocity, p.max_linear_velocity)
+        w = _clamp(w, -p.max_angular_velocity, p.max_angular_velocity)
         self._v_cmd, self._w_cmd = v, w
         # Controller: body command -> wheel angular velocities with the effective geometry.
-        l_eff = p.effective_wheel_separation
-        wl = (v - 0.5 * w * l_eff) / p.effective_left_wheel_radius
-        wr = (v + 0.5 * w * l_eff) / p.effective_right_wheel_radius
+        half_w_l = 0.5 * w * self._l_eff
+        wl = (v - half_w_l) / self._r_left
+        wr = (v + half_w_l) / self._r_right
         lim = p.wheel_velocity_limit
         if lim is not None:
-            wl = min(max(wl, -lim), lim)
-            wr = min(max(wr, -lim), lim)
+            wl = _clamp(wl, -lim, lim)
+            wr = _clamp(wr, -lim, lim)
         self._omega_left, self._omega_right = wl, wr
         # Plant: wheel surface speeds with the URDF radius, then the slip model.
         eta, s = self._slip_factors(dt)
@@ -229,11 +248,12 @@ class RosbotBase:
         if not sp.enabled:
             return self._eta0, self._s0
         # Ornstein-Uhlenbeck (exact discretisation) for both relative wanders.
-        decay = math.exp(-dt / sp.correlation_time)
-        kick = math.sqrt(1.0 - decay * decay)
-        self._eta_walk = (
-            decay * self._eta_walk + kick * sp.yaw_efficiency_walk_std * self._normal()
-        )
+        coeffs = self._ou_coeffs.get(dt)
+        if coeffs is None:
+            decay = math.exp(-dt / sp.correlation_time)
+            coeffs = self._ou_coeffs[dt] = (decay, math.sqrt(1.0 - decay * decay))
+        decay, kick = coeffs
+        self._eta_walk = decay * self._eta_walk + kick * sp.yaw_efficiency_walk_std * self._normal()
         self._s_walk = decay * self._s_walk + kick * sp.longitudinal_slip_walk_std * self._normal()
         eta = self._eta0 * (1.0 + self._eta_walk)
         s = self._s0 + (1.0 - self._s0) * self._s_walk
@@ -287,4 +307,3 @@ class RosbotBase:
     def last_command_stamp(self) -> float | None:
         """Stamp (s) of the last accepted command, None before the first."""
         return self._cmd_stamp
-

@@ -82,6 +82,8 @@ class Ekf2D:
         self._yaw0 = float(initial_pose[2])
         self.covariance: _FloatArray = np.diag(np.asarray(params.initial_covariance_diagonal))
         self._q = np.asarray(params.process_noise_diagonal, dtype=np.float64)
+        self._f = np.eye(6)  # Jacobian buffer: only the entries written in predict_to change
+        self._diag = np.diag_indices(6)
         self.t: float | None = t0
         self._queue: list[tuple[float, int, Measurement]] = []
         self._seq = 0
@@ -143,7 +145,7 @@ class Ekf2D:
         s[X] += (vx * c - vy * sn) * dt
         s[Y] += (vx * sn + vy * c) * dt
         s[YAW] = wrap_angle(yaw + s[VYAW] * dt)
-        f = np.eye(6)
+        f = self._f
         f[X, YAW] = (-vx * sn - vy * c) * dt
         f[X, VX] = c * dt
         f[X, VY] = -sn * dt
@@ -152,7 +154,7 @@ class Ekf2D:
         f[Y, VY] = c * dt
         f[YAW, VYAW] = dt
         p = f @ self.covariance @ f.T
-        p[np.diag_indices(6)] += self._q * dt
+        p[self._diag] += self._q * dt
         self.covariance = p
         self.t = t
 
