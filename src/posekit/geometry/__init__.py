@@ -15,6 +15,17 @@ rotations, lowercase extrinsic / uppercase intrinsic Euler) are in ``docs/conven
 from __future__ import annotations
 
 from posekit.geometry._quat import EULER_SEQUENCES
+from posekit.geometry.conversions import (
+    pose2d_from_transform,
+    pose2d_to_transform,
+    rotation_from_msg,
+    rotation_to_msg,
+    transform_from_msg,
+    transform_to_msg,
+    transform_to_pose_msg,
+    vector_from_msg,
+    vector_to_msg,
+)
 from posekit.geometry.errors import (
     GeometryError,
     GimbalLockWarning,
@@ -26,6 +37,8 @@ from posekit.geometry.errors import (
     ZeroAxisError,
 )
 from posekit.geometry.rotation import Rotation, compose_body, compose_world
+from posekit.geometry.se2 import Pose2D
+from posekit.geometry.transform import Transform
 
 __all__ = [
     "EULER_SEQUENCES",
@@ -34,10 +47,21 @@ __all__ = [
     "InvalidQuaternionError",
     "NonFiniteError",
     "NonOrthonormalMatrixError",
+    "Pose2D",
     "Rotation",
     "ShapeError",
+    "Transform",
     "UnknownSequenceError",
     "ZeroAxisError",
     "compose_body",
     "compose_world",
+    "pose2d_from_transform",
+    "pose2d_to_transform",
+    "rotation_from_msg",
+    "rotation_to_msg",
+    "transform_from_msg",
+    "transform_to_msg",
+    "transform_to_pose_msg",
+    "vector_from_msg",
+    "vector_to_msg",
 ]

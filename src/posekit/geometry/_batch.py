@@ -128,7 +128,7 @@ def wrap(a: F64) -> F64:
     outside = (a < -np.pi) | (a > np.pi)
     if outside.any():
         v = a[outside]
-        out[outside] = v - 2.0 * np.pi * np.floor((v + np.pi) / (2.0 * np.pi))
+        out[outside] = v - 2.0 * np.pi * np.ceil((v - np.pi) / (2.0 * np.pi))
     return out
 
 

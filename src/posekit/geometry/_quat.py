@@ -96,10 +96,10 @@ def euler_params(seq: str) -> _EulerParams:
 
 
 def wrap_angle(a: float) -> float:
-    """Wrap an angle to [-π, π] (radians); π stays π."""
+    """Wrap an angle (rad) into [-π, π]: values inside are untouched, others land in (-π, π]."""
     if -_PI <= a <= _PI:
         return a
-    return a - _TWO_PI * math.floor((a + _PI) / _TWO_PI)
+    return a - _TWO_PI * math.ceil((a - _PI) / _TWO_PI)
 
 
 def quat_normalize_xyzw(x: float, y: float, z: float, w: float) -> Quat:
