@@ -1,0 +1,168 @@
+"""Executors: exception isolation, ordering, futures, async callbacks, callback groups."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+from posekit.msgs.std_msgs import String
+from posekit.runtime.callback_groups import ReentrantCallbackGroup
+from posekit.runtime.context import Context
+from posekit.runtime.executors import (
+    MultiThreadedExecutor,
+    SimulatedTimeExecutor,
+    SingleThreadedExecutor,
+)
+from posekit.runtime.node import Node
+from posekit.runtime.task import Future
+
+
+def test_callback_exception_is_logged_and_isolated(ctx, logs) -> None:
+    bad = Node("bad_node", context=ctx)
+    good = Node("good_node", context=ctx)
+    good_ticks: list[int] = []
+    bad_calls: list[int] = []
+
+    def explode() -> None:
+        bad_calls.append(1)
+        raise ZeroDivisionError("boom")
+
+    bad.create_timer(0.1, explode)
+    good.create_timer(0.1, lambda: good_ticks.append(good.get_clock().now().nanoseconds))
+    received: list[str] = []
+    bad.create_subscription(String, "t", lambda m: 1 / 0, 10)
+    good.create_subscription(String, "t", lambda m: received.append(m.data), 10)
+    pub = good.create_publisher(String, "t", 10)
+    pub.publish(String(data="x"))
+    ex = SimulatedTimeExecutor(context=ctx)
+    ex.add_node(bad)
+    ex.add_node(good)
+    ex.run_until(1.0)
+    assert len(good_ticks) == 10 and len(bad_calls) == 10
+    assert received == ["x"]
+    errors = [r for r in logs if r.severity.name == "ERROR"]
+    assert len(errors) == 11 == ex.callback_exceptions
+    assert all(r.name == "bad_node" for r in errors)
+    timer_errors = [r for r in errors if "Exception in timer callback" in r.message]
+    assert len(timer_errors) == 10
+    assert "Traceback" in timer_errors[0].message
+    assert "ZeroDivisionError: boom" in timer_errors[0].message
+    assert any("subscription callback on '/t'" in r.message for r in errors)
+
+
+def test_messages_delivered_in_publish_order_across_subscriptions(ctx) -> None:
+    node = Node("n", context=ctx)
+    order: list[str] = []
+    pubs = {}
+    for topic in ["a", "b", "c"]:
+        pubs[topic] = node.create_publisher(String, topic, 10)
+        node.create_subscription(String, topic, lambda m, t=topic: order.append(t + m.data), 10)
+    sequence = ["b1", "a1", "c1", "a2", "b2"]
+    for item in sequence:
+        pubs[item[0]].publish(String(data=item[1]))
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(node)
+    ex.spin_some()
+    assert order == sequence
+
+
+def test_spin_until_future_complete_and_async_callbacks(ctx) -> None:
+    node = Node("n", context=ctx)
+    future = Future()
+    node.create_timer(0.001, lambda: future.set_result(42))
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(node)
+    ex.spin_until_future_complete(future, timeout_sec=5.0)
+    assert future.done() and future.result() == 42
+
+    gate = Future()
+    results: list[str] = []
+
+    async def on_msg(msg: String) -> None:
+        value = await gate
+        results.append(f"{msg.data}:{value}")
+
+    node.create_subscription(String, "t", on_msg, 10)
+    node.create_publisher(String, "t", 10).publish(String(data="m"))
+    ex.spin_some()
+    assert results == []  # waiting on the gate
+    gate.set_result("open")
+    ex.spin_some()
+    assert results == ["m:open"]
+    task = ex.create_task(lambda: 7)
+    ex.spin_until_future_complete(task, timeout_sec=1.0)
+    assert task.result() == 7
+
+
+def test_spin_returns_on_shutdown() -> None:
+    context = Context()
+    context.init()
+    node = Node("n", context=context)
+    ex = SingleThreadedExecutor(context=context)
+    ex.add_node(node)
+    node.create_timer(0.01, context.shutdown)
+    thread = threading.Thread(target=ex.spin)
+    thread.start()
+    thread.join(timeout=5.0)
+    assert not thread.is_alive() and not context.ok()
+
+
+def test_wall_timer_fires_repeatedly(ctx) -> None:
+    node = Node("n", context=ctx)
+    ticks: list[int] = []
+    node.create_timer(0.005, lambda: ticks.append(1))
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(node)
+    end = time.monotonic() + 0.1
+    while len(ticks) < 3 and time.monotonic() < end + 2.0:
+        ex.spin_once(timeout_sec=0.05)
+    assert len(ticks) >= 3
+
+
+def test_multithreaded_groups(ctx) -> None:
+    node = Node("n", context=ctx)
+    active = [0]
+    peak = [0]
+    lock = threading.Lock()
+    done = threading.Event()
+    counts = [0]
+
+    def exclusive() -> None:
+        with lock:
+            active[0] += 1
+            peak[0] = max(peak[0], active[0])
+        time.sleep(0.005)
+        with lock:
+            active[0] -= 1
+            counts[0] += 1
+            if counts[0] >= 6:
+                done.set()
+
+    node.create_timer(0.001, exclusive)
+    node.create_timer(0.001, exclusive)  # same default (mutually exclusive) group
+    barrier = threading.Barrier(2, timeout=5.0)
+    met: list[bool] = []
+    group = ReentrantCallbackGroup()
+
+    def reentrant() -> None:
+        if len(met) < 2:
+            try:
+                barrier.wait()  # only passes if both run at the same time
+                met.append(True)
+            except threading.BrokenBarrierError:
+                met.append(False)
+
+    node.create_timer(0.001, reentrant, callback_group=group)
+    node.create_timer(0.001, reentrant, callback_group=group)
+    ex = MultiThreadedExecutor(num_threads=4, context=ctx)
+    ex.add_node(node)
+    thread = threading.Thread(target=ex.spin, daemon=True)
+    thread.start()
+    done.wait(5.0)
+    deadline = time.monotonic() + 5.0
+    while len(met) < 2 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    ex.shutdown()
+    thread.join(timeout=5.0)
+    assert counts[0] >= 6 and peak[0] == 1
+    assert met[:2] == [True, True]

@@ -1,0 +1,104 @@
+"""Parameters: declare/get/set, overrides (constructor, --ros-args), types, callbacks."""
+
+from __future__ import annotations
+
+import pytest
+
+from posekit.runtime.context import Context
+from posekit.runtime.node import Node
+from posekit.runtime.parameters import (
+    InvalidParameterTypeException,
+    InvalidParameterValueException,
+    Parameter,
+    ParameterAlreadyDeclaredException,
+    ParameterDescriptor,
+    ParameterNotDeclaredException,
+    SetParametersResult,
+    parse_parameter_value,
+)
+
+
+def test_declare_default_and_override(ctx) -> None:
+    node = Node("ctl", context=ctx, parameter_overrides=[Parameter("k_rho", value=1.0)])
+    assert node.declare_parameter("k_rho", 0.5).value == 1.0
+    assert node.declare_parameter("k_alpha", 2.0).value == 2.0
+    assert node.get_parameter("k_rho").value == 1.0
+    assert node.get_parameter("k_rho").type_ == Parameter.Type.DOUBLE
+    assert node.declare_parameter("ignored", 3, ignore_override=True).value == 3
+    with pytest.raises(ParameterAlreadyDeclaredException):
+        node.declare_parameter("k_rho", 0.1)
+    with pytest.raises(ParameterNotDeclaredException):
+        node.get_parameter("nope")
+
+
+def test_dict_overrides_and_int_to_double(ctx) -> None:
+    node = Node("ctl", context=ctx, parameter_overrides={"k_rho": 1, "name": "bot"})
+    p = node.declare_parameter("k_rho", 0.5)
+    assert p.value == 1.0 and isinstance(p.value, float)
+    assert node.declare_parameter("name", "default").value == "bot"
+
+
+def test_override_of_wrong_type_is_refused(ctx) -> None:
+    node = Node("ctl", context=ctx, parameter_overrides={"k_rho": "fast"})
+    with pytest.raises(InvalidParameterTypeException, match="expecting type 'DOUBLE'"):
+        node.declare_parameter("k_rho", 0.5)
+
+
+def test_global_ros_args() -> None:
+    context = Context()
+    context.init(args=["prog", "--ros-args", "-p", "rate:=20", "-p", "flag:=true",
+                       "-r", "chatter:=/other"])
+    try:
+        node = Node("n", context=context)
+        assert node.declare_parameter("rate", 10).value == 20
+        assert node.declare_parameter("flag", False).value is True
+        assert node.resolve_topic_name("chatter") == "/other"
+    finally:
+        context.shutdown()
+
+
+def test_set_parameters_type_checks_and_callbacks(ctx) -> None:
+    node = Node("ctl", context=ctx)
+    node.declare_parameter("gain", 0.5)
+    node.declare_parameter("locked", 1, ParameterDescriptor(read_only=True))
+    results = node.set_parameters([Parameter("gain", value=0.7), Parameter("gain", value="x"),
+                                   Parameter("locked", value=2)])
+    assert [r.successful for r in results] == [True, False, False]
+    assert "expecting type 'DOUBLE'" in results[1].reason
+    assert node.get_parameter("gain").value == 0.7
+
+    def veto(params: list[Parameter]) -> SetParametersResult:
+        for p in params:
+            if p.name == "gain" and p.value < 0:
+                return SetParametersResult(successful=False, reason="gain must be >= 0")
+        return SetParametersResult(successful=True)
+
+    node.add_on_set_parameters_callback(veto)
+    (r,) = node.set_parameters([Parameter("gain", value=-1.0)])
+    assert not r.successful and r.reason == "gain must be >= 0"
+    assert node.get_parameter("gain").value == 0.7
+    with pytest.raises(InvalidParameterValueException):
+        node.declare_parameter("other", object())
+    with pytest.raises(ParameterNotDeclaredException):
+        node.set_parameters([Parameter("undeclared", value=1)])
+
+
+def test_use_sim_time_switches_the_clock(ctx) -> None:
+    node = Node("n", context=ctx)
+    assert node.get_parameter("use_sim_time").value is False
+    assert not node.get_clock().ros_time_is_active
+    (r,) = node.set_parameters([Parameter("use_sim_time", value=True)])
+    assert r.successful and node.get_clock().ros_time_is_active
+    assert node.get_clock().now().nanoseconds == 0  # no /clock yet
+    (bad,) = node.set_parameters([Parameter("use_sim_time", value=1)])
+    assert not bad.successful
+
+
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [("true", True), ("False", False), ("3", 3), ("0.5", 0.5), ("abc", "abc"),
+     ("[1, 2]", [1, 2]), ("'7'", "7")],
+)
+def test_parse_parameter_value(text: str, value: object) -> None:
+    parsed = parse_parameter_value(text)
+    assert parsed == value and type(parsed) is type(value)
