@@ -58,7 +58,9 @@ class PoseCandidate:
         rvec: rotation as an axis-angle vector (3,), radians (OpenCV's ``rvec``).
         translation: marker centre in the camera optical frame (3,), metres (``tvec``).
         quaternion_xyzw: rotation as a unit quaternion (x, y, z, w), ``w >= 0``.
-        reprojection_error: RMS distance between detected and reprojected corners, pixels.
+        reprojection_error: RMS over the 8 corner coordinates (u and v of 4 corners) of
+            detected minus reprojected, pixels, as OpenCV's ``solvePnPGeneric`` reports it
+            (the per-corner RMS distance is sqrt(2) times larger).
     """
 
     rvec: F64Array
@@ -271,37 +273,45 @@ class ArucoMarkerDetector:
         """Both IPPE_SQUARE solutions for one marker's corners (best first), ``None`` on failure."""
         image_points = np.asarray(corners, dtype=np.float32).reshape(4, 2)
         object_points = self.object_points(marker_size)
+        candidates = self._solve(object_points, image_points)
+        if not candidates or candidates[0].reprojection_error > _DEGENERATE_ERROR_PX:
+            # On an exactly fronto-parallel square (integer corners of a head-on marker can
+            # be one) OpenCV's IPPE returns the identity rotation with tens of pixels of error
+            # or a NaN rvec, and still reports success. A 1e-3 px nudge breaks the tie.
+            retry = self._solve(object_points, image_points + _NUDGE)
+            if retry and (not candidates or retry[0].reprojection_error
+                          < candidates[0].reprojection_error):
+                candidates = retry
+        if not candidates:
+            return None
+        return candidates[0], (candidates[1] if len(candidates) > 1 else None)
+
+    def _solve(self, object_points: npt.NDArray[np.float32],
+               image_points: npt.NDArray[np.float32]) -> list[PoseCandidate]:
+        """Finite IPPE_SQUARE solutions, lowest reprojection error first."""
         n, rvecs, tvecs, errors = cv2.solvePnPGeneric(
             object_points, image_points, self.camera_matrix, self.dist_coeffs,
             flags=cv2.SOLVEPNP_IPPE_SQUARE,
         )
-        if not n:
-            return None
         errs = np.asarray(errors, dtype=np.float64).reshape(-1)
-        if float(errs.min()) > _DEGENERATE_ERROR_PX:
-            # OpenCV's IPPE returns the identity rotation (tens of pixels of reprojection
-            # error, still "success") when the corners form an exact fronto-parallel square,
-            # as integer corners of a head-on marker can. A 1e-3 px nudge breaks the tie.
-            n2, rvecs2, tvecs2, errors2 = cv2.solvePnPGeneric(
-                object_points, image_points + _NUDGE, self.camera_matrix, self.dist_coeffs,
-                flags=cv2.SOLVEPNP_IPPE_SQUARE,
-            )
-            errs2 = np.asarray(errors2, dtype=np.float64).reshape(-1)
-            if n2 and errs2.size and float(errs2.min()) < float(errs.min()):
-                n, rvecs, tvecs, errs = n2, rvecs2, tvecs2, errs2
         candidates: list[PoseCandidate] = []
         for k in range(int(n)):
             rvec = np.asarray(rvecs[k], dtype=np.float64).reshape(3)
+            tvec = np.asarray(tvecs[k], dtype=np.float64).reshape(3)
+            err = float(errs[k]) if k < errs.size else math.inf
+            if not (np.all(np.isfinite(rvec)) and np.all(np.isfinite(tvec))
+                    and math.isfinite(err)):
+                continue
             candidates.append(
                 PoseCandidate(
                     rvec=rvec,
-                    translation=np.asarray(tvecs[k], dtype=np.float64).reshape(3),
+                    translation=tvec,
                     quaternion_xyzw=Rotation.from_rotvec(rvec).as_quat(canonical=True),
-                    reprojection_error=float(errs[k]) if k < errs.size else math.nan,
+                    reprojection_error=err,
                 )
             )
         candidates.sort(key=lambda c: c.reprojection_error)
-        return candidates[0], (candidates[1] if len(candidates) > 1 else None)
+        return candidates
 
     def detect(self, image: Any) -> list[MarkerDetection]:
         """Detect every marker and estimate its pose; empty list when none is found.
