@@ -1,0 +1,630 @@
+"""Zenoh sessions that speak ROS 2's rmw_zenoh: nodes, publishers, subscriptions, the graph.
+
+Zero configuration on one machine, like rmw_zenoh: the session is a Zenoh *peer* that
+connects to ``tcp/127.0.0.1:7447`` and listens on ``tcp/127.0.0.1:<random>`` (loopback
+only). When nothing answers on the router endpoint, the process hosts a Zenoh *router*
+there itself (a stand-in for ``rmw_zenohd``), so a second posekit process, a plain zenoh
+peer or an rmw_zenoh node pointed at that endpoint finds it with nothing started by hand.
+
+``ZENOH_SESSION_CONFIG_URI`` (a JSON5 zenoh config file) replaces these defaults entirely,
+and ``ZENOH_CONFIG_OVERRIDE`` (``key/path=json5;key2=value``, as rmw_zenoh reads it) is
+applied on top; ``ROS_DOMAIN_ID`` selects the domain.
+
+Messages go out as CDR (``posekit.msgs.to_cdr``) with the compact 33-byte attachment
+(sequence number from 1, source time, GID) on the data key; TRANSIENT_LOCAL publishers are
+zenoh-ext AdvancedPublishers with a cache of ``depth`` samples, and TRANSIENT_LOCAL
+subscriptions AdvancedSubscribers with history and late-publisher detection, as rmw_zenoh
+does. Every entity is announced by an rmw_zenoh liveliness token.
+
+Received samples that do not decode (no or malformed attachment, type-hash mismatch, bad
+CDR) are dropped; the first drop per (publisher, reason) is logged with the reason, and all
+are counted in :attr:`WireSubscription.dropped`. Exceptions from user callbacks are logged,
+never propagated into zenoh's threads.
+"""
+
+from __future__ import annotations
+
+import collections
+import itertools
+import json
+import logging
+import os
+import socket
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import zenoh
+import zenoh.ext as zext
+
+from posekit.msgs.cdr import from_cdr, to_cdr
+from posekit.msgs.errors import CdrError
+from posekit.msgs.registry import normalize_type_name
+from posekit.transport.zenoh_wire import (
+    LIVELINESS_PREFIX,
+    Attachment,
+    EntityKind,
+    GraphCache,
+    TokenInfo,
+    WireFormatError,
+    WireQoS,
+    data_key,
+    dds_type_name,
+    decode_attachment,
+    encode_attachment,
+    encode_attachment_legacy,
+    endpoint_token,
+    entity_gid,
+    node_token,
+    topic_chunk,
+    type_hash,
+)
+
+__all__ = [
+    "DEFAULT_ROUTER_ENDPOINT",
+    "ENV_CONFIG_OVERRIDE",
+    "ENV_CONFIG_URI",
+    "ENV_DOMAIN_ID",
+    "NodeEntity",
+    "SessionOptions",
+    "WirePublisher",
+    "WireSubscription",
+    "ZenohGraph",
+    "ZenohSession",
+    "ZenohSessionError",
+    "build_peer_config",
+    "build_router_config",
+    "open_session",
+]
+
+_log = logging.getLogger("posekit.transport.zenoh")
+
+DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"
+ENV_CONFIG_URI = "ZENOH_SESSION_CONFIG_URI"
+ENV_CONFIG_OVERRIDE = "ZENOH_CONFIG_OVERRIDE"
+ENV_DOMAIN_ID = "ROS_DOMAIN_ID"
+
+
+class ZenohSessionError(RuntimeError):
+    """A Zenoh session, router or entity could not be created (the message says why)."""
+
+
+@dataclass(frozen=True, slots=True)
+class SessionOptions:
+    """How to open a session. ``None`` fields come from the environment or rmw defaults.
+
+    Attributes:
+        domain_id: ROS domain; default ``$ROS_DOMAIN_ID`` or 0.
+        router_endpoint: where the router is (and is hosted if absent); loopback default.
+        host_router: host a router on ``router_endpoint`` when nothing answers there.
+        config_uri: zenoh JSON5 config file; default ``$ZENOH_SESSION_CONFIG_URI``. When set,
+            posekit's defaults (and router hosting) do not apply.
+        listen_endpoint: this peer's own listener (must be dialable by other peers).
+        enclave: the ROS security enclave written in tokens.
+        legacy_attachment: write the 77-byte keyed attachment of Jazzy rmw_zenoh <= 0.2.3.
+        explicit_qos: write reliability/durability/history/depth explicitly in tokens.
+    """
+
+    domain_id: int | None = None
+    router_endpoint: str = DEFAULT_ROUTER_ENDPOINT
+    host_router: bool = True
+    config_uri: str | None = None
+    listen_endpoint: str = "tcp/127.0.0.1:0"
+    enclave: str = "/"
+    legacy_attachment: bool = False
+    explicit_qos: bool = False
+
+
+def _json(value: Any) -> str:
+    return json.dumps(value)
+
+
+def _apply_overrides(config: zenoh.Config, overrides: str) -> None:
+    for item in filter(None, (part.strip() for part in overrides.split(";"))):
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise ZenohSessionError(f"{ENV_CONFIG_OVERRIDE}: {item!r} is not key=value")
+        try:
+            config.insert_json5(key.strip(), value.strip())
+        except Exception as exc:
+            raise ZenohSessionError(f"{ENV_CONFIG_OVERRIDE}: cannot set {key!r}: {exc}") from exc
+
+
+def build_peer_config(options: SessionOptions) -> zenoh.Config:
+    """The peer config posekit uses (rmw_zenoh's session defaults, loopback only)."""
+    uri = options.config_uri or os.environ.get(ENV_CONFIG_URI)
+    if uri:
+        try:
+            config = zenoh.Config.from_file(uri)
+        except Exception as exc:
+            raise ZenohSessionError(f"cannot load zenoh config {uri!r}: {exc}") from exc
+    else:
+        config = zenoh.Config()
+        config.insert_json5("mode", _json("peer"))
+        config.insert_json5("connect/endpoints", _json([options.router_endpoint]))
+        config.insert_json5("listen/endpoints", _json([options.listen_endpoint]))
+        config.insert_json5("scouting/multicast/enabled", "false")
+        config.insert_json5("scouting/gossip/enabled", "true")
+        config.insert_json5("timestamping/enabled", _json({"router": True, "peer": True}))
+        config.insert_json5("queries_default_timeout", "60000")
+    overrides = os.environ.get(ENV_CONFIG_OVERRIDE)
+    if overrides:
+        _apply_overrides(config, overrides)
+    return config
+
+
+def build_router_config(endpoint: str) -> zenoh.Config:
+    """A router listening on ``endpoint`` only (what ``rmw_zenohd`` is, on loopback)."""
+    config = zenoh.Config()
+    config.insert_json5("mode", _json("router"))
+    config.insert_json5("listen/endpoints", _json([endpoint]))
+    config.insert_json5("connect/endpoints", "[]")
+    config.insert_json5("scouting/multicast/enabled", "false")
+    config.insert_json5("scouting/gossip/enabled", "true")
+    config.insert_json5("timestamping/enabled", _json({"router": True, "peer": True}))
+    return config
+
+
+def _tcp_host_port(endpoint: str) -> tuple[str, int] | None:
+    proto, _, address = endpoint.partition("/")
+    if proto != "tcp" or ":" not in address:
+        return None
+    host, _, port = address.rpartition(":")
+    host = host.strip("[]")
+    try:
+        return host, int(port.split("#")[0])
+    except ValueError:
+        return None
+
+
+def _something_listens(endpoint: str, timeout: float = 0.3) -> bool:
+    target = _tcp_host_port(endpoint)
+    if target is None:
+        return True  # not TCP: cannot probe, assume the user runs it
+    try:
+        with socket.create_connection(target, timeout=timeout):
+            return True
+    except OSError:
+        return False
+
+
+def open_router(endpoint: str = DEFAULT_ROUTER_ENDPOINT) -> zenoh.Session:
+    """Open a Zenoh router session listening on ``endpoint`` (``posekit router``)."""
+    try:
+        return zenoh.open(build_router_config(endpoint))
+    except Exception as exc:
+        raise ZenohSessionError(f"cannot host a zenoh router on {endpoint}: {exc}") from exc
+
+
+def _domain_from_env() -> int:
+    text = os.environ.get(ENV_DOMAIN_ID, "").strip()
+    if not text:
+        return 0
+    try:
+        value = int(text)
+    except ValueError:
+        raise ZenohSessionError(f"{ENV_DOMAIN_ID}={text!r} is not an integer") from None
+    if not 0 <= value <= 232:
+        raise ZenohSessionError(f"{ENV_DOMAIN_ID}={value} is outside 0..232")
+    return value
+
+
+def open_session(options: SessionOptions | None = None) -> ZenohSession:
+    """Open a session (hosting the router first when needed; see the module docstring)."""
+    options = options or SessionOptions()
+    domain = options.domain_id if options.domain_id is not None else _domain_from_env()
+    router = None
+    uses_defaults = not (options.config_uri or os.environ.get(ENV_CONFIG_URI))
+    if uses_defaults and options.host_router and not _something_listens(options.router_endpoint):
+        try:
+            router = open_router(options.router_endpoint)
+            _log.info("no zenoh router on %s: hosting one in this process", options.router_endpoint)
+        except ZenohSessionError as exc:  # another process won the race: use theirs
+            _log.debug("%s", exc)
+    try:
+        session = zenoh.open(build_peer_config(options))
+    except Exception as exc:
+        if router is not None:
+            _quiet(router.close)
+        raise ZenohSessionError(f"cannot open a zenoh session: {exc}") from exc
+    return ZenohSession(session, router, domain, options)
+
+
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class NodeEntity:
+    """A node announced on the graph."""
+
+    name: str
+    namespace: str
+    node_id: int
+    token_key: str
+
+
+class ZenohSession:
+    """An open rmw_zenoh-compatible session. Thread-safe; close() it (or use ``with``)."""
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        router: zenoh.Session | None,
+        domain_id: int,
+        options: SessionOptions,
+    ) -> None:
+        self.session = session
+        self.router = router
+        self.domain_id = domain_id
+        self.options = options
+        self.zid = str(session.info.zid())
+        self._ids = itertools.count()
+        self._lock = threading.Lock()
+        self._tokens: list[Any] = []
+        self._entities: list[WirePublisher | WireSubscription] = []
+        self._graph: ZenohGraph | None = None
+        self._closed = False
+
+    @property
+    def hosts_router(self) -> bool:
+        """True when this process hosts the router on the router endpoint."""
+        return self.router is not None
+
+    def __enter__(self) -> ZenohSession:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def next_entity_id(self) -> int:
+        """A fresh id, unique within this session (node and entity ids share the counter)."""
+        return next(self._ids)
+
+    def _declare_token(self, key: str) -> Any:
+        token = self.session.liveliness().declare_token(key)
+        with self._lock:
+            self._tokens.append(token)
+        return token
+
+    def create_node(self, name: str, namespace: str = "/") -> NodeEntity:
+        """Announce a node (``NN`` token) and return its handle."""
+        namespace = namespace if namespace.startswith("/") else "/" + namespace
+        node_id = self.next_entity_id()
+        key = node_token(self.domain_id, self.zid, node_id, namespace, name, self.options.enclave)
+        self._declare_token(key)
+        return NodeEntity(name, namespace, node_id, key)
+
+    def create_publisher(
+        self, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS
+    ) -> WirePublisher:
+        """A publisher of ``ros_type`` on the fully qualified ``topic``."""
+        pub = WirePublisher(self, node, topic, normalize_type_name(ros_type), qos)
+        with self._lock:
+            self._entities.append(pub)
+        return pub
+
+    def create_subscription(
+        self,
+        node: NodeEntity,
+        topic: str,
+        msg_type: str | type[Any],
+        qos: WireQoS,
+        callback: Callable[[Any, Attachment], None],
+        *,
+        warn: Callable[[str], None] | None = None,
+    ) -> WireSubscription:
+        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)`` (zenoh thread)."""
+        sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn)
+        with self._lock:
+            self._entities.append(sub)
+        return sub
+
+    @property
+    def graph(self) -> ZenohGraph:
+        """The ROS graph of this domain, built from liveliness tokens (created on first use)."""
+        with self._lock:
+            if self._graph is None:
+                self._graph = ZenohGraph(self.session, self.domain_id)
+            return self._graph
+
+    def close(self) -> None:
+        """Undeclare everything, leave the graph and close the session (and hosted router)."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            entities, self._entities = self._entities, []
+            tokens, self._tokens = self._tokens, []
+            graph, self._graph = self._graph, None
+        for entity in entities:
+            entity.destroy()
+        for token in tokens:
+            _quiet(token.undeclare)
+        if graph is not None:
+            graph.close()
+        _quiet(self.session.close)
+        if self.router is not None:
+            _quiet(self.router.close)
+
+
+def _quiet(fn: Callable[[], Any]) -> None:
+    try:
+        fn()
+    except Exception as exc:  # closing twice or after zenoh shut down
+        _log.debug("ignored while closing: %s", exc)
+
+
+class WirePublisher:
+    """Publishes CDR + attachment on the data key; announced by an ``MP`` token."""
+
+    def __init__(
+        self, owner: ZenohSession, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS
+    ) -> None:
+        self.topic = topic
+        self.ros_type = ros_type
+        self.qos = qos
+        self.key = data_key(owner.domain_id, topic, ros_type)
+        self.entity_id = owner.next_entity_id()
+        self.token_key = endpoint_token(
+            owner.domain_id,
+            owner.zid,
+            node.node_id,
+            self.entity_id,
+            EntityKind.PUBLISHER,
+            node.namespace,
+            node.name,
+            topic,
+            ros_type,
+            qos,
+            enclave=owner.options.enclave,
+            explicit_qos=owner.options.explicit_qos,
+        )
+        self.gid = entity_gid(self.token_key)
+        self._encode = (
+            encode_attachment_legacy if owner.options.legacy_attachment else encode_attachment
+        )
+        self._seq = itertools.count(1)
+        reliability = zenoh.Reliability.RELIABLE if qos.reliable else zenoh.Reliability.BEST_EFFORT
+        congestion = (
+            zenoh.CongestionControl.BLOCK
+            if qos.reliable and qos.history == 2
+            else zenoh.CongestionControl.DROP
+        )
+        session = owner.session
+        try:
+            if qos.transient_local:
+                self._pub: Any = zext.declare_advanced_publisher(
+                    session,
+                    self.key,
+                    cache=zext.CacheConfig(max(1, qos.depth)),
+                    publisher_detection=True,
+                    sample_miss_detection=(
+                        zext.MissDetectionConfig(heartbeat=None, sporadic_heartbeat=0.5)
+                        if qos.reliable
+                        else None
+                    ),
+                    reliability=reliability,
+                    congestion_control=congestion,
+                )
+            else:
+                self._pub = session.declare_publisher(
+                    self.key, reliability=reliability, congestion_control=congestion
+                )
+            self._token = session.liveliness().declare_token(self.token_key)
+        except Exception as exc:
+            raise ZenohSessionError(f"cannot declare a publisher on {self.key}: {exc}") from exc
+        self._destroyed = False
+
+    def publish(self, msg: Any) -> None:
+        """Serialize and send ``msg`` (raises CdrError for an unserializable message)."""
+        self.publish_cdr(to_cdr(msg, self.ros_type))
+
+    def publish_cdr(self, payload: bytes) -> None:
+        """Send an already serialized CDR payload with the next attachment."""
+        if self._destroyed:
+            raise ZenohSessionError(f"publisher on {self.topic} was destroyed")
+        attachment = self._encode(next(self._seq), time.time_ns(), self.gid)
+        self._pub.put(payload, attachment=attachment)
+
+    def destroy(self) -> None:
+        """Leave the graph and stop publishing."""
+        if self._destroyed:
+            return
+        self._destroyed = True
+        _quiet(self._token.undeclare)
+        _quiet(self._pub.undeclare)
+
+
+class WireSubscription:
+    """Receives a topic's samples, validates and decodes them; announced by an ``MS`` token.
+
+    Subscribes with a wildcard type-hash chunk so that publishers of another definition of
+    the type are noticed (dropped with a logged reason) instead of silently missing.
+    """
+
+    def __init__(
+        self,
+        owner: ZenohSession,
+        node: NodeEntity,
+        topic: str,
+        msg_type: str | type[Any],
+        qos: WireQoS,
+        callback: Callable[[Any, Attachment], None],
+        warn: Callable[[str], None] | None,
+    ) -> None:
+        ros_type = normalize_type_name(
+            msg_type if isinstance(msg_type, str) else msg_type.__msgtype__
+        )
+        self.topic = topic
+        self.ros_type = ros_type
+        self.msg_type = msg_type
+        self.qos = qos
+        self.type_hash = type_hash(ros_type)
+        self.key = data_key(owner.domain_id, topic, ros_type)
+        self._match_key = (
+            f"{owner.domain_id}/{topic_chunk(topic)}/{dds_type_name(ros_type)}/*"
+        )
+        self._callback = callback
+        self._warn = warn or _log.warning
+        self._warned: set[tuple[str, str]] = set()
+        #: Dropped samples by reason ("attachment", "type_hash", "cdr", "callback").
+        self.dropped: collections.Counter[str] = collections.Counter()
+        self.received = 0
+        #: Sequence-number gaps seen per publisher GID (ROS's MESSAGE_LOST).
+        self.lost: collections.Counter[bytes] = collections.Counter()
+        self._last_seq: dict[bytes, int] = {}
+        self._destroyed = False
+        self.entity_id = owner.next_entity_id()
+        self.token_key = endpoint_token(
+            owner.domain_id,
+            owner.zid,
+            node.node_id,
+            self.entity_id,
+            EntityKind.SUBSCRIPTION,
+            node.namespace,
+            node.name,
+            topic,
+            ros_type,
+            qos,
+            enclave=owner.options.enclave,
+            explicit_qos=owner.options.explicit_qos,
+        )
+        session = owner.session
+        try:
+            if qos.transient_local:
+                self._sub: Any = zext.declare_advanced_subscriber(
+                    session,
+                    self._match_key,
+                    self._on_sample,
+                    history=zext.HistoryConfig(
+                        detect_late_publishers=True, max_samples=max(1, qos.depth)
+                    ),
+                    recovery=(
+                        zext.RecoveryConfig(periodic_queries=None, heartbeat=True)
+                        if qos.reliable
+                        else None
+                    ),
+                    subscriber_detection=True,
+                )
+            else:
+                self._sub = session.declare_subscriber(self._match_key, self._on_sample)
+            self._token = session.liveliness().declare_token(self.token_key)
+        except Exception as exc:
+            raise ZenohSessionError(f"cannot subscribe to {self.key}: {exc}") from exc
+
+    def _drop(self, reason: str, source: str, detail: str) -> None:
+        self.dropped[reason] += 1
+        if (source, reason) in self._warned:
+            return
+        self._warned.add((source, reason))
+        try:
+            self._warn(f"dropping sample on {self.topic} from {source}: {detail}")
+        except Exception:  # a broken logger must not kill zenoh's thread
+            _log.exception("warning callback failed")
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        if self._destroyed:
+            return
+        try:
+            self._handle(sample)
+        except Exception as exc:  # last line of defence: never raise into zenoh
+            self._drop("internal", "?", f"unexpected {type(exc).__name__}: {exc}")
+
+    def _handle(self, sample: zenoh.Sample) -> None:
+        if sample.kind != zenoh.SampleKind.PUT:
+            return
+        key = str(sample.key_expr)
+        received_hash = key.rpartition("/")[2]
+        if received_hash != self.type_hash:
+            self._drop(
+                "type_hash",
+                key,
+                f"type hash {received_hash} differs from ours ({self.type_hash}) for "
+                f"{self.ros_type}: the publisher uses another definition",
+            )
+            return
+        raw_att = sample.attachment
+        if raw_att is None:
+            self._drop("attachment", key, "no attachment (rmw_zenoh requires one)")
+            return
+        try:
+            att = decode_attachment(raw_att.to_bytes())
+        except WireFormatError as exc:
+            self._drop("attachment", key, str(exc))
+            return
+        source = att.gid.hex()
+        try:
+            msg = from_cdr(sample.payload.to_bytes(), self.msg_type)
+        except CdrError as exc:
+            self._drop("cdr", source, str(exc))
+            return
+        last = self._last_seq.get(att.gid)
+        if last is not None and att.sequence_number > last + 1:
+            self.lost[att.gid] += att.sequence_number - last - 1
+        if last is None or att.sequence_number > last:
+            self._last_seq[att.gid] = att.sequence_number
+        self.received += 1
+        try:
+            self._callback(msg, att)
+        except Exception as exc:
+            self.dropped["callback"] += 1
+            _log.exception("subscription callback on %s raised: %s", self.topic, exc)
+
+    def destroy(self) -> None:
+        """Leave the graph; the callback is not called afterwards."""
+        if self._destroyed:
+            return
+        self._destroyed = True
+        _quiet(self._token.undeclare)
+        _quiet(self._sub.undeclare)
+
+
+class ZenohGraph:
+    """Live view of the ROS graph of one domain from ``@ros2_lv`` liveliness tokens."""
+
+    def __init__(self, session: zenoh.Session, domain_id: int) -> None:
+        self.cache = GraphCache()
+        self._cond = threading.Condition()
+        self._sub = session.liveliness().declare_subscriber(
+            f"{LIVELINESS_PREFIX}/{int(domain_id)}/**", self._on_token, history=True
+        )
+
+    def _on_token(self, sample: zenoh.Sample) -> None:
+        key = str(sample.key_expr)
+        with self._cond:
+            if sample.kind == zenoh.SampleKind.PUT:
+                self.cache.add(key)
+            else:
+                self.cache.remove(key)
+            self._cond.notify_all()
+
+    def wait_until(self, predicate: Callable[[GraphCache], bool], timeout: float) -> bool:
+        """Block until ``predicate(cache)`` holds (True) or ``timeout`` seconds pass (False)."""
+        with self._cond:
+            return self._cond.wait_for(lambda: predicate(self.cache), timeout)
+
+    def node_names(self) -> list[str]:
+        """Fully qualified node names, sorted."""
+        with self._cond:
+            return self.cache.node_names()
+
+    def topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Topics with their types, sorted."""
+        with self._cond:
+            return self.cache.topic_names_and_types()
+
+    def publishers(self, topic: str) -> list[TokenInfo]:
+        """Publishers announced on ``topic``."""
+        with self._cond:
+            return self.cache.endpoints(topic, EntityKind.PUBLISHER)
+
+    def subscriptions(self, topic: str) -> list[TokenInfo]:
+        """Subscriptions announced on ``topic``."""
+        with self._cond:
+            return self.cache.endpoints(topic, EntityKind.SUBSCRIPTION)
+
+    def close(self) -> None:
+        """Stop following the graph."""
+        _quiet(self._sub.undeclare)
