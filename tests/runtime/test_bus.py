@@ -73,7 +73,8 @@ def test_large_arrays_are_shared_read_only_not_copied(ctx) -> None:
     received = [g[0] for g in got]
     # Same buffer for everyone (no per-subscriber copy) but separate message objects.
     assert all(r.data is pixels for r in received)
-    assert len({id(r) for r in received}) == 3 and all(r is not img for r in received)
+    assert len({id(r) for r in received}) == 3
+    assert all(r is not img for r in received)
     assert not pixels.flags.writeable
     with pytest.raises(ValueError, match="read-only"):
         received[0].data[0] = 1
@@ -115,7 +116,8 @@ def test_best_effort_publisher_does_not_reach_reliable_subscription(ctx, logs) -
     drain(ex)
     assert reliable == ["from reliable"]
     assert best_effort == ["from best effort", "from reliable"]
-    assert be_pub.get_subscription_count() == 1 and rel_pub.get_subscription_count() == 2
+    assert be_pub.get_subscription_count() == 1
+    assert rel_pub.get_subscription_count() == 2
 
 
 def test_transient_local_late_joiner_gets_last_depth(ctx) -> None:

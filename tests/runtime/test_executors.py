@@ -38,7 +38,8 @@ def test_callback_exception_is_logged_and_isolated(ctx, logs) -> None:
     ex.add_node(bad)
     ex.add_node(good)
     ex.run_until(1.0)
-    assert len(good_ticks) == 10 and len(bad_calls) == 10
+    assert len(good_ticks) == 10
+    assert len(bad_calls) == 10
     assert received == ["x"]
     errors = [r for r in logs if r.severity.name == "ERROR"]
     assert len(errors) == 11 == ex.callback_exceptions
@@ -73,7 +74,8 @@ def test_spin_until_future_complete_and_async_callbacks(ctx) -> None:
     ex = SingleThreadedExecutor(context=ctx)
     ex.add_node(node)
     ex.spin_until_future_complete(future, timeout_sec=5.0)
-    assert future.done() and future.result() == 42
+    assert future.done()
+    assert future.result() == 42
 
     gate = Future()
     results: list[str] = []
@@ -104,7 +106,8 @@ def test_spin_returns_on_shutdown() -> None:
     thread = threading.Thread(target=ex.spin)
     thread.start()
     thread.join(timeout=5.0)
-    assert not thread.is_alive() and not context.ok()
+    assert not thread.is_alive()
+    assert not context.ok()
 
 
 def test_wall_timer_fires_repeatedly(ctx) -> None:
@@ -164,5 +167,6 @@ def test_multithreaded_groups(ctx) -> None:
         time.sleep(0.01)
     ex.shutdown()
     thread.join(timeout=5.0)
-    assert counts[0] >= 6 and peak[0] == 1
+    assert counts[0] >= 6
+    assert peak[0] == 1
     assert met[:2] == [True, True]

@@ -34,7 +34,8 @@ def test_declare_default_and_override(ctx) -> None:
 def test_dict_overrides_and_int_to_double(ctx) -> None:
     node = Node("ctl", context=ctx, parameter_overrides={"k_rho": 1, "name": "bot"})
     p = node.declare_parameter("k_rho", 0.5)
-    assert p.value == 1.0 and isinstance(p.value, float)
+    assert p.value == 1.0
+    assert isinstance(p.value, float)
     assert node.declare_parameter("name", "default").value == "bot"
 
 
@@ -75,7 +76,8 @@ def test_set_parameters_type_checks_and_callbacks(ctx) -> None:
 
     node.add_on_set_parameters_callback(veto)
     (r,) = node.set_parameters([Parameter("gain", value=-1.0)])
-    assert not r.successful and r.reason == "gain must be >= 0"
+    assert not r.successful
+    assert r.reason == "gain must be >= 0"
     assert node.get_parameter("gain").value == 0.7
     with pytest.raises(InvalidParameterValueException):
         node.declare_parameter("other", object())
@@ -88,7 +90,8 @@ def test_use_sim_time_switches_the_clock(ctx) -> None:
     assert node.get_parameter("use_sim_time").value is False
     assert not node.get_clock().ros_time_is_active
     (r,) = node.set_parameters([Parameter("use_sim_time", value=True)])
-    assert r.successful and node.get_clock().ros_time_is_active
+    assert r.successful
+    assert node.get_clock().ros_time_is_active
     assert node.get_clock().now().nanoseconds == 0  # no /clock yet
     (bad,) = node.set_parameters([Parameter("use_sim_time", value=1)])
     assert not bad.successful
@@ -101,4 +104,5 @@ def test_use_sim_time_switches_the_clock(ctx) -> None:
 )
 def test_parse_parameter_value(text: str, value: object) -> None:
     parsed = parse_parameter_value(text)
-    assert parsed == value and type(parsed) is type(value)
+    assert parsed == value
+    assert type(parsed) is type(value)

@@ -203,7 +203,7 @@ def expand_topic_name(name: str, node_name: str, namespace: str) -> str:
         if key == "node":
             return node_name
         if key in ("ns", "namespace"):
-            return ns_prefix.lstrip("/")
+            return namespace
         raise InvalidTopicNameException(name, f"unknown substitution '{{{key}}}'", m.start())
 
     expanded = _SUBSTITUTION.sub(substitute, name)

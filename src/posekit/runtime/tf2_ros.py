@@ -14,7 +14,8 @@ TransformListener (QoS and behaviour from specs/tf2.md §9).
   ``buffer.set_transform(t, authority)`` / ``buffer.set_transform_static(t, authority)``.
   When the node clock jumps back in time (any backward jump, like C++ tf2_ros; bag loops
   under ``use_sim_time``) it logs ``Detected jump back in time. Clearing tf buffer.`` as a
-  warning and calls ``buffer.clear()``; switching the time source clears it too.
+  warning and calls ``buffer.clear()``; switching the time source (use_sim_time turned on,
+  which every stepped run does at start-up) clears it too, logged at debug level only.
   ``spin_thread=False`` is posekit's default; ``True`` moves the two subscriptions to a
   hidden helper node spun by its own SingleThreadedExecutor thread, so a callback of
   ``node`` may block in ``lookup_transform(..., timeout=...)`` while transforms keep arriving.
@@ -204,7 +205,8 @@ class TransformListener:
 
     def _on_jump(self, jump: TimeJump) -> None:
         if jump.clock_change in (ClockChange.ROS_TIME_ACTIVATED, ClockChange.ROS_TIME_DEACTIVATED):
-            self.node.get_logger().warning("Detected time source change. Clearing tf buffer.")
+            # Normal at start-up (use_sim_time switched on): debug, not a warning.
+            self.node.get_logger().debug("Detected time source change. Clearing tf buffer.")
         else:
             self.node.get_logger().warning("Detected jump back in time. Clearing tf buffer.")
         self.buffer.clear()
