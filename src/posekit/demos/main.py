@@ -1,8 +1,18 @@
-"""The main demo that ``make demo`` runs."""
+"""The main demo that ``make demo`` (and ``posekit demo``) runs."""
 
 from __future__ import annotations
 
-from posekit.demos.pose_walkthrough import main
+import sys
+from collections.abc import Sequence
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the main demo; returns the exit code."""
+    from posekit.demos.pose_walkthrough import main as walkthrough
+
+    walkthrough()
+    return 0
+
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main(sys.argv[1:]))

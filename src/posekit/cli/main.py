@@ -1,0 +1,58 @@
+"""``posekit`` entry point: dispatches ``posekit GROUP [COMMAND] ARGS`` to the tool modules.
+
+Each tool parses its own arguments (several reproduce ROS tools' hand-written parsers byte for
+byte), so this module only routes and imports a tool when it is used.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from collections.abc import Sequence
+
+__all__ = ["main"]
+
+# (group, command) -> "module:function"; command None means the group is the command.
+_COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
+    ("tf", "echo"): ("posekit.cli.tf_echo:main", "print a transform like tf2_echo"),
+    ("tf", "static"): ("posekit.cli.tf_static:main", "static_transform_publisher"),
+    ("tf", "frames"): ("posekit.cli.view_frames:main", "view_frames: write frames_*.gv/.pdf"),
+    ("tf", "tree"): ("posekit.cli.view_frames:main_tree", "print the frame tree"),
+    ("launch", None): ("posekit.cli.launch_cmd:main", "run a scenario or a launch file"),
+    ("demo", None): ("posekit.demos.main:main", "run the main demo"),
+}
+
+
+def _usage() -> str:
+    lines = ["usage: posekit COMMAND [ARGS...]", "", "commands:"]
+    for (group, command), (_, text) in sorted(_COMMANDS.items(), key=lambda kv: kv[0][0]):
+        name = group if command is None else f"{group} {command}"
+        lines.append(f"  {name:<16}{text}")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``posekit`` with ``argv`` (default: the process arguments); returns the exit code."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    if not args or args[0] in ("-h", "--help", "help"):
+        sys.stdout.write(_usage())
+        return 0 if args else 2
+    group, rest = args[0], args[1:]
+    key: tuple[str, str | None] = (group, None)
+    if key not in _COMMANDS:
+        if not rest or (group, rest[0]) not in _COMMANDS:
+            sys.stderr.write(f"posekit: unknown command {' '.join(args[:2])!r}\n\n{_usage()}")
+            return 2
+        key, rest = (group, rest[0]), rest[1:]
+    target = _COMMANDS[key][0]
+    module_name, _, function_name = target.partition(":")
+    function = getattr(importlib.import_module(module_name), function_name)
+    try:
+        result = function(rest)
+    except KeyboardInterrupt:
+        return 130
+    return int(result or 0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
