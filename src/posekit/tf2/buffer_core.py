@@ -617,6 +617,38 @@ class BufferCore:
                 return ok, msg
             return self._can_internal(fid, sid, st)
 
+    def lookup_transforms(
+        self, target_frame: str, source_frame: str, times_ns: Any
+    ) -> tuple[Any, Any]:
+        """T_target_source at many stamps at once (beyond tf2), with single-lookup semantics.
+
+        Args:
+            target_frame: frame the results map into.
+            source_frame: frame the results map from.
+            times_ns: 1-D integer array of stamps in nanoseconds (0 = latest common time).
+
+        Returns:
+            ``(translations, quaternions)``: float64 arrays of shape (N, 3) and (N, 4), the
+            quaternions as (x, y, z, w) with tf2's canonical sign.
+
+        Raises:
+            tf2's exception for the first stamp (in array order) whose single lookup would
+            fail; the text is tf2's plus ``(first failing stamp: times_ns[i] = ...)``, and the
+            exception has ``index`` and ``stamp_ns`` attributes.
+        """
+        import numpy as np
+
+        from posekit.tf2.batch import lookup_transforms_locked
+
+        times = np.asarray(times_ns)
+        if times.ndim != 1:
+            raise ValueError(f"times_ns must be 1-D, got shape {times.shape}")
+        if times.dtype.kind not in "iu" and times.size:
+            raise TypeError(f"times_ns must be integer nanoseconds, got dtype {times.dtype}")
+        times = times.astype(np.int64, copy=False)
+        with self._lock:
+            return lookup_transforms_locked(self, target_frame, source_frame, times)
+
     def get_latest_common_time(self, target_frame: str, source_frame: str) -> Time:
         """The time a ``Time()`` lookup would use; failures raise plain TransformException."""
         with self._lock:

@@ -206,7 +206,7 @@ class TimeCache:
         return self.stamps[-1], self.parents[-1]
 
     def arrays(self) -> Any:
-        """Cached numpy views (stamps int64, parents int64, quats (n,4), translations (n,3))."""
+        """Cached numpy copies: stamps (n,) int64, parents (n,) int64, samples (7, n) float64."""
         arrs = self._arrays
         if arrs is None:
             import numpy as np
@@ -215,8 +215,7 @@ class TimeCache:
             arrs = (
                 np.array(self.stamps, dtype=np.int64),
                 np.array(self.parents, dtype=np.int64),
-                np.ascontiguousarray(data[:, :4]),
-                np.ascontiguousarray(data[:, 4:]),
+                np.ascontiguousarray(data.T),  # (7, n): one row per component
             )
             self._arrays = arrs
         return arrs
