@@ -71,15 +71,23 @@ class Duration:
         return hash(("Duration", self._ns))
 
     def __lt__(self, other: Duration) -> bool:
+        if not isinstance(other, Duration):
+            return NotImplemented
         return self._ns < other._ns
 
     def __le__(self, other: Duration) -> bool:
+        if not isinstance(other, Duration):
+            return NotImplemented
         return self._ns <= other._ns
 
     def __gt__(self, other: Duration) -> bool:
+        if not isinstance(other, Duration):
+            return NotImplemented
         return self._ns > other._ns
 
     def __ge__(self, other: Duration) -> bool:
+        if not isinstance(other, Duration):
+            return NotImplemented
         return self._ns >= other._ns
 
     def __add__(self, other: Duration) -> Duration:
@@ -163,18 +171,26 @@ class Time:
         return hash((self._ns, int(self._clock_type)))
 
     def __lt__(self, other: Time) -> bool:
+        if not isinstance(other, Time):
+            return NotImplemented
         self._check(other)
         return self._ns < other._ns
 
     def __le__(self, other: Time) -> bool:
+        if not isinstance(other, Time):
+            return NotImplemented
         self._check(other)
         return self._ns <= other._ns
 
     def __gt__(self, other: Time) -> bool:
+        if not isinstance(other, Time):
+            return NotImplemented
         self._check(other)
         return self._ns > other._ns
 
     def __ge__(self, other: Time) -> bool:
+        if not isinstance(other, Time):
+            return NotImplemented
         self._check(other)
         return self._ns >= other._ns
 

@@ -1,0 +1,115 @@
+"""posekit.time against rclpy's documented semantics (integer nanoseconds, messages, arithmetic)."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+
+from posekit.msgs.builtin_interfaces import Duration as DurationMsg
+from posekit.msgs.builtin_interfaces import Time as TimeMsg
+from posekit.time import ClockType, Duration, Time
+
+
+def test_time_zero_default_means_latest() -> None:
+    t = Time()
+    assert t.nanoseconds == 0
+    assert t.clock_type == ClockType.SYSTEM_TIME
+    assert t.to_msg() == TimeMsg(sec=0, nanosec=0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "ns"),
+    [
+        ({"seconds": 1}, 1_000_000_000),
+        ({"seconds": 1.5}, 1_500_000_000),
+        ({"nanoseconds": 7}, 7),
+        ({"seconds": 2, "nanoseconds": 5}, 2_000_000_005),
+    ],
+)
+def test_time_construction_is_integer_ns(kwargs: dict[str, float], ns: int) -> None:
+    t = Time(**kwargs)  # type: ignore[arg-type]
+    assert t.nanoseconds == ns
+    assert isinstance(t.nanoseconds, int)
+
+
+def test_float_seconds_round_to_nearest_ns_of_the_exact_double() -> None:
+    seconds = 1_700_000_000.123456789  # the double nearest to this literal
+    exact = Fraction(seconds) * 1_000_000_000
+    assert Time(seconds=seconds).nanoseconds == round(exact)
+
+
+def test_large_float_seconds_keep_sub_microsecond_part() -> None:
+    # 1.7e9 s as a double has ~238 ns resolution: int(seconds * 1e9) would be off by up to 119 ns
+    seconds = 1_700_000_000.25
+    assert Time(seconds=seconds).nanoseconds == 1_700_000_000_250_000_000
+
+
+def test_negative_time_rejected() -> None:
+    with pytest.raises(ValueError, match="negative"):
+        Time(nanoseconds=-1)
+
+
+def test_to_msg_from_msg_round_trip() -> None:
+    t = Time(seconds=12, nanoseconds=345_678_901)
+    msg = t.to_msg()
+    assert (msg.sec, msg.nanosec) == (12, 345_678_901)
+    back = Time.from_msg(msg)
+    assert back.nanoseconds == t.nanoseconds
+    assert back.clock_type == ClockType.ROS_TIME  # rclpy's from_msg default
+    assert t.seconds_nanoseconds() == (12, 345_678_901)
+
+
+def test_from_msg_duck_typed() -> None:
+    class Stamp:
+        sec = 3
+        nanosec = 4
+
+    assert Time.from_msg(Stamp()).nanoseconds == 3_000_000_004
+    assert Duration.from_msg(DurationMsg(sec=-2, nanosec=500_000_000)).nanoseconds == -1_500_000_000
+
+
+def test_comparisons_same_clock() -> None:
+    a, b = Time(seconds=1), Time(seconds=2)
+    assert a < b
+    assert a <= b
+    assert b > a
+    assert b >= a
+    assert a != b
+    assert a == Time(nanoseconds=1_000_000_000)
+    assert hash(a) == hash(Time(seconds=1))
+
+
+def test_comparing_different_clocks_raises() -> None:
+    with pytest.raises(TypeError):
+        _ = Time(seconds=1, clock_type=ClockType.ROS_TIME) < Time(seconds=2)
+    with pytest.raises(TypeError):
+        _ = Time(seconds=1) < 5  # type: ignore[operator]
+
+
+def test_time_duration_arithmetic() -> None:
+    t = Time(seconds=10)
+    d = Duration(seconds=2, nanoseconds=1)
+    assert (t + d).nanoseconds == 12_000_000_001
+    assert (d + t).nanoseconds == 12_000_000_001
+    assert (t - d).nanoseconds == 7_999_999_999
+    diff = Time(seconds=3) - Time(seconds=1)
+    assert isinstance(diff, Duration)
+    assert diff.nanoseconds == 2_000_000_000
+    assert (t - d).clock_type == t.clock_type
+    with pytest.raises(ValueError, match="negative"):
+        _ = Time(seconds=1) - Duration(seconds=2)
+
+
+def test_duration() -> None:
+    d = Duration(seconds=-1.5)
+    assert d.nanoseconds == -1_500_000_000
+    assert d.to_msg() == DurationMsg(sec=-2, nanosec=500_000_000)  # nanosec always in [0, 1e9)
+    assert Duration() == Duration(nanoseconds=0)
+    assert Duration(seconds=1) > Duration(nanoseconds=999_999_999)
+    assert (Duration(seconds=1) - Duration(seconds=3)).nanoseconds == -2_000_000_000
+    assert (-Duration(seconds=1)).nanoseconds == -1_000_000_000
+    assert (Duration(seconds=1) * 0.5).nanoseconds == 500_000_000
+    assert Duration(seconds=0.25).to_seconds() == 0.25
+    with pytest.raises(TypeError):
+        _ = Duration(seconds=1) < 3  # type: ignore[operator]
