@@ -108,15 +108,31 @@ def test_tokens_match_spec() -> None:
     assert node_token(0, ZID, 0, "/", "zbridge") == f"@ros2_lv/0/{ZID}/0/0/NN/%/%/zbridge"
     assert (
         endpoint_token(
-            0, ZID, 0, 1, EntityKind.PUBLISHER, "/", "zbridge", "/tf",
-            "tf2_msgs/msg/TFMessage", WireQoS(depth=100),
+            0,
+            ZID,
+            0,
+            1,
+            EntityKind.PUBLISHER,
+            "/",
+            "zbridge",
+            "/tf",
+            "tf2_msgs/msg/TFMessage",
+            WireQoS(depth=100),
         )
         == TF_PUB_TOKEN
     )
     static_qos = WireQoS(durability=1, depth=100)
     assert endpoint_token(
-        0, ZID, 0, 2, EntityKind.SUBSCRIPTION, "/", "zbridge", "/tf_static",
-        "tf2_msgs/msg/TFMessage", static_qos,
+        0,
+        ZID,
+        0,
+        2,
+        EntityKind.SUBSCRIPTION,
+        "/",
+        "zbridge",
+        "/tf_static",
+        "tf2_msgs/msg/TFMessage",
+        static_qos,
     ) == (
         f"@ros2_lv/0/{ZID}/0/2/MS/%/%/zbridge/%tf_static/tf2_msgs::msg::dds_::TFMessage_/"
         f"{TF_HASH}/:1:,100:,:,:,,"
@@ -164,9 +180,7 @@ def test_gid_and_compact_attachment_match_spec() -> None:
     gid = entity_gid(TF_PUB_TOKEN)
     assert gid.hex() == "1af5ebd06f1e0476ce4b11129c796641"
     att = encode_attachment(1, 1700000000123456789, gid)
-    expected = bytes.fromhex(
-        "0100000000000000" "15cd853dfe9c9717" "10" "1af5ebd06f1e0476ce4b11129c796641"
-    )
+    expected = bytes.fromhex("010000000000000015cd853dfe9c9717101af5ebd06f1e0476ce4b11129c796641")
     assert att == expected
     # zenoh-ext's serializer (what rmw_zenoh's C++ side uses) gives the same bytes
     ref = zext.z_serialize(

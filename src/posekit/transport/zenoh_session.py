@@ -463,9 +463,7 @@ class WireSubscription:
         self.qos = qos
         self.type_hash = type_hash(ros_type)
         self.key = data_key(owner.domain_id, topic, ros_type)
-        self._match_key = (
-            f"{owner.domain_id}/{topic_chunk(topic)}/{dds_type_name(ros_type)}/*"
-        )
+        self._match_key = f"{owner.domain_id}/{topic_chunk(topic)}/{dds_type_name(ros_type)}/*"
         self._callback = callback
         self._warn = warn or _log.warning
         self._warned: set[tuple[str, str]] = set()
