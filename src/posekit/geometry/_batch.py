@@ -39,17 +39,29 @@ __all__ = [
 
 
 
+#: Rows per block: elementwise passes over one block stay in the CPU cache, which beats
+#: whole-array passes (each a trip to main memory) by 2-4x for large batches.
+BLOCK = 8192
+
+
+def _blocks(n: int) -> list[tuple[int, int]]:
+    return [(s, min(s + BLOCK, n)) for s in range(0, n, BLOCK)]
+
+
 def normalize(q: F64) -> F64:
     """Unit copies of an ``(N, 4)`` array; raise on NaN/inf/zero rows (naming the first)."""
-    n = np.sqrt(np.einsum("ij,ij->i", q, q))
-    bad = ~((n > 0.0) & np.isfinite(n))
+    n2 = np.einsum("ij,ij->i", q, q)
+    bad = ~((n2 > 0.0) & np.isfinite(n2))
     if bad.any():
         idx = int(np.flatnonzero(bad)[0])
         raise InvalidQuaternionError(
             f"{int(bad.sum())} of {len(q)} quaternions encode no rotation (NaN, inf or zero "
             f"norm); first bad one at index {idx}: {q[idx].tolist()}"
         )
-    return np.asarray(q / n[:, None], dtype=np.float64)
+    out = np.empty_like(q)
+    for s, e in _blocks(len(q)):
+        np.divide(q[s:e], np.sqrt(n2[s:e])[:, None], out=out[s:e])
+    return out
 
 
 def multiply(a: F64, b: F64) -> F64:
@@ -66,30 +78,50 @@ def multiply(a: F64, b: F64) -> F64:
 
 
 def rotate(q: F64, v: F64) -> F64:
-    """Rotate vectors ``v`` (``(N, 3)``) by unit quaternions ``q`` (rows broadcast)."""
-    u = q[..., :3]
-    w = q[..., 3:4]
-    t = 2.0 * np.cross(u, v)
-    return np.asarray(v + w * t + np.cross(u, t), dtype=np.float64)
+    """Rotate vectors ``v`` (``(N, 3)``) by unit quaternions ``q`` (rows broadcast).
+
+    ``v' = v + w t + u × t`` with ``t = 2 u × v`` (the expanded ``q v q⁻¹``).
+    """
+    n = max(q.shape[0], v.shape[0])
+    q = np.broadcast_to(q, (n, 4))
+    v = np.broadcast_to(v, (n, 3))
+    out = np.empty((n, 3))
+    for s, e in _blocks(n):
+        qb, vb = q[s:e], v[s:e]
+        x, y, z, w = qb[:, 0], qb[:, 1], qb[:, 2], qb[:, 3]
+        vx, vy, vz = vb[:, 0], vb[:, 1], vb[:, 2]
+        tx = 2.0 * (y * vz - z * vy)
+        ty = 2.0 * (z * vx - x * vz)
+        tz = 2.0 * (x * vy - y * vx)
+        o = out[s:e]
+        o[:, 0] = vx + w * tx + (y * tz - z * ty)
+        o[:, 1] = vy + w * ty + (z * tx - x * tz)
+        o[:, 2] = vz + w * tz + (x * ty - y * tx)
+    return out
 
 
 def to_matrix(q: F64) -> F64:
     """``(N, 3, 3)`` rotation matrices of unit quaternions."""
-    x, y, z, w = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
-    x2, y2, z2 = 2.0 * x, 2.0 * y, 2.0 * z
-    xx, yy, zz = x * x2, y * y2, z * z2
-    xy, xz, yz = x * y2, x * z2, y * z2
-    wx, wy, wz = w * x2, w * y2, w * z2
-    m = np.empty((q.shape[0], 3, 3))
-    m[:, 0, 0] = 1.0 - yy - zz
-    m[:, 0, 1] = xy - wz
-    m[:, 0, 2] = xz + wy
-    m[:, 1, 0] = xy + wz
-    m[:, 1, 1] = 1.0 - xx - zz
-    m[:, 1, 2] = yz - wx
-    m[:, 2, 0] = xz - wy
-    m[:, 2, 1] = yz + wx
-    m[:, 2, 2] = 1.0 - xx - yy
+    n = q.shape[0]
+    m = np.empty((n, 3, 3))
+    flat = m.reshape(n, 9)
+    for s, e in _blocks(n):
+        qb = q[s:e]
+        x, y, z, w = qb[:, 0], qb[:, 1], qb[:, 2], qb[:, 3]
+        x2, y2, z2 = x + x, y + y, z + z
+        xx, yy, zz = x * x2, y * y2, z * z2
+        xy, xz, yz = x * y2, x * z2, y * z2
+        wx, wy, wz = w * x2, w * y2, w * z2
+        f = flat[s:e]
+        f[:, 0] = 1.0 - yy - zz
+        f[:, 1] = xy - wz
+        f[:, 2] = xz + wy
+        f[:, 3] = xy + wz
+        f[:, 4] = 1.0 - xx - zz
+        f[:, 5] = yz - wx
+        f[:, 6] = xz - wy
+        f[:, 7] = yz + wx
+        f[:, 8] = 1.0 - xx - yy
     return m
 
 
@@ -132,29 +164,46 @@ def wrap(a: F64) -> F64:
     return out
 
 
-def _elementary(axis: int, angle: F64) -> F64:
-    q = np.zeros((angle.shape[0], 4))
-    h = 0.5 * angle
-    q[:, axis] = np.sin(h)
-    q[:, 3] = np.cos(h)
-    return q
-
-
 def from_euler(seq: str, angles: F64) -> F64:
-    """Quaternions of ``(N, 3)`` Euler angles (rad) in the sequence's order; ``w >= 0``."""
-    i, j, k, extrinsic, proper, _ = euler_params(seq)
+    """Quaternions of ``(N, 3)`` Euler angles (rad) in the sequence's order; ``w >= 0``.
+
+    Same closed form as the scalar ``quat_from_euler_xyzw``.
+    """
+    i, j, k, extrinsic, proper, e = euler_params(seq)
     a, b, c = angles[:, 0], angles[:, 1], angles[:, 2]
     if not extrinsic:
         a, c = c, a
-    last = i if proper else k
-    q = multiply(_elementary(j, b), _elementary(i, a))
-    q = multiply(_elementary(last, c), q)
+    q = np.empty((angles.shape[0], 4))
+    hb = 0.5 * b
+    cb, sb = np.cos(hb), np.sin(hb)
+    if proper:
+        hs, hd = 0.5 * (a + c), 0.5 * (c - a)
+        q[:, 3] = cb * np.cos(hs)
+        q[:, i] = cb * np.sin(hs)
+        q[:, j] = sb * np.cos(hd)
+        q[:, k] = e * sb * np.sin(hd)
+    else:
+        ha, hc = 0.5 * a, 0.5 * c
+        ca, sa = np.cos(ha), np.sin(ha)
+        cc, sc = np.cos(hc), np.sin(hc)
+        q[:, 3] = ca * cb * cc + e * sa * sb * sc
+        q[:, i] = sa * cb * cc - e * ca * sb * sc
+        q[:, j] = ca * sb * cc + e * sa * cb * sc
+        q[:, k] = ca * cb * sc - e * sa * sb * cc
     q[q[:, 3] < 0.0] *= -1.0
     return q
 
 
 def to_euler(seq: str, q: F64) -> tuple[F64, Bools]:
     """``(N, 3)`` Euler angles (rad) and the gimbal-lock mask (see ``quat_to_euler_xyzw``)."""
+    out = np.empty((q.shape[0], 3))
+    locked = np.empty(q.shape[0], dtype=np.bool_)
+    for s, e in _blocks(q.shape[0]):
+        out[s:e], locked[s:e] = _to_euler_block(seq, q[s:e])
+    return out, locked
+
+
+def _to_euler_block(seq: str, q: F64) -> tuple[F64, Bools]:
     i, j, k, extrinsic, proper, parity = euler_params(seq)
     w = q[:, 3]
     qi, qj, qk = q[:, i], q[:, j], q[:, k] * parity

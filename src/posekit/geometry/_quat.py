@@ -256,32 +256,37 @@ def quat_slerp_xyzw(q1: Quat, q2: Quat, t: float) -> Quat:
     )
 
 
-def _elementary(axis: int, angle: float) -> Quat:
-    h = 0.5 * angle
-    s = math.sin(h)
-    if axis == 0:
-        return (s, 0.0, 0.0, math.cos(h))
-    if axis == 1:
-        return (0.0, s, 0.0, math.cos(h))
-    return (0.0, 0.0, s, math.cos(h))
-
-
 def quat_from_euler_xyzw(seq: str, a: float, b: float, c: float) -> Quat:
     """Quaternion of Euler angles ``(a, b, c)`` (rad) in the order the sequence names them.
 
     Extrinsic ``'ijk'``: ``R = R_k(c) R_j(b) R_i(a)``; intrinsic ``'IJK'``: ``R = R_I(a) R_J(b)
-    R_K(c)`` (same conventions as scipy).
+    R_K(c)`` (same conventions as scipy). Closed form of the product of the three elementary
+    quaternions; the result has ``w >= 0``.
     """
-    i, j, k, extrinsic, proper, _ = euler_params(seq)
+    i, j, k, extrinsic, proper, e = euler_params(seq)
     if not extrinsic:
         a, c = c, a
-    # extrinsic (i, j, i-or-k) with angles (a, b, c): q = q_last(c) ⊗ q_j(b) ⊗ q_i(a)
-    last = i if proper else k
-    q = quat_multiply_xyzw(_elementary(j, b), _elementary(i, a))
-    q = quat_multiply_xyzw(_elementary(last, c), q)
-    if q[3] < 0.0:
-        q = (-q[0], -q[1], -q[2], -q[3])
-    return q
+    # now extrinsic: first a about i, then b about j, then c about k (or i again if proper)
+    hb = 0.5 * b
+    cb, sb = math.cos(hb), math.sin(hb)
+    v = [0.0, 0.0, 0.0]
+    if proper:
+        hs, hd = 0.5 * (a + c), 0.5 * (c - a)
+        w = cb * math.cos(hs)
+        v[i] = cb * math.sin(hs)
+        v[j] = sb * math.cos(hd)
+        v[k] = e * sb * math.sin(hd)
+    else:
+        ha, hc = 0.5 * a, 0.5 * c
+        ca, sa = math.cos(ha), math.sin(ha)
+        cc, sc = math.cos(hc), math.sin(hc)
+        w = ca * cb * cc + e * sa * sb * sc
+        v[i] = sa * cb * cc - e * ca * sb * sc
+        v[j] = ca * sb * cc + e * sa * cb * sc
+        v[k] = ca * cb * sc - e * sa * sb * cc
+    if w < 0.0:
+        return (-v[0], -v[1], -v[2], -w)
+    return (v[0], v[1], v[2], w)
 
 
 def quat_to_euler_xyzw(seq: str, q: Quat) -> tuple[float, float, float, bool]:
@@ -294,10 +299,12 @@ def quat_to_euler_xyzw(seq: str, q: Quat) -> tuple[float, float, float, bool]:
     within :data:`GIMBAL_EPS` of a singularity) the third angle of ``seq`` is set to 0 and the
     flag is True.
     """
-    i, j, k, extrinsic, proper, parity = euler_params(seq)
-    x, y, z, w = q
-    comps = (x, y, z)
-    qi, qj, qk = comps[i], comps[j], comps[k] * parity
+    try:
+        i, j, k, extrinsic, proper, parity = _SEQ[seq]
+    except (KeyError, TypeError):
+        i, j, k, extrinsic, proper, parity = euler_params(seq)  # raises the named error
+    w = q[3]
+    qi, qj, qk = q[i], q[j], q[k] * parity
     if proper:
         a, b, c, d = w, qi, qj, qk
     else:
@@ -324,7 +331,10 @@ def quat_to_euler_xyzw(seq: str, q: Quat) -> tuple[float, float, float, bool]:
     if not proper:
         third *= parity
         middle -= _HALF_PI
-    first, third = wrap_angle(first), wrap_angle(third)
+    if not -_PI <= first <= _PI:
+        first = wrap_angle(first)
+    if not -_PI <= third <= _PI:
+        third = wrap_angle(third)
     if extrinsic:
         return first, middle, third, locked
     return third, middle, first, locked

@@ -1,0 +1,172 @@
+"""posekit.geometry vs scipy (and transforms3d where it has the operation), in one run.
+
+Prints one table of times and speed-up ratios (reference time / posekit time; > 1 means
+posekit is faster). Single items use the public API end to end (construction included where
+the operation starts from a quaternion); batches use arrays of 1e5 and 1e6 rotations.
+
+Run:  .venv/bin/python benchmarks/geometry.py            (add --quick for a short smoke run)
+On machines that set OPENBLAS_CORETYPE/OPENBLAS_L2_SIZE, unset both for this command only.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import timeit
+from collections.abc import Callable
+
+import numpy as np
+import transforms3d.euler as t3e
+import transforms3d.quaternions as t3q
+from scipy.spatial.transform import Rotation as SciRot
+
+from posekit.geometry import Rotation
+
+
+def best_time(fn: Callable[[], object], min_total: float = 0.2, repeat: int = 5) -> float:
+    """Best per-call seconds over ``repeat`` rounds of enough calls to take ``min_total`` s."""
+    number = 1
+    while True:
+        t = timeit.timeit(fn, number=number)
+        if t >= min_total / 5 or number >= 1 << 20:
+            break
+        number *= 4
+    number = max(1, int(number * (min_total / 5) / max(t, 1e-9)))
+    return min(timeit.repeat(fn, number=number, repeat=repeat)) / number
+
+
+def fmt_time(s: float) -> str:
+    if s < 1e-3:
+        return f"{s * 1e6:8.2f} us"
+    return f"{s * 1e3:8.2f} ms"
+
+
+def import_time(stmt: str, runs: int) -> float:
+    """Median wall time (s) of a fresh interpreter running ``stmt``, minus an empty one."""
+
+    def run(code: str) -> float:
+        out = subprocess.run(
+            [sys.executable, "-c", f"import time; t=time.perf_counter(); {code}; "
+             "print(time.perf_counter()-t)"],
+            capture_output=True, text=True, check=True,
+        )
+        return float(out.stdout)
+
+    return statistics.median(run(stmt) for _ in range(runs))
+
+
+def process_time(stmt: str, runs: int) -> float:
+    """Median wall time (s) of ``python -c stmt`` as a whole process (interpreter start included)."""
+    times = []
+    for _ in range(runs):
+        t = timeit.default_timer()
+        subprocess.run([sys.executable, "-c", stmt], check=True)
+        times.append(timeit.default_timer() - t)
+    return statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--quick", action="store_true", help="short run (smaller batches)")
+    args = parser.parse_args()
+    min_total = 0.05 if args.quick else 0.3
+    sizes = [10_000] if args.quick else [100_000, 1_000_000]
+
+    rows: list[tuple[str, float, float, float | None]] = []
+
+    # ---------------------------------------------------------------- single items
+    rng = np.random.default_rng(0)
+    q_np = SciRot.random(rng=rng).as_quat()
+    q_list = q_np.tolist()
+    q_wxyz = np.array([q_np[3], q_np[0], q_np[1], q_np[2]])
+    e_list = [0.1, 0.2, 0.3]
+    v_list = [1.0, 2.0, 3.0]
+    v_np = np.array(v_list)
+    p1, p2 = Rotation.from_quat(q_list), Rotation.random(rng=1)
+    s1, s2 = SciRot.from_quat(q_np), SciRot.from_quat(p2.as_quat())
+    q2_wxyz = p2.as_quat(scalar_first=True)
+
+    def single(name: str, ours: Callable[[], object], ref: Callable[[], object],
+               t3d: Callable[[], object] | None) -> None:
+        rows.append((name, best_time(ours, min_total), best_time(ref, min_total),
+                     None if t3d is None else best_time(t3d, min_total)))
+
+    single("single quat->euler 'xyz'",
+           lambda: Rotation.from_quat(q_list).as_euler("xyz"),
+           lambda: SciRot.from_quat(q_list).as_euler("xyz"),
+           lambda: t3e.quat2euler(q_wxyz, "sxyz"))
+    single("single euler->quat 'xyz'",
+           lambda: Rotation.from_euler("xyz", e_list).as_quat(),
+           lambda: SciRot.from_euler("xyz", e_list).as_quat(),
+           lambda: t3e.euler2quat(0.1, 0.2, 0.3, "sxyz"))
+    single("single compose r1*r2", lambda: p1 * p2, lambda: s1 * s2,
+           lambda: t3q.qmult(q_wxyz, q2_wxyz))
+    single("single apply (vector)", lambda: p1.apply(v_list), lambda: s1.apply(v_list),
+           lambda: t3q.rotate_vector(v_np, q_wxyz))
+    single("single quat->matrix",
+           lambda: Rotation.from_quat(q_list).as_matrix(),
+           lambda: SciRot.from_quat(q_list).as_matrix(),
+           lambda: t3q.quat2mat(q_wxyz))
+    single("single matrix->quat",
+           lambda: Rotation.from_matrix(s1.as_matrix()).as_quat(),
+           lambda: SciRot.from_matrix(s1.as_matrix()).as_quat(),
+           lambda: t3q.mat2quat(s1.as_matrix()))
+
+    # ---------------------------------------------------------------- batches
+    for n in sizes:
+        qa = SciRot.random(n, rng=2).as_quat()
+        qb = SciRot.random(n, rng=3).as_quat()
+        ea = SciRot.from_quat(qa).as_euler("xyz")
+        va = np.random.default_rng(4).normal(size=(n, 3))
+        ma = SciRot.from_quat(qa).as_matrix()
+        pa, pb = Rotation.from_quat(qa), Rotation.from_quat(qb)
+        sa, sb = SciRot.from_quat(qa), SciRot.from_quat(qb)
+        tag = f"{n:.0e}".replace("+0", "")
+        batch_rows = [
+            (f"batch {tag} quat->euler", lambda: Rotation.from_quat(qa).as_euler("xyz"),
+             lambda: SciRot.from_quat(qa).as_euler("xyz")),
+            (f"batch {tag} euler->quat", lambda: Rotation.from_euler("xyz", ea).as_quat(),
+             lambda: SciRot.from_euler("xyz", ea).as_quat()),
+            (f"batch {tag} compose", lambda: pa * pb, lambda: sa * sb),
+            (f"batch {tag} apply", lambda: pa.apply(va), lambda: sa.apply(va)),
+            (f"batch {tag} quat->matrix", lambda: Rotation.from_quat(qa).as_matrix(),
+             lambda: SciRot.from_quat(qa).as_matrix()),
+            (f"batch {tag} matrix->quat", lambda: Rotation.from_matrix(ma).as_quat(),
+             lambda: SciRot.from_matrix(ma).as_quat()),
+        ]
+        for name, ours, ref in batch_rows:
+            rows.append((name, best_time(ours, min_total, repeat=3),
+                         best_time(ref, min_total, repeat=3), None))
+
+    # ---------------------------------------------------------------- report
+    print(f"python {sys.version.split()[0]}, numpy {np.__version__}, "
+          f"scipy {__import__('scipy').__version__}, transforms3d {t3q.__name__.split('.')[0]} "
+          f"{__import__('transforms3d').__version__}")
+    header = (f"{'operation':30s} {'posekit':>11s} {'scipy':>11s} {'x scipy':>8s} "
+              f"{'transforms3d':>12s} {'x t3d':>6s}")
+    print(header)
+    print("-" * len(header))
+    for name, ours, ref, t3d in rows:
+        t3 = f"{fmt_time(t3d):>12s} {t3d / ours:6.2f}" if t3d is not None else f"{'-':>12s} {'-':>6s}"
+        print(f"{name:30s} {fmt_time(ours):>11s} {fmt_time(ref):>11s} {ref / ours:8.2f} {t3}")
+
+    runs = 3 if args.quick else 9
+    ours_imp = import_time("import posekit.geometry", runs)
+    ours_use = import_time(
+        "import posekit.geometry as g; g.Rotation.from_quat([0, 0, 0, 1]).as_quat()", runs
+    )
+    np_imp = import_time("import numpy", runs)
+    sci_imp = import_time("from scipy.spatial.transform import Rotation", runs)
+    proc = process_time("import posekit.geometry", runs)
+    print()
+    print(f"import posekit.geometry (in-process)          {ours_imp * 1e3:7.1f} ms")
+    print(f"python -c 'import posekit.geometry' (process) {proc * 1e3:7.1f} ms")
+    print(f"import + first array result (loads numpy)     {ours_use * 1e3:7.1f} ms")
+    print(f"import numpy                                  {np_imp * 1e3:7.1f} ms")
+    print(f"from scipy.spatial.transform import Rotation  {sci_imp * 1e3:7.1f} ms")
+
+
+if __name__ == "__main__":
+    main()
