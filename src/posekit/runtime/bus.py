@@ -39,6 +39,7 @@ import copy
 import dataclasses
 import itertools
 import threading
+import typing
 from collections import deque
 from collections.abc import Callable
 from typing import Any
@@ -130,22 +131,86 @@ def _identity(x: Any) -> Any:
     return x
 
 
+_MAX_INLINE_DEPTH = 4
+
+
+def _list_element_types(cls: type) -> dict[str, type]:
+    """Fields annotated ``list[SomeDataclass]`` -> SomeDataclass (best effort)."""
+    try:
+        hints = typing.get_type_hints(cls)
+    except Exception:  # unresolvable annotations: no specialisation
+        return {}
+    out: dict[str, type] = {}
+    for name, hint in hints.items():
+        args = typing.get_args(hint)
+        if typing.get_origin(hint) is list and len(args) == 1 and dataclasses.is_dataclass(
+            args[0]
+        ) and isinstance(args[0], type):
+            out[name] = args[0]
+    return out
+
+
 def _dataclass_copier(cls: type) -> Callable[[Any], Any]:
-    """Generate ``copy(o)`` assigning each field, copying only non-atomic values."""
-    names = [f.name for f in dataclasses.fields(cls)]
-    lines = ["def copy_msg(o):", "    n = new(cls)"]
-    for name in names:
-        lines.append(f"    v = o.{name}")
-        lines.append(f"    n.{name} = v if type(v) in atomic else snap(v)")
-    lines.append("    return n")
-    namespace: dict[str, Any] = {"new": object.__new__, "cls": cls, "atomic": _ATOMIC,
-                                 "snap": snapshot}
+    """Generate ``copy_msg(o)`` for a dataclass message.
+
+    Nested message fields whose default value is itself a dataclass are copied inline, guarded
+    by an exact type check (a field holding another type falls back to :func:`snapshot`), so
+    a TransformStamped is copied by one flat function instead of a call per sub-message.
+    """
     if getattr(cls, "__dataclass_params__").frozen:  # noqa: B009
-        # Frozen dataclasses cannot be assigned; they are immutable, share unless they hold
-        # mutable members.
-        return copy.deepcopy
-    exec("\n".join(lines), namespace)  # generated from field names only
-    fn: Callable[[Any], Any] = namespace["copy_msg"]
+        return copy.deepcopy  # frozen dataclasses cannot be assigned field by field
+    env: dict[str, Any] = {"new": object.__new__, "atomic": _ATOMIC, "snap": snapshot}
+    lines = ["def copy_msg(o0):"]
+    counter = itertools.count(1)
+
+    def emit(c: type, src: str, dst: str, indent: str, depth: int) -> None:
+        cname = f"C{next(counter)}"
+        env[cname] = c
+        lines.append(f"{indent}{dst} = new({cname})")
+        try:
+            defaults = c()
+        except Exception:  # not default-constructible: no inlining below
+            defaults = None
+        hints = _list_element_types(c)
+        for f in dataclasses.fields(c):
+            value = f"v{next(counter)}"
+            lines.append(f"{indent}{value} = {src}.{f.name}")
+            default = getattr(defaults, f.name, None) if defaults is not None else None
+            sub = type(default)
+            if (
+                depth < _MAX_INLINE_DEPTH
+                and dataclasses.is_dataclass(sub)
+                and not getattr(sub, "__dataclass_params__").frozen  # noqa: B009
+            ):
+                guard = f"C{next(counter)}"
+                env[guard] = sub
+                child = f"n{next(counter)}"
+                lines.append(f"{indent}if type({value}) is {guard}:")
+                emit(sub, value, child, indent + "    ", depth + 1)
+                lines.append(f"{indent}    {dst}.{f.name} = {child}")
+                lines.append(f"{indent}else:")
+                lines.append(f"{indent}    {dst}.{f.name} = snap({value})")
+            elif f.name in hints and type(default) is list:
+                # list[Message]: copy elements with that message's copier directly.
+                elem = hints[f.name]
+                guard, elem_copy = f"C{next(counter)}", f"F{next(counter)}"
+                env[guard] = elem
+                env[elem_copy] = _copiers.get(elem) or _make_copier(elem)
+                lines.append(
+                    f"{indent}{dst}.{f.name} = [{elem_copy}(x) if type(x) is {guard} "
+                    f"else snap(x) for x in {value}] if type({value}) is list "
+                    f"else snap({value})"
+                )
+            else:
+                lines.append(
+                    f"{indent}{dst}.{f.name} = {value} if type({value}) in atomic "
+                    f"else snap({value})"
+                )
+
+    emit(cls, "o0", "r0", "    ", 0)
+    lines.append("    return r0")
+    exec("\n".join(lines), env)  # generated from field names only
+    fn: Callable[[Any], Any] = env["copy_msg"]
     return fn
 
 
@@ -200,7 +265,8 @@ class _BusPublisher(PublisherEndpoint):
         if history is None:
             if not subs:
                 return
-            snap = snapshot(msg)
+            copier = _copiers.get(type(msg))
+            snap = copier(msg) if copier is not None else snapshot(msg)
             last = len(subs) - 1
             for i, sub in enumerate(subs):
                 sub.sink(snap if i == last else snapshot(snap))

@@ -39,18 +39,13 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
 
     def __init__(self) -> None:
         super().__init__()
-        self._active = False
+        # The lock itself is the claim: one non-blocking acquire per callback.
+        self._claim = threading.Lock()
+        self.beginning_execution = self._begin  # type: ignore[method-assign]
+        self.ending_execution = self._claim.release  # type: ignore[method-assign]
+
+    def _begin(self) -> bool:
+        return self._claim.acquire(False)
 
     def can_execute(self) -> bool:
-        return not self._active
-
-    def beginning_execution(self) -> bool:
-        with self._lock:
-            if self._active:
-                return False
-            self._active = True
-            return True
-
-    def ending_execution(self) -> None:
-        with self._lock:
-            self._active = False
+        return not self._claim.locked()

@@ -98,8 +98,10 @@ class Subscription:
         seq = next(self._seq)
         self.queue.append((seq, msg))
         executor = self._node._executor
-        if executor is not None:
-            executor._message_ready(seq, self)
+        if executor is not None:  # inlined Executor._message_ready (hot path)
+            executor._fifo.append((seq, self))
+            if not executor._wake_event.is_set():
+                executor._wake_event.set()
 
     @property
     def topic_name(self) -> str:
