@@ -313,7 +313,7 @@ class ZenohSession:
         qos: WireQoS,
         callback: Callable[[Any, Attachment], None],
         *,
-        warn: Callable[[str], None] | None = None,
+        warn: Callable[[str], object] | None = None,
     ) -> WireSubscription:
         """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)`` (zenoh thread)."""
         sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn)
@@ -452,7 +452,7 @@ class WireSubscription:
         msg_type: str | type[Any],
         qos: WireQoS,
         callback: Callable[[Any, Attachment], None],
-        warn: Callable[[str], None] | None,
+        warn: Callable[[str], object] | None,
     ) -> None:
         ros_type = normalize_type_name(
             msg_type if isinstance(msg_type, str) else msg_type.__msgtype__
@@ -596,6 +596,18 @@ class ZenohGraph:
                 self.cache.add(key)
             else:
                 self.cache.remove(key)
+            self._cond.notify_all()
+
+    def add_local(self, keyexpr: str) -> None:
+        """Record one of this session's own tokens now (liveliness echoes it later)."""
+        with self._cond:
+            self.cache.add(keyexpr)
+            self._cond.notify_all()
+
+    def remove_local(self, keyexpr: str) -> None:
+        """Forget one of this session's own tokens now."""
+        with self._cond:
+            self.cache.remove(keyexpr)
             self._cond.notify_all()
 
     def wait_until(self, predicate: Callable[[GraphCache], bool], timeout: float) -> bool:
