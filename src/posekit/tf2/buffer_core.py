@@ -538,9 +538,20 @@ class BufferCore:
     ) -> TransformStamped:
         """T_target_source at ``time`` (0 / ``Time()`` = latest common time); raises tf2's
         exceptions. ``header.stamp`` is the time actually used."""
-        t = time_to_ns(time)
+        t = time.nanoseconds if type(time) is Time else time_to_ns(time)
         with self._lock:
-            (q, v), used = self._lookup_raw(target_frame, source_frame, t)
+            ids = self._ids
+            tid = ids.get(target_frame)
+            sid = ids.get(source_frame)
+            if t and tid and sid and target_frame[0] != "/" and source_frame[0] != "/":
+                # fast path (known names, explicit time, not identical): straight to the walk
+                if tid == sid:
+                    q, v = _IDENTITY
+                else:
+                    q, v = self._walk(tid, sid, t)
+                used = t
+            else:
+                (q, v), used = self._lookup_raw(target_frame, source_frame, t)
         return _make_stamped(target_frame, source_frame, used, _canonical(q), v)
 
     def lookup_transform_full_core(

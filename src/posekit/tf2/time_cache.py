@@ -130,24 +130,26 @@ class TimeCache:
         ``, when looking up ...`` suffix, which the walk adds).
         """
         stamps = self.stamps
-        n = len(stamps)
-        if n == 0:
-            raise NoDataForExtrapolationException(EMPTY_CACHE_MESSAGE)
-        if t == 0:
-            return self.parents[-1], self.data[-1]
-        if n == 1:
-            if stamps[0] == t:
+        if stamps and stamps[0] < t < stamps[-1]:  # the common case: strictly inside
+            pass
+        else:
+            n = len(stamps)
+            if n == 0:
+                raise NoDataForExtrapolationException(EMPTY_CACHE_MESSAGE)
+            if t == 0:
+                return self.parents[-1], self.data[-1]
+            if n == 1:
+                if stamps[0] == t:
+                    return self.parents[0], self.data[0]
+                raise _no_data(t, stamps[0])
+            newest = stamps[-1]
+            if t == newest:
+                return self.parents[-1], self.data[-1]
+            oldest = stamps[0]
+            if t == oldest:
                 return self.parents[0], self.data[0]
-            raise _no_data(t, stamps[0])
-        newest = stamps[-1]
-        if t == newest:
-            return self.parents[-1], self.data[-1]
-        oldest = stamps[0]
-        if t == oldest:
-            return self.parents[0], self.data[0]
-        if t > newest:
-            raise _forward(t, newest)
-        if t < oldest:
+            if t > newest:
+                raise _forward(t, newest)
             raise _backward(t, oldest)
         i = bisect_right(stamps, t) - 1  # older: the last inserted sample with stamp <= t
         parent = self.parents[i]
@@ -156,7 +158,9 @@ class TimeCache:
             return parent, a
         b = self.data[i + 1]
         s0 = stamps[i]
-        r = float(t - s0) / float(stamps[i + 1] - s0)
+        # int / int is correctly rounded, i.e. equal to double(dt) / double(span) for spans
+        # below 2**53 ns (104 days), which is what tf2 computes
+        r = (t - s0) / (stamps[i + 1] - s0)
         u = 1.0 - r
         # tf2 slerp (see _linear_math.slerp), inlined: this is the hot path of every lookup
         x1, y1, z1, w1, ax, ay, az = a
