@@ -1,0 +1,281 @@
+"""Playing a rosbag2 directory back onto topics, on the bag's own time line.
+
+Time: the player's clock *is* the bag's timestamps. A message recorded at bag time ``t`` is
+published when the clock reads ``t``, and ``/clock`` carries that time, so nodes with
+``use_sim_time`` (tf2 listeners, the viewer) see header stamps and clock agree as in the
+recorded run. Two ways to drive it:
+
+* :meth:`Player.run_simulated` steps a :class:`~posekit.runtime.SimulatedTimeExecutor`
+  (which publishes ``/clock``): it jumps the executor to the bag's start, then runs it to each
+  message's time and publishes the message there, so subscribers' callbacks, timers and tf
+  lookups happen at exactly the recorded times, deterministically and as fast as the CPU
+  allows (``paced=True`` follows the wall clock at ``rate``).
+* :meth:`Player.play` follows the wall clock (``ros2 bag play``): messages go out when
+  ``(bag time - start) / rate`` wall seconds have passed, ``/clock`` is published by the
+  player at ``clock_frequency`` Hz (and at each message's time), other nodes run in the
+  given executor meanwhile.
+
+``loop`` restarts from the beginning after the last message; the clock then jumps back (tf2
+listeners clear their buffers, as under ROS 2). Recorded ``/clock`` messages are not
+re-published while the player provides the clock. Publisher QoS comes from the recorded
+offers (:func:`posekit.bag._qos.playback_qos`): ``/tf_static`` is published transient-local
+with enough depth to latch every recorded static message.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Collection, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from posekit.bag._qos import from_rosbags_qos, playback_qos
+from posekit.bag._storage import open_reader
+from posekit.bag.errors import BagFormatError, BagOptionError
+from posekit.bag.reader import BagMessage, read_messages
+from posekit.runtime.context import Context
+from posekit.runtime.executors import Executor, SimulatedTimeExecutor
+from posekit.runtime.node import Node
+from posekit.runtime.qos import QoSProfile
+
+__all__ = ["PlaybackTopic", "Player"]
+
+_CLOCK_TOPIC = "/clock"
+
+
+@dataclass(frozen=True)
+class PlaybackTopic:
+    """A topic the player publishes: name, ROS type, message count and publisher QoS."""
+
+    name: str
+    msgtype: str
+    message_count: int
+    qos: QoSProfile
+
+
+def _message_class(msgtype: str) -> type[Any]:
+    from posekit.msgs.cdr import get_typestore
+    from posekit.msgs.errors import UnknownMessageTypeError
+    from posekit.msgs.registry import get_message_class
+
+    try:
+        return get_message_class(msgtype)
+    except UnknownMessageTypeError:
+        pass
+    store = get_typestore()
+    cls = store.types.get(msgtype) if msgtype in store.fielddefs else None
+    if not isinstance(cls, type):
+        raise BagFormatError(f"message type {msgtype!r} is not a ROS 2 Jazzy type posekit knows")
+    return cls
+
+
+class Player:
+    """Publishes a recorded bag (see the module docstring).
+
+    Args:
+        bag: rosbag2 directory.
+        context: context of the player node (default: the default context).
+        topics: only these topics (default: all recorded ones).
+        rate: playback speed factor (> 0); 2.0 plays twice as fast.
+        loop: start over after the last message (until stopped).
+        publish_clock: publish ``/clock`` in :meth:`play` (in :meth:`run_simulated` the
+            executor publishes it).
+        clock_frequency: ``/clock`` messages per wall second in :meth:`play`.
+        node_name: name of the player node.
+        transport: transport name for the node (default: the context's).
+
+    Raises:
+        BagNotFoundError, BagFormatError: the bag is missing or unreadable.
+        BagOptionError: bad rate, clock frequency or topic.
+    """
+
+    def __init__(
+        self,
+        bag: str | Path,
+        *,
+        context: Context | None = None,
+        topics: Collection[str] | None = None,
+        rate: float = 1.0,
+        loop: bool = False,
+        publish_clock: bool = True,
+        clock_frequency: float = 100.0,
+        node_name: str = "rosbag2_player",
+        transport: str | None = None,
+    ) -> None:
+        if not rate > 0:
+            raise BagOptionError(f"playback rate must be > 0, got {rate}")
+        if publish_clock and not clock_frequency > 0:
+            raise BagOptionError(f"clock frequency must be > 0 Hz, got {clock_frequency}")
+        self.path = Path(bag)
+        self.rate = float(rate)
+        self.loop = bool(loop)
+        self.publish_clock = publish_clock
+        self.clock_frequency = float(clock_frequency)
+        with open_reader(self.path) as reader:
+            self.start_ns = int(reader.start_time) if reader.message_count else 0
+            self.end_ns = int(reader.end_time) - 1 if reader.message_count else 0
+            recorded: dict[str, PlaybackTopic] = {}
+            for conn in reader.connections:
+                offered = [from_rosbags_qos(q) for q in conn.ext.offered_qos_profiles]
+                previous = recorded.get(conn.topic)
+                count = conn.msgcount + (previous.message_count if previous else 0)
+                recorded[conn.topic] = PlaybackTopic(
+                    conn.topic, conn.msgtype, count, playback_qos(offered, count)
+                )
+        wanted = set(topics) if topics else None
+        if wanted is not None and (unknown := sorted(wanted - set(recorded))):
+            raise BagOptionError(
+                f"topics {unknown} are not in bag {str(self.path)!r}; it has {sorted(recorded)}"
+            )
+        #: Topics this player publishes.
+        self.topics: dict[str, PlaybackTopic] = {
+            name: info
+            for name, info in recorded.items()
+            if (wanted is None or name in wanted)
+            and not (name == _CLOCK_TOPIC and publish_clock and wanted is None)
+        }
+        classes = {name: _message_class(info.msgtype) for name, info in self.topics.items()}
+        self.node = Node(node_name, context=context, transport=transport)
+        self._publishers: dict[str, Any] = {
+            name: self.node.create_publisher(classes[name], name, info.qos)
+            for name, info in self.topics.items()
+        }
+        self._clock_pub: Any = None
+        #: Messages published so far.
+        self.published = 0
+        #: Completed passes over the bag.
+        self.loops_done = 0
+        self._stopped = False
+
+    # -- common -----------------------------------------------------------------------
+    @property
+    def duration_ns(self) -> int:
+        """Bag time between the first and the last message (ns)."""
+        return self.end_ns - self.start_ns
+
+    def messages(self) -> Iterator[BagMessage]:
+        """The messages this player publishes, in bag-time order (one pass)."""
+        return read_messages(self.path, list(self.topics))
+
+    def _publish(self, message: BagMessage) -> None:
+        self._publishers[message.topic].publish(message.decode())
+        self.published += 1
+
+    def stop(self) -> None:
+        """Make :meth:`play` / :meth:`run_simulated` return before the next message."""
+        self._stopped = True
+
+    def _passes(self, loops: int | None) -> Iterator[int]:
+        if loops is not None and loops < 1:
+            raise BagOptionError(f"loops must be >= 1, got {loops}")
+        count = loops if loops is not None else (None if self.loop else 1)
+        index = 0
+        while (count is None or index < count) and not self._stopped:
+            yield index
+            index += 1
+
+    # -- simulated time ---------------------------------------------------------------
+    def run_simulated(self, executor: SimulatedTimeExecutor, *, loops: int | None = None,
+                      paced: bool = False) -> int:
+        """Play by stepping ``executor`` to each message's bag time (deterministic).
+
+        The player node joins ``executor``; the executor jumps to the bag's first timestamp
+        (backwards if needed) and ends at the last one. ``loops`` passes over the bag
+        (default: 1, or forever with ``loop``); ``paced`` runs at ``rate`` x real time instead
+        of as fast as possible. Returns the number of messages published.
+        """
+        if not isinstance(executor, SimulatedTimeExecutor):
+            raise BagOptionError("run_simulated needs a SimulatedTimeExecutor; use play()")
+        executor.add_node(self.node)
+        saved_factor = executor.real_time_factor
+        if paced:
+            executor.real_time_factor = self.rate
+        before = self.published
+        try:
+            for _ in self._passes(loops):
+                executor.set_time(_ns_time(self.start_ns))
+                for message in self.messages():
+                    if self._stopped or not executor.context.ok():
+                        break
+                    if message.timestamp_ns > executor.now_ns:
+                        executor.run_until(_ns_time(message.timestamp_ns))
+                    self._publish(message)
+                executor.run_until(_ns_time(max(executor.now_ns, self.end_ns)))
+                self.loops_done += 1
+        finally:
+            executor.real_time_factor = saved_factor
+        return self.published - before
+
+    # -- wall clock -------------------------------------------------------------------
+    def play(self, executor: Executor | None = None, *, loops: int | None = None,
+             sleep: Callable[[float], None] = time.sleep) -> int:
+        """Play in wall-clock time at ``rate`` (``ros2 bag play``); returns messages published.
+
+        ``executor`` (if given) runs other nodes' callbacks while the player waits; the
+        player node is added to it. ``loops`` as in :meth:`run_simulated`.
+        """
+        from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
+
+        if executor is not None:
+            executor.add_node(self.node)
+        if self.publish_clock and self._clock_pub is None:
+            self._clock_pub = self.node.create_publisher(
+                ClockMsg, _CLOCK_TOPIC, QoSProfile(depth=1)
+            )
+        before = self.published
+        period = 1.0 / self.clock_frequency
+        for _ in self._passes(loops):
+            wall0 = time.monotonic()
+            next_clock = wall0
+            for message in self.messages():
+                due = wall0 + (message.timestamp_ns - self.start_ns) / 1e9 / self.rate
+                while not self._stopped:
+                    now = time.monotonic()
+                    if self._clock_pub is not None and now >= next_clock:
+                        elapsed_ns = int((now - wall0) * self.rate * 1e9)
+                        self._send_clock(min(self.start_ns + elapsed_ns, message.timestamp_ns))
+                        next_clock = now + period
+                    if now >= due:
+                        break
+                    wait = min(due, next_clock) - now if self._clock_pub is not None else due - now
+                    if executor is not None:
+                        executor.spin_once(timeout_sec=max(0.0, wait))
+                    else:
+                        sleep(max(0.0, wait))
+                if self._stopped:
+                    break
+                if self._clock_pub is not None:
+                    self._send_clock(message.timestamp_ns)
+                self._publish(message)
+            if executor is not None:
+                executor.spin_some()
+            self.loops_done += 1
+        return self.published - before
+
+    def _send_clock(self, ns: int) -> None:
+        from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
+
+        msg = ClockMsg()
+        msg.clock.sec, msg.clock.nanosec = divmod(int(ns), 1_000_000_000)
+        self._clock_pub.publish(msg)
+
+    # -- lifetime ---------------------------------------------------------------------
+    def close(self) -> None:
+        """Destroy the player node."""
+        self._stopped = True
+        self.node.destroy_node()
+
+    def __enter__(self) -> Player:
+        return self
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        self.close()
+
+
+def _ns_time(ns: int) -> Any:
+    from posekit.time import Time
+
+    return Time(nanoseconds=int(ns))
