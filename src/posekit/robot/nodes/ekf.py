@@ -1,0 +1,86 @@
+"""``ekf_node``: robot_localization's ekf_node in the course's configuration (2D, 20 Hz).
+
+Subscribes ``odom0`` (``odometry/wheels``: fuses vx, vy, vyaw) and ``imu0`` (``imu/data``:
+fuses yaw, relative to the first reading, and vyaw); measurements are queued in the
+:class:`~posekit.robot.ekf.Ekf2D` model and fused in stamp order at each ``frequency`` tick,
+which then predicts to the tick time and publishes ``odometry/filtered`` (nav_msgs/Odometry,
+pose in ``world_frame``, twist in ``base_link_frame``) and, with ``publish_tf``, the TF
+``odom -> base_link``. Nothing is published before the first measurement arrives (as
+robot_localization waits for its first measurement).
+
+Parameters (robot_localization names): ``frequency`` (20.0), ``two_d_mode`` (true; only 2D
+is implemented), ``world_frame`` (odom), ``odom_frame`` (odom), ``base_link_frame``
+(base_link), ``publish_tf`` (true), ``odom0`` (``odometry/wheels``), ``imu0``
+(``imu/data``), ``imu0_relative`` (true), ``initial_state`` (15 zeros: x, y, z, roll, pitch,
+yaw, then rates; x, y, yaw are used).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.sensor_msgs import Imu
+from posekit.robot.ekf import Ekf2D
+from posekit.robot.nodes._util import declare, period_ns
+from posekit.robot.params import DEFAULT_EKF, EkfParams
+from posekit.runtime.node import Node
+from posekit.runtime.tf2_ros import TransformBroadcaster
+
+__all__ = ["EkfNode"]
+
+
+class EkfNode(Node):
+    """The EKF node (see the module docstring). ``filter`` is the :class:`Ekf2D` model."""
+
+    def __init__(self, node_name: str = "ekf_node", **kwargs: Any) -> None:
+        super().__init__(node_name, **kwargs)
+        d = DEFAULT_EKF
+        frequency = float(declare(self, "frequency", d.frequency_hz))
+        if not bool(declare(self, "two_d_mode", True)):
+            raise ValueError("ekf_node: only two_d_mode: true is implemented (planar ROSbot)")
+        world_frame = str(declare(self, "world_frame", d.world_frame))
+        odom_frame = str(declare(self, "odom_frame", d.world_frame))
+        if world_frame != odom_frame:
+            raise ValueError(
+                f"ekf_node: world_frame '{world_frame}' must equal odom_frame '{odom_frame}' "
+                "(the course fuses continuous data only; no map frame)"
+            )
+        params = EkfParams(
+            frequency_hz=frequency,
+            world_frame=world_frame,
+            base_link_frame=str(declare(self, "base_link_frame", d.base_link_frame)),
+            imu_yaw_relative=bool(declare(self, "imu0_relative", d.imu_yaw_relative)),
+        )
+        self._publish_tf = bool(declare(self, "publish_tf", True))
+        odom_topic = str(declare(self, "odom0", "odometry/wheels"))
+        imu_topic = str(declare(self, "imu0", "imu/data"))
+        initial = [float(v) for v in declare(self, "initial_state", [0.0] * 15)]
+        if len(initial) != 15 or not all(math.isfinite(v) for v in initial):
+            raise ValueError(f"ekf_node: initial_state must be 15 finite numbers, got {initial}")
+        #: The filter model.
+        self.filter = Ekf2D(params, t0=None, initial_pose=(initial[0], initial[1], initial[5]))
+        self._have_measurement = False
+        self._pub = self.create_publisher(Odometry, "odometry/filtered", 10)
+        self._tf = TransformBroadcaster(self) if self._publish_tf else None
+        self.create_subscription(Odometry, odom_topic, self._on_odom, 10)
+        self.create_subscription(Imu, imu_topic, self._on_imu, 10)
+        self._now_ns = self.get_clock().now_ns
+        self.create_timer(period_ns(frequency, "frequency") / 1e9, self._on_tick)
+
+    def _on_odom(self, msg: Odometry) -> None:
+        self.filter.add_odometry_msg(msg)
+        self._have_measurement = True
+
+    def _on_imu(self, msg: Imu) -> None:
+        self.filter.add_imu_msg(msg)
+        self._have_measurement = True
+
+    def _on_tick(self) -> None:
+        if not self._have_measurement:
+            return
+        self.filter.step(self._now_ns() / 1e9)
+        self._pub.publish(self.filter.to_msg())
+        if self._tf is not None:
+            self._tf.sendTransform(self.filter.to_transform())

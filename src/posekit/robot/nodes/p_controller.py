@@ -1,0 +1,118 @@
+"""``p_controller``: the course's go-to-pose P controller (robot_control_demo) as a node.
+
+Subscribes ``odometry/filtered`` (nav_msgs/Odometry) and, optionally, ``goal_pose``
+(geometry_msgs/PoseStamped in ``odom``; a new goal replaces the current one). A 20 Hz timer
+runs :class:`~posekit.robot.p_controller.PController` on the latest filtered pose and
+publishes ``cmd_vel`` (geometry_msgs/TwistStamped, stamped now, frame ``base_link``). When
+both tolerances are met it publishes a zero twist and ``goal_reached`` (std_msgs/Bool True,
+once per goal) and logs ``Goal reached: x=.., y=.., yaw=..`` with the final filtered pose;
+afterwards it keeps commanding zero until a new goal arrives. A goal of (0, 0, 0), the node
+default, means "no goal": nothing is published.
+
+Parameters (course names and node defaults): ``k_rho`` (0.4), ``k_alpha`` (0.8), ``k_yaw``
+(0.8), ``goal_tolerance`` (0.10 m), ``yaw_tolerance`` (0.05 rad), ``goal_x``, ``goal_y``,
+``goal_yaw`` (0.0; the course's launch file sets 5.0, 5.0, pi/2). Velocity clamps are the
+course's fixed ±0.5 m/s and ±1.0 rad/s.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from posekit.msgs.geometry_msgs import PoseStamped, TwistStamped
+from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.std_msgs import Bool
+from posekit.robot.kinematics import yaw_from_quaternion_xyzw
+from posekit.robot.nodes._util import declare, stamp_msg
+from posekit.robot.p_controller import PController, PControllerParams, Phase
+from posekit.runtime.node import Node
+
+__all__ = ["PControllerNode"]
+
+
+def _pose_of(msg: Any) -> tuple[float, float, float]:
+    p, q = msg.position, msg.orientation
+    yaw = yaw_from_quaternion_xyzw(float(q.x), float(q.y), float(q.z), float(q.w))
+    return float(p.x), float(p.y), yaw
+
+
+class PControllerNode(Node):
+    """The P-controller node (see the module docstring). ``controller`` is the model;
+    ``goal_reached_ns`` the sim time (ns) of the last "Goal reached", else None."""
+
+    def __init__(self, node_name: str = "p_controller", **kwargs: Any) -> None:
+        super().__init__(node_name, **kwargs)
+        d = PControllerParams()
+        params = PControllerParams(
+            k_rho=float(declare(self, "k_rho", d.k_rho)),
+            k_alpha=float(declare(self, "k_alpha", d.k_alpha)),
+            k_yaw=float(declare(self, "k_yaw", d.k_yaw)),
+            goal_tolerance=float(declare(self, "goal_tolerance", d.goal_tolerance)),
+            yaw_tolerance=float(declare(self, "yaw_tolerance", d.yaw_tolerance)),
+            goal_x=float(declare(self, "goal_x", d.goal_x)),
+            goal_y=float(declare(self, "goal_y", d.goal_y)),
+            goal_yaw=float(declare(self, "goal_yaw", d.goal_yaw)),
+        )
+        #: The control law.
+        self.controller = PController(params)
+        self.goal_reached_ns: int | None = None
+        self._pose: tuple[float, float, float] | None = None
+        self._phase = Phase.IDLE
+        self._cmd_pub = self.create_publisher(TwistStamped, "cmd_vel", 10)
+        self._reached_pub = self.create_publisher(Bool, "goal_reached", 10)
+        self.create_subscription(Odometry, "odometry/filtered", self._on_odom, 10)
+        self.create_subscription(PoseStamped, "goal_pose", self._on_goal, 10)
+        self._now_ns = self.get_clock().now_ns
+        self.create_timer(1.0 / params.rate_hz, self._on_tick)
+        goal = self.controller.goal
+        if goal is None:
+            self.get_logger().info("No goal set (goal (0, 0, 0)); waiting for goal_pose")
+        else:
+            self.get_logger().info(
+                f"Goal: x={goal[0]:.2f}, y={goal[1]:.2f}, yaw={goal[2]:.2f}"
+            )
+
+    def _on_odom(self, msg: Odometry) -> None:
+        self._pose = _pose_of(msg.pose.pose)
+
+    def _on_goal(self, msg: PoseStamped) -> None:
+        frame = msg.header.frame_id
+        if frame not in ("", "odom"):
+            self.get_logger().warning(
+                f"Ignoring goal_pose in frame '{frame}': goals must be in 'odom'"
+            )
+            return
+        x, y, yaw = _pose_of(msg.pose)
+        if not all(math.isfinite(v) for v in (x, y, yaw)):
+            self.get_logger().warning(f"Ignoring non-finite goal_pose ({x}, {y}, {yaw})")
+            return
+        self.controller.set_goal(x, y, yaw)
+        self.goal_reached_ns = None
+        self._phase = Phase.IDLE
+        self.get_logger().info(f"New goal: x={x:.2f}, y={y:.2f}, yaw={yaw:.2f}")
+
+    def _on_tick(self) -> None:
+        if self._pose is None:
+            return
+        x, y, yaw = self._pose
+        out = self.controller.compute(x, y, yaw)
+        if not out.publish:
+            return
+        now_ns = self._now_ns()
+        cmd = TwistStamped()
+        cmd.header.stamp = stamp_msg(now_ns)
+        cmd.header.frame_id = "base_link"
+        cmd.twist.linear.x = out.v
+        cmd.twist.angular.z = out.omega
+        self._cmd_pub.publish(cmd)
+        if out.phase != self._phase:
+            if out.phase == Phase.ORIENTATION:
+                self.get_logger().info(
+                    f"Position reached (rho={out.rho:.3f} m); turning to the goal yaw"
+                )
+            self._phase = out.phase
+        if out.just_reached:
+            self.goal_reached_ns = now_ns
+            self._reached_pub.publish(Bool(data=True))
+            self.get_logger().info(f"Goal reached: x={x:.2f}, y={y:.2f}, yaw={yaw:.2f}")
