@@ -267,6 +267,9 @@ class _BusPublisher(PublisherEndpoint):
                 return
             copier = _copiers.get(type(msg))
             snap = copier(msg) if copier is not None else snapshot(msg)
+            if len(subs) == 1:
+                subs[0].sink(snap)
+                return
             last = len(subs) - 1
             for i, sub in enumerate(subs):
                 sub.sink(snap if i == last else snapshot(snap))

@@ -7,6 +7,7 @@ ReentrantCallbackGroup may.
 
 from __future__ import annotations
 
+import functools
 import threading
 
 __all__ = ["CallbackGroup", "MutuallyExclusiveCallbackGroup", "ReentrantCallbackGroup"]
@@ -41,11 +42,10 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
         super().__init__()
         # The lock itself is the claim: one non-blocking acquire per callback.
         self._claim = threading.Lock()
-        self.beginning_execution = self._begin  # type: ignore[method-assign]
+        self.beginning_execution = functools.partial(  # type: ignore[method-assign]
+            self._claim.acquire, False
+        )
         self.ending_execution = self._claim.release  # type: ignore[method-assign]
-
-    def _begin(self) -> bool:
-        return self._claim.acquire(False)
 
     def can_execute(self) -> bool:
         return not self._claim.locked()

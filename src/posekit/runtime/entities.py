@@ -100,7 +100,7 @@ class Subscription:
         executor = self._node._executor
         if executor is not None:  # inlined Executor._message_ready (hot path)
             executor._fifo.append((seq, self))
-            if not executor._wake_event.is_set():
+            if executor._waiting:
                 executor._wake_event.set()
 
     @property

@@ -74,6 +74,10 @@ class Executor:
         self._wake_event = threading.Event()
         self._lock = threading.RLock()
         self._is_shutdown = False
+        # True only while a spinning thread may block on _wake_event: publishers then set
+        # the event (see _wait_for_work for why no wake-up is lost).
+        self._waiting = False
+        self._always_wake = False  # several waiting threads (MultiThreadedExecutor)
         #: Number of callbacks that raised (each was logged).
         self.callback_exceptions = 0
         self._context._register_executor(self)
@@ -129,7 +133,7 @@ class Executor:
 
     def _message_ready(self, seq: int, sub: Subscription) -> None:
         self._fifo.append((seq, sub))
-        if not self._wake_event.is_set():
+        if self._waiting:
             self._wake_event.set()
 
     # -- tasks ------------------------------------------------------------------------
@@ -288,19 +292,25 @@ class Executor:
         deadline = None
         if timeout_sec is not None and timeout_sec >= 0:
             deadline = time.monotonic() + timeout_sec
-        while self._context.ok() and not self._is_shutdown:
-            self._wake_event.clear()
-            work = self._take_ready()
-            if work is not None:
-                return work
-            wait = self._wall_wait_s()
-            if deadline is not None:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    return None
-                wait = remaining if wait is None else min(wait, remaining)
-            self._wake_event.wait(wait)
-        return None
+        try:
+            while self._context.ok() and not self._is_shutdown:
+                # Order matters: announce waiting, clear, then look for work. A message
+                # appended after the look sees _waiting and sets the event.
+                self._waiting = True
+                self._wake_event.clear()
+                work = self._take_ready()
+                if work is not None:
+                    return work
+                wait = self._wall_wait_s()
+                if deadline is not None:
+                    remaining = deadline - time.monotonic()
+                    if remaining <= 0:
+                        return None
+                    wait = remaining if wait is None else min(wait, remaining)
+                self._wake_event.wait(wait)
+            return None
+        finally:
+            self._waiting = self._always_wake
 
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""
@@ -372,6 +382,7 @@ class MultiThreadedExecutor(Executor):
     def __init__(self, num_threads: int | None = None, *, context: Context | None = None) -> None:
         super().__init__(context=context)
         self._num_threads = num_threads or max(2, os.cpu_count() or 2)
+        self._always_wake = self._waiting = True
         if self._num_threads < 1:
             raise ValueError("num_threads must be >= 1")
 
