@@ -1,0 +1,175 @@
+"""``posekit view``: the browser viewer (RViz2's place), and attaching it to a launch run.
+
+    posekit view [--host 127.0.0.1] [--port 8765] [--zenoh] [--world NAME]
+                 [--fixed-frame odom] [--tf-rate 30] [--scenario NAME [--seed N]]
+
+Alone (or with ``--zenoh``) it views other processes over the Zenoh transport.
+``--scenario NAME`` runs a named scenario in this process, paced to the wall clock, and views
+it. :func:`attach_to_run` is what ``posekit launch SCENARIO --viewer`` calls.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import threading
+import webbrowser
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from posekit.launch import LaunchRun
+    from posekit.viewer.server import ViewerServer
+
+__all__ = ["attach_to_run", "find_world", "main"]
+
+
+def find_world(run: LaunchRun) -> str | None:
+    """The world of a run: the ``world`` parameter of the first node declaring one (the
+    simulator's), or None."""
+    for node in run.nodes:
+        if node.has_parameter("world"):
+            value = node.get_parameter("world").value
+            if isinstance(value, str) and value:
+                return value
+    return None
+
+
+def attach_to_run(
+    run: LaunchRun,
+    *,
+    host: str = "127.0.0.1",
+    port: int = 8765,
+    world: str | None = None,
+    open_browser: bool = False,
+    **options: Any,
+) -> ViewerServer:
+    """Serve a viewer of ``run`` (same process, its in-process bus) and return the started
+    server; ``server.stop()`` when the run ends.
+
+    The world is taken from the simulator's ``world`` parameter unless given; frame ages use
+    the run's simulated time when its executor is a SimulatedTimeExecutor. Pace the run to
+    the wall clock (``realtime=True`` / ``real_time_factor=1.0``) to watch it move.
+    ``options`` go to :class:`posekit.viewer.server.ViewerServer`.
+    """
+    from posekit.runtime.executors import SimulatedTimeExecutor
+    from posekit.viewer import attach_viewer
+
+    executor = run.executor
+    clock = None
+    if isinstance(executor, SimulatedTimeExecutor):
+        sim: SimulatedTimeExecutor = executor
+
+        def clock() -> int:
+            return sim.now_ns
+
+    server = attach_viewer(
+        run.context,
+        world=world if world is not None else find_world(run),
+        clock_ns=clock,
+        host=host,
+        port=port,
+        **options,
+    )
+    if open_browser:
+        webbrowser.open(server.url)
+    return server
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="posekit view",
+        description="Serve the browser viewer (3D TF, robot, odometry, images, TF tree, topics).",
+    )
+    parser.add_argument("--host", default="127.0.0.1",
+                        help="bind address (default 127.0.0.1: this machine only)")
+    parser.add_argument("--port", type=int, default=8765, help="TCP port (default 8765)")
+    parser.add_argument("--zenoh", action="store_true",
+                        help="view other processes over Zenoh (the default without --scenario)")
+    parser.add_argument("--scenario", default=None,
+                        help="run this named scenario here (wall-clock paced) and view it")
+    parser.add_argument("--seed", type=int, default=0, help="scenario seed (with --scenario)")
+    parser.add_argument("--world", default=None,
+                        help="world whose boxes and markers to draw (name or .json/.yaml)")
+    parser.add_argument("--fixed-frame", default="odom", help="default Fixed Frame (odom)")
+    parser.add_argument("--tf-rate", type=float, default=30.0,
+                        help="TF updates per second sent to the page (max 100)")
+    parser.add_argument("--open", action="store_true", help="open the page in a browser")
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``posekit view``; returns the exit code."""
+    ns = _parser().parse_args(argv)
+    from posekit.viewer.errors import ViewerError
+
+    if not 0 <= ns.port <= 65535:
+        print(f"posekit view: --port must be in 0..65535, got {ns.port}", file=sys.stderr)
+        return 2
+    if ns.scenario and ns.zenoh:
+        print("posekit view: --scenario runs in this process; it cannot be combined with "
+              "--zenoh", file=sys.stderr)
+        return 2
+    options: dict[str, Any] = {"fixed_frame": ns.fixed_frame, "tf_rate": ns.tf_rate}
+    try:
+        if ns.scenario:
+            return _view_scenario(ns, options)
+        return _view_zenoh(ns, options)
+    except ViewerError as exc:
+        print(f"posekit view: {exc}", file=sys.stderr)
+        return 1
+    except ValueError as exc:
+        print(f"posekit view: {exc}", file=sys.stderr)
+        return 2
+
+
+def _announce(server: ViewerServer, what: str) -> None:
+    print(f"posekit view: {what} on {server.url} (Ctrl-C to stop)", flush=True)
+
+
+def _view_scenario(ns: argparse.Namespace, options: dict[str, Any]) -> int:
+    from posekit.robot.scenarios import ScenarioError, start_scenario
+
+    try:
+        run = start_scenario(ns.scenario, seed=ns.seed, realtime=True, record=False)
+    except ScenarioError as exc:
+        print(f"posekit view: {exc}", file=sys.stderr)
+        return 2
+    server = None
+    try:
+        server = attach_to_run(run, host=ns.host, port=ns.port, world=ns.world,
+                               open_browser=ns.open, **options)
+        _announce(server, f"scenario {ns.scenario}")
+        spinner = threading.Thread(target=run.executor.spin, name="posekit-scenario", daemon=True)
+        spinner.start()
+        server.serve_forever()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if server is not None:
+            server.stop()
+        run.shutdown()
+    return 0
+
+
+def _view_zenoh(ns: argparse.Namespace, options: dict[str, Any]) -> int:
+    from posekit.runtime.context import Context
+    from posekit.runtime.transport import UnknownTransportError
+    from posekit.viewer import attach_viewer
+
+    context = Context()
+    context.init(transport="zenoh")
+    try:
+        try:
+            transport = context.transport()
+        except UnknownTransportError as exc:
+            print(f"posekit view: cannot view other processes: {exc}", file=sys.stderr)
+            return 1
+        server = attach_viewer(transport, world=ns.world, host=ns.host, port=ns.port, **options)
+        if ns.open:
+            webbrowser.open(server.url)
+        _announce(server, "viewing the Zenoh graph")
+        server.serve_forever()
+    finally:
+        context.try_shutdown()
+    return 0

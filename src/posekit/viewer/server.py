@@ -1,0 +1,489 @@
+"""The viewer's HTTP and WebSocket server (aiohttp), running in its own thread.
+
+Routes:
+
+* ``GET /``: the page (``web/index.html``); ``/app/...``: its scripts and styles;
+  ``/vendor/three/...``: three.js from ``web/node_modules/three`` (``npm ci`` in ``web/``;
+  the page falls back to its 2D canvas and says so when it is missing);
+* ``GET /ws``: the WebSocket (protocol below);
+* ``GET /api/state``: a JSON snapshot (frames in the default fixed frame, TF tree, topics,
+  odometry trails) for scripts and tests.
+
+WebSocket protocol (server -> client, JSON text unless noted):
+
+* ``hello``: defaults (fixed frame, rates), the world's boxes/markers, display topics;
+* ``tf``: ``{fixed, error, now, frames: [[name, parent, x, y, z, qx, qy, qz, qw, age_s,
+  static, ok], ...]}``: every frame's pose in the client's fixed frame (m, quaternion x y z
+  w), at up to ``tf_rate`` Hz (default 30, at most 100) while TF changes, else 2 Hz;
+* ``odom``: ``{displays: {topic: {frame, child, received, trail: [[x, y, z, qx, qy, qz, qw,
+  speed], ...]}}}`` at up to 10 Hz when a trail changed;
+* ``graph``: ``{tree: [...], topics: [...], images: [...]}`` at 2 Hz;
+* binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
+  seq, stamp, width, height, encoding}``, then the JPEG bytes. Only for topics the client
+  watches, newest only, at up to ``image_rate`` Hz (default 15).
+
+Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "topics":
+[...]}``, ``{"op": "pause", "paused": BOOL}``. A malformed request gets ``{"type": "error",
+"message": ...}`` and the connection stays open.
+
+Slow clients: each client has one slot per channel (``tf``, ``odom``, ``graph``, one per
+image topic) holding the newest payload not yet sent; a new payload replaces an unsent one
+(counted in :attr:`ViewerServer.stats` as ``dropped``), so memory stays bounded however slow
+the client is, and a client always gets the newest state.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import struct
+import threading
+import time
+from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from aiohttp import WSMsgType, web
+
+from posekit.robot.worlds import World
+from posekit.viewer.errors import ViewerError
+from posekit.viewer.images import encode_jpeg
+from posekit.viewer.taps import ViewerTap
+from posekit.viewer.world import world_payload
+
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "WEB_ROOT", "ViewerServer"]
+
+DEFAULT_HOST = "127.0.0.1"
+DEFAULT_PORT = 8765
+#: The page sources (and node_modules after ``npm ci``).
+WEB_ROOT = Path(__file__).parent / "web"
+_MAX_TF_RATE = 100.0
+_ODOM_PERIOD = 0.1
+_GRAPH_PERIOD = 0.5
+_IDLE_TF_PERIOD = 0.5
+_MAX_NAME = 256
+_MAX_WATCH = 16
+
+
+@dataclass(eq=False)
+class _Client:
+    """One WebSocket client: its choices and its newest-only outbox."""
+
+    ws: web.WebSocketResponse
+    fixed_frame: str
+    watched: set[str] = field(default_factory=set)
+    paused: bool = False
+    slots: dict[str, str | bytes] = field(default_factory=dict)
+    wake: asyncio.Event = field(default_factory=asyncio.Event)
+    sent: int = 0
+    dropped: int = 0
+    image_seq: dict[str, int] = field(default_factory=dict)
+
+    def put(self, channel: str, payload: str | bytes) -> None:
+        if channel in self.slots:
+            self.dropped += 1
+        self.slots[channel] = payload
+        self.wake.set()
+
+
+def _dumps(obj: Any) -> str:
+    return json.dumps(obj, separators=(",", ":"), allow_nan=False)
+
+
+class ViewerServer:
+    """Serve the viewer page for ``tap`` on ``http://host:port`` from a background thread.
+
+    Args:
+        tap: where the data comes from.
+        host: bind address (loopback by default: the page has no authentication).
+        port: TCP port; 0 picks a free one (see :attr:`port` after :meth:`start`).
+        world: the world whose boxes and markers to draw (a :class:`World` or a name).
+        fixed_frame: the page's default Fixed Frame.
+        tf_rate: TF updates per second per client (capped at 100).
+        image_rate: JPEG frames per second per watched topic.
+        jpeg_quality: cv2 JPEG quality 0..100.
+        max_image_width: wider images are downscaled before encoding (px).
+        fps: the page's rendering cap (frames per second).
+        close_tap: close ``tap`` in :meth:`stop` (when the server owns it).
+    """
+
+    def __init__(
+        self,
+        tap: ViewerTap,
+        *,
+        host: str = DEFAULT_HOST,
+        port: int = DEFAULT_PORT,
+        world: World | str | None = None,
+        fixed_frame: str = "odom",
+        tf_rate: float = 30.0,
+        image_rate: float = 15.0,
+        jpeg_quality: int = 80,
+        max_image_width: int = 1280,
+        fps: float = 30.0,
+        close_tap: bool = False,
+    ) -> None:
+        if not 0 < tf_rate <= _MAX_TF_RATE:
+            raise ValueError(f"tf_rate must be in (0, {_MAX_TF_RATE:g}] Hz, got {tf_rate}")
+        if not image_rate > 0:
+            raise ValueError(f"image_rate must be > 0 Hz, got {image_rate}")
+        if not 0 <= jpeg_quality <= 100:
+            raise ValueError(f"jpeg_quality must be in [0, 100], got {jpeg_quality}")
+        if not 0 <= port <= 65535:
+            raise ValueError(f"port must be in [0, 65535], got {port}")
+        if not fps > 0:
+            raise ValueError(f"fps must be > 0, got {fps}")
+        self.tap = tap
+        self.host = host
+        self.port = port
+        self.fixed_frame = fixed_frame
+        self.tf_rate = float(tf_rate)
+        self.image_rate = float(image_rate)
+        self.jpeg_quality = int(jpeg_quality)
+        self.max_image_width = int(max_image_width)
+        self.fps = float(fps)
+        self.close_tap = close_tap
+        self._world = world_payload(world)
+        self._clients: set[_Client] = set()
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._thread: threading.Thread | None = None
+        self._runner: web.AppRunner | None = None
+        self._encoder = ThreadPoolExecutor(max_workers=1, thread_name_prefix="posekit-jpeg")
+        self._stopping = False
+        self._ready = threading.Event()
+        self._start_error: BaseException | None = None
+        self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0}
+
+    # -- lifecycle ---------------------------------------------------------------------------
+    @property
+    def url(self) -> str:
+        """``http://host:port/`` (IPv6 hosts bracketed)."""
+        host = f"[{self.host}]" if ":" in self.host else self.host
+        return f"http://{host}:{self.port}/"
+
+    def start(self) -> str:
+        """Bind and serve in a daemon thread; returns :attr:`url`. Raises :class:`ViewerError`
+        when the address cannot be bound."""
+        if self._thread is not None:
+            raise ViewerError("viewer server already started")
+        self._thread = threading.Thread(target=self._run, name="posekit-viewer", daemon=True)
+        self._thread.start()
+        self._ready.wait(timeout=15.0)
+        if self._start_error is not None:
+            self._thread.join(timeout=5.0)
+            self._thread = None
+            raise ViewerError(
+                f"cannot serve the viewer on {self.host}:{self.port}: {self._start_error}"
+            ) from self._start_error
+        if not self._ready.is_set():
+            raise ViewerError("viewer server did not start within 15 s")
+        return self.url
+
+    def _run(self) -> None:
+        loop = asyncio.new_event_loop()
+        self._loop = loop
+        asyncio.set_event_loop(loop)
+        try:
+            loop.run_until_complete(self._startup())
+        except BaseException as exc:  # report bind errors to start()
+            self._start_error = exc
+            self._ready.set()
+            loop.close()
+            return
+        self._ready.set()
+        producer = loop.create_task(self._produce())
+        try:
+            loop.run_forever()
+        finally:
+            producer.cancel()
+            with contextlib.suppress(BaseException):
+                loop.run_until_complete(producer)
+            loop.run_until_complete(self._cleanup())
+            loop.close()
+
+    async def _startup(self) -> None:
+        app = web.Application()
+        app.router.add_get("/", self._index)
+        app.router.add_get("/ws", self._websocket)
+        app.router.add_get("/api/state", self._state)
+        app.router.add_get("/favicon.ico", self._no_content)
+        app.router.add_static("/app/", WEB_ROOT / "app", follow_symlinks=False)
+        three = WEB_ROOT / "node_modules" / "three"
+        if three.is_dir():
+            app.router.add_static("/vendor/three/", three, follow_symlinks=False)
+        self._runner = web.AppRunner(app, access_log=None)
+        await self._runner.setup()
+        site = web.TCPSite(self._runner, self.host, self.port)
+        await site.start()
+        if self.port == 0:
+            server = site._server  # aiohttp exposes the bound sockets only here
+            sockets = getattr(server, "sockets", None) or []
+            if sockets:
+                self.port = int(sockets[0].getsockname()[1])
+
+    async def _cleanup(self) -> None:
+        for client in list(self._clients):
+            with contextlib.suppress(Exception):
+                await client.ws.close()
+        if self._runner is not None:
+            await self._runner.cleanup()
+
+    def stop(self) -> None:
+        """Close every connection, stop serving and join the thread."""
+        self._stopping = True
+        loop, thread = self._loop, self._thread
+        if loop is not None and thread is not None and thread.is_alive():
+            loop.call_soon_threadsafe(loop.stop)
+            thread.join(timeout=10.0)
+        self._thread = None
+        self._encoder.shutdown(wait=False, cancel_futures=True)
+        if self.close_tap:
+            self.tap.close()
+
+    def serve_forever(self) -> None:
+        """:meth:`start` (if needed) and block until Ctrl-C, then :meth:`stop`."""
+        if self._thread is None:
+            self.start()
+        try:
+            while self._thread is not None and self._thread.is_alive():
+                self._thread.join(timeout=0.5)
+        except KeyboardInterrupt:
+            pass
+        finally:
+            self.stop()
+
+    def __enter__(self) -> ViewerServer:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+    @property
+    def stats(self) -> dict[str, int]:
+        """Messages produced per kind, clients connected, and payloads dropped for slow
+        clients (replaced before they were sent)."""
+        out = dict(self._counters)
+        out["connected"] = len(self._clients)
+        out["dropped"] = sum(c.dropped for c in self._clients)
+        return out
+
+    # -- HTTP --------------------------------------------------------------------------------
+    async def _index(self, request: web.Request) -> web.StreamResponse:
+        del request
+        return web.FileResponse(WEB_ROOT / "index.html", headers={"Cache-Control": "no-cache"})
+
+    async def _no_content(self, request: web.Request) -> web.Response:
+        del request
+        return web.Response(status=204)
+
+    async def _state(self, request: web.Request) -> web.Response:
+        fixed = request.query.get("fixed_frame", self.fixed_frame)[:_MAX_NAME]
+        error, frames = self.tap.frames_in(fixed)
+        return web.json_response(
+            {
+                "fixed_frame": fixed,
+                "error": error,
+                "frames": frames,
+                "tree": self.tap.tree(),
+                "topics": self.tap.topics(),
+                "odometry": self.tap.trails(),
+                "stats": self.stats,
+            },
+            dumps=_dumps,
+        )
+
+    def _hello(self) -> dict[str, Any]:
+        return {
+            "type": "hello",
+            "version": 1,
+            "fixed_frame": self.fixed_frame,
+            "tf_rate": self.tf_rate,
+            "image_rate": self.image_rate,
+            "fps": self.fps,
+            "world": self._world,
+            "odometry_topics": list(self.tap.odometry_topics),
+            "ground_truth_topic": self.tap.ground_truth_topic,
+            "base_frame": "base_link",
+        }
+
+    async def _websocket(self, request: web.Request) -> web.StreamResponse:
+        ws = web.WebSocketResponse(heartbeat=20.0, max_msg_size=64 * 1024)
+        await ws.prepare(request)
+        client = _Client(ws, self.fixed_frame)
+        self._clients.add(client)
+        self._counters["clients"] += 1
+        client.put("hello", _dumps(self._hello()))
+        client.put("graph", self._graph_message())
+        client.put("tf", self._tf_message(client.fixed_frame))
+        sender = asyncio.get_running_loop().create_task(self._sender(client))
+        try:
+            async for msg in ws:
+                if msg.type == WSMsgType.TEXT:
+                    self._on_request(client, msg.data)
+                elif msg.type == WSMsgType.ERROR:
+                    break
+        finally:
+            self._clients.discard(client)
+            sender.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await sender
+        return ws
+
+    async def _sender(self, client: _Client) -> None:
+        ws = client.ws
+        while not ws.closed:
+            await client.wake.wait()
+            client.wake.clear()
+            while client.slots and not ws.closed:
+                channel = next(iter(client.slots))
+                payload = client.slots.pop(channel)
+                try:
+                    if isinstance(payload, bytes):
+                        await ws.send_bytes(payload)
+                    else:
+                        await ws.send_str(payload)
+                except (ConnectionError, RuntimeError):
+                    return
+                client.sent += 1
+
+    def _on_request(self, client: _Client, text: str) -> None:
+        try:
+            request = json.loads(text)
+            if not isinstance(request, Mapping):
+                raise ValueError("expected a JSON object")
+            op = request.get("op")
+            if op == "fixed_frame":
+                frame = request.get("frame")
+                if not isinstance(frame, str) or not frame or len(frame) > _MAX_NAME:
+                    raise ValueError("'frame' must be a non-empty string")
+                client.fixed_frame = frame.lstrip("/")
+                client.put("tf", self._tf_message(client.fixed_frame))
+            elif op == "watch":
+                topics = request.get("topics")
+                if not isinstance(topics, list) or not all(
+                    isinstance(t, str) and 0 < len(t) <= _MAX_NAME for t in topics
+                ):
+                    raise ValueError("'topics' must be a list of topic names")
+                if len(topics) > _MAX_WATCH:
+                    raise ValueError(f"at most {_MAX_WATCH} image topics can be watched")
+                client.watched = set(topics)
+                for stale in [c for c in client.slots if c.startswith("image:")]:
+                    if stale[6:] not in client.watched:
+                        del client.slots[stale]
+                client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
+            elif op == "pause":
+                client.paused = bool(request.get("paused"))
+            else:
+                raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause)")
+        except (ValueError, TypeError) as exc:
+            client.put("error", _dumps({"type": "error", "message": f"bad request: {exc}"}))
+
+    # -- producers ---------------------------------------------------------------------------
+    def _tf_message(self, fixed: str) -> str:
+        error, frames = self.tap.frames_in(fixed)
+        self._counters["tf"] += 1
+        return _dumps(
+            {
+                "type": "tf",
+                "fixed": fixed,
+                "error": error,
+                "now": round(self.tap.now_ns() / 1e9, 3),
+                "frames": frames,
+            }
+        )
+
+    def _graph_message(self) -> str:
+        self._counters["graph"] += 1
+        return _dumps(
+            {
+                "type": "graph",
+                "tree": self.tap.tree(),
+                "topics": self.tap.topics(),
+                "images": self.tap.image_topics(),
+            }
+        )
+
+    async def _produce(self) -> None:
+        loop = asyncio.get_running_loop()
+        period = 1.0 / self.tf_rate
+        last_tf_version = -1
+        last_tf_send = 0.0
+        last_odom_version = -1
+        next_odom = next_graph = next_image = 0.0
+        encoding: set[str] = set()
+        while not self._stopping:
+            now = time.monotonic()
+            active = [c for c in self._clients if not c.paused and not c.ws.closed]
+            if now >= next_graph:
+                next_graph = now + _GRAPH_PERIOD
+                await loop.run_in_executor(None, self.tap.refresh)
+                if active:
+                    graph = self._graph_message()
+                    for c in active:
+                        c.put("graph", graph)
+            version = self.tap.tf_version
+            if active and (version != last_tf_version or now - last_tf_send >= _IDLE_TF_PERIOD):
+                last_tf_version, last_tf_send = version, now
+                by_frame: dict[str, str] = {}
+                for c in active:
+                    if c.fixed_frame not in by_frame:
+                        by_frame[c.fixed_frame] = self._tf_message(c.fixed_frame)
+                    c.put("tf", by_frame[c.fixed_frame])
+            if active and now >= next_odom:
+                next_odom = now + _ODOM_PERIOD
+                odom_version = self.tap.trails_version()
+                if odom_version != last_odom_version:
+                    last_odom_version = odom_version
+                    self._counters["odom"] += 1
+                    odom = _dumps({"type": "odom", "displays": self.tap.trails()})
+                    for c in active:
+                        c.put("odom", odom)
+            if active and now >= next_image:
+                next_image = now + 1.0 / self.image_rate
+                for topic in {t for c in active for t in c.watched} - encoding:
+                    latest = self.tap.latest_image(topic)
+                    if latest is None:
+                        continue
+                    seq, msg = latest
+                    watchers = [c for c in active if topic in c.watched
+                                and c.image_seq.get(topic, 0) < seq]
+                    if watchers:
+                        encoding.add(topic)
+                        loop.create_task(self._send_image(topic, seq, msg, watchers, encoding))
+            await asyncio.sleep(period)
+
+    async def _send_image(
+        self, topic: str, seq: int, msg: Any, watchers: list[_Client], encoding: set[str]
+    ) -> None:
+        loop = asyncio.get_running_loop()
+        try:
+            jpeg = await loop.run_in_executor(
+                self._encoder, encode_jpeg, msg, self.jpeg_quality, self.max_image_width
+            )
+        except Exception as exc:  # a malformed image must not stop the viewer
+            self.tap.logger.warning(
+                f"viewer: cannot encode image on {topic}: {exc}", throttle_duration_sec=5.0
+            )
+            return
+        finally:
+            encoding.discard(topic)
+        self._counters["images_encoded"] += 1
+        stamp = msg.header.stamp
+        header = _dumps(
+            {
+                "topic": topic,
+                "seq": seq,
+                "stamp": round(int(stamp.sec) + int(stamp.nanosec) * 1e-9, 6),
+                "width": int(msg.width),
+                "height": int(msg.height),
+                "encoding": str(msg.encoding),
+            }
+        ).encode()
+        payload = struct.pack(">I", len(header)) + header + jpeg
+        for c in watchers:
+            if topic in c.watched and not c.ws.closed:
+                c.image_seq[topic] = seq
+                c.put("image:" + topic, payload)

@@ -1,0 +1,528 @@
+"""The viewer's data taps: what the browser page shows, gathered from a running system.
+
+A :class:`ViewerTap` listens on a :class:`~posekit.runtime.transport.Transport` (the
+in-process bus of a launch/scenario, or Zenoh for other processes) *without a node in any
+executor*: its sinks are called directly by the transport on the publisher's thread (or the
+transport's receive thread), so attaching a viewer never adds callbacks to a simulated run
+and never changes its order of events. Each sink does the minimum (store a reference, feed
+the tf2 buffer, count) under one lock; the server thread reads snapshots at its own pace.
+
+What is tapped (topics are matched fully qualified):
+
+* ``/tf`` and ``/tf_static`` (tf2_msgs/TFMessage) into a :class:`posekit.tf2.Buffer`, plus
+  per frame: parent, last stamp, update rate from the stamps (tf2's ``allFramesAsYAML``
+  rate: samples per stamp span), static or not;
+* ``/clock`` (rosgraph_msgs/Clock): "now" for frame ages when a run is on sim time, else the
+  wall clock; a backward jump of the clock (a restarted run) clears the tf buffer;
+* Odometry displays (nav_msgs/Odometry): :data:`ODOMETRY_TOPICS` by default; each keeps the
+  last ``trail_length`` poses that moved more than RViz2's Odometry display tolerances
+  (0.1 m or 0.1 rad) from the previous kept pose, with the speed ``|v|`` for the arrow
+  length;
+* every ``sensor_msgs/Image`` topic: the newest message only (a reference; the in-process
+  bus shares the frozen pixel array, so this costs nothing); JPEG encoding happens on demand
+  in the server, only for topics a client watches;
+* every topic: receive rate over the last :data:`RATE_WINDOW_S` seconds of wall time (what
+  ``ros2 topic hz`` prints by default).
+
+Topics are discovered with ``transport.get_topic_names_and_types()`` (call :meth:`refresh`
+periodically); the tap subscribes only to topics that have a publisher, so it never creates
+a topic of its own in the graph.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import Any
+
+from posekit.msgs.errors import UnknownMessageTypeError
+from posekit.msgs.registry import get_message_class
+from posekit.runtime.logging import RcutilsLogger, get_logger
+from posekit.runtime.qos import (
+    DurabilityPolicy,
+    QoSProfile,
+    ReliabilityPolicy,
+)
+from posekit.runtime.transport import (
+    EndpointInfo,
+    SubscriptionEndpoint,
+    TopicTypeMismatchError,
+    Transport,
+)
+from posekit.tf2 import Buffer, TransformException
+from posekit.time import Duration
+
+__all__ = [
+    "GROUND_TRUTH_TOPIC",
+    "IMAGE_TYPE",
+    "ODOMETRY_TOPICS",
+    "RATE_WINDOW_S",
+    "FrameInfo",
+    "OdometryTrail",
+    "TopicInfo",
+    "ViewerTap",
+]
+
+NS = 1_000_000_000
+TF_TYPE = "tf2_msgs/msg/TFMessage"
+ODOM_TYPE = "nav_msgs/msg/Odometry"
+IMAGE_TYPE = "sensor_msgs/msg/Image"
+CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
+#: Odometry displays shown by default (RViz2 config of the lecture) and the simulator's truth.
+ODOMETRY_TOPICS = ("/odometry/filtered", "/odometry/wheels")
+GROUND_TRUTH_TOPIC = "/ground_truth/odom"
+#: Window (s of wall time) of the per-topic receive rate.
+RATE_WINDOW_S = 2.0
+#: RViz2 Odometry display defaults: keep a new arrow only past these tolerances.
+TRAIL_POSITION_TOLERANCE_M = 0.1
+TRAIL_ANGLE_TOLERANCE_RAD = 0.1
+#: A clock jump backwards larger than this (ns) clears the buffer (restarted run / bag loop).
+_BACKWARD_JUMP_NS = NS // 2
+#: Stamps kept per frame for its rate.
+_FRAME_STAMPS = 100
+
+# A subscription that every publisher matches (best effort + volatile request).
+_ANY_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
+# /tf_static needs transient local to receive the latched message (tf2_ros listener QoS).
+_STATIC_QOS = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+@dataclass
+class FrameInfo:
+    """What the TF tree panel shows about one frame (the rqt_tf_tree / view_frames fields)."""
+
+    name: str
+    parent: str
+    static: bool
+    stamps_ns: deque[int] = field(default_factory=lambda: deque(maxlen=_FRAME_STAMPS))
+
+    @property
+    def last_stamp_ns(self) -> int:
+        """Stamp of the newest transform received (ns)."""
+        return self.stamps_ns[-1] if self.stamps_ns else 0
+
+    def rate_hz(self) -> float:
+        """Updates per second of stamp time (0 for static frames or a single sample)."""
+        if self.static or len(self.stamps_ns) < 2:
+            return 0.0
+        span = self.stamps_ns[-1] - self.stamps_ns[0]
+        return (len(self.stamps_ns) - 1) * NS / span if span > 0 else 0.0
+
+
+@dataclass
+class TopicInfo:
+    """One topic of the graph as the topic panel lists it."""
+
+    name: str
+    type_name: str
+    receipts: deque[float] = field(default_factory=deque)
+    count: int = 0
+    subscribed: bool = False
+    error: str = ""
+
+    def rate_hz(self, now: float) -> float:
+        """Messages per second over the last :data:`RATE_WINDOW_S` s of wall time."""
+        r = self.receipts
+        while r and now - r[0] > RATE_WINDOW_S:
+            r.popleft()
+        if len(r) < 2:
+            return 0.0
+        span = r[-1] - r[0]
+        return (len(r) - 1) / span if span > 0 else 0.0
+
+
+@dataclass
+class OdometryTrail:
+    """The kept poses of one Odometry display, in the message's ``header.frame_id``.
+
+    Each entry is ``(x, y, z, qx, qy, qz, qw, speed)``: position (m), orientation of the
+    child frame as a quaternion (x, y, z, w), and ``|twist.linear|`` (m/s).
+    """
+
+    topic: str
+    frame_id: str = ""
+    child_frame_id: str = ""
+    poses: deque[tuple[float, ...]] = field(default_factory=deque)
+    received: int = 0
+    version: int = 0
+
+    def add(self, pose: tuple[float, ...], frame_id: str, child: str, maxlen: int) -> None:
+        """Append ``pose`` unless it is within the tolerances of the last kept pose."""
+        self.received += 1
+        if frame_id != self.frame_id:
+            self.poses.clear()  # a trail in two frames would be meaningless
+            self.frame_id = frame_id
+        self.child_frame_id = child
+        if self.poses:
+            last = self.poses[-1]
+            moved = math.dist(last[:3], pose[:3])
+            dot = abs(sum(a * b for a, b in zip(last[3:7], pose[3:7], strict=True)))
+            turned = 2.0 * math.acos(min(1.0, dot))
+            if moved < TRAIL_POSITION_TOLERANCE_M and turned < TRAIL_ANGLE_TOLERANCE_RAD:
+                # Keep the arrow where it is but show the current speed.
+                self.poses[-1] = (*last[:7], pose[7])
+                self.version += 1
+                return
+        self.poses.append(pose)
+        while len(self.poses) > maxlen:
+            self.poses.popleft()
+        self.version += 1
+
+
+def _stamp_ns(stamp: Any) -> int:
+    return int(stamp.sec) * NS + int(stamp.nanosec)
+
+
+def _resolve_class(type_name: str) -> type | None:
+    """posekit's class for a ROS type name, or a ``module.Class`` name of a custom type."""
+    try:
+        return get_message_class(type_name)
+    except UnknownMessageTypeError:
+        pass
+    module_name, _, attr = type_name.rpartition(".")
+    if not module_name:
+        return None
+    try:
+        obj = importlib.import_module(module_name)
+    except ImportError:
+        return None
+    for part in attr.split("."):
+        obj = getattr(obj, part, None)
+        if obj is None:
+            return None
+    return obj if isinstance(obj, type) else None
+
+
+class ViewerTap:
+    """Listens on a transport and keeps what the viewer shows (see the module docstring).
+
+    Args:
+        transport: the transport of the system to view (``context.transport()``).
+        odometry_topics: Odometry displays (fully qualified names).
+        ground_truth_topic: the simulator's true pose (nav_msgs/Odometry), drawn separately.
+        trail_length: poses kept per Odometry display (RViz2's "Keep", default 100).
+        tf_cache_time: seconds of /tf history kept in the buffer.
+        clock_ns: "now" in ns for frame ages (in process: the SimulatedTimeExecutor's
+            ``now_ns``); default: see :meth:`now_ns`.
+    """
+
+    def __init__(
+        self,
+        transport: Transport,
+        *,
+        odometry_topics: Iterable[str] = ODOMETRY_TOPICS,
+        ground_truth_topic: str | None = GROUND_TRUTH_TOPIC,
+        trail_length: int = 100,
+        tf_cache_time: float = 10.0,
+        logger: RcutilsLogger | None = None,
+        clock_ns: Callable[[], int] | None = None,
+    ) -> None:
+        if trail_length < 1:
+            raise ValueError(f"trail_length must be >= 1, got {trail_length}")
+        self.transport = transport
+        self.logger = logger or get_logger("posekit_viewer")
+        self.trail_length = int(trail_length)
+        self.odometry_topics = tuple(odometry_topics)
+        self.ground_truth_topic = ground_truth_topic
+        self.buffer = Buffer(cache_time=Duration(seconds=tf_cache_time))
+        self._lock = threading.Lock()
+        self._frames: dict[str, FrameInfo] = {}
+        self._topics: dict[str, TopicInfo] = {}
+        self._endpoints: dict[str, SubscriptionEndpoint] = {}
+        self._trails: dict[str, OdometryTrail] = {}
+        self._images: dict[str, tuple[int, Any]] = {}
+        self._clock_ns: int | None = None
+        self._clock_fn = clock_ns
+        # Newest stamp seen on /tf and when (monotonic s): "now" when there is no clock.
+        self._newest_stamp: tuple[int, float] | None = None
+        self._tf_version = 0
+        self._closed = False
+        #: Number of transforms the tf2 buffer refused (logged once each by reason).
+        self.rejected_transforms = 0
+
+    # -- discovery -------------------------------------------------------------------------
+    def refresh(self) -> None:
+        """Learn new topics and subscribe to those that have a publisher."""
+        if self._closed:
+            return
+        try:
+            names_and_types = self.transport.get_topic_names_and_types()
+        except Exception as exc:  # a transport failing a graph query must not kill the viewer
+            self.logger.warning(f"viewer: graph query failed: {exc}")
+            return
+        for name, types in names_and_types:
+            type_name = types[0] if types else ""
+            with self._lock:
+                info = self._topics.get(name)
+                if info is None:
+                    info = self._topics[name] = TopicInfo(name, type_name)
+            if info.subscribed or info.error:
+                continue
+            if self.transport.count_publishers(name) <= 0:
+                continue
+            self._subscribe(info)
+
+    def _subscribe(self, info: TopicInfo) -> None:
+        msg_type = _resolve_class(info.type_name)
+        if msg_type is None:
+            info.error = f"unknown message type {info.type_name!r}"
+            return
+        qos = _STATIC_QOS if info.name == "/tf_static" else _ANY_QOS
+        sink = self._make_sink(info)
+        endpoint_info = EndpointInfo(info.name, msg_type, qos, "posekit_viewer", "/", self.logger)
+        try:
+            endpoint = self.transport.subscribe(endpoint_info, sink)
+        except TopicTypeMismatchError as exc:
+            info.error = str(exc)
+            self.logger.warning(f"viewer: not showing {info.name}: {exc}")
+            return
+        with self._lock:
+            self._endpoints[info.name] = endpoint
+            info.subscribed = True
+
+    def _make_sink(self, info: TopicInfo) -> Callable[[Any], None]:
+        handler: Callable[[Any], None] | None = None
+        name = info.name
+        if info.type_name == TF_TYPE and name in ("/tf", "/tf_static"):
+            is_static = name == "/tf_static"
+
+            def handler(msg: Any) -> None:
+                self._on_tf(msg, is_static)
+        elif info.type_name == CLOCK_TYPE and name == "/clock":
+            handler = self._on_clock
+        elif info.type_name == ODOM_TYPE and (
+            name in self.odometry_topics or name == self.ground_truth_topic
+        ):
+            def handler(msg: Any) -> None:
+                self._on_odometry(name, msg)
+        elif info.type_name == IMAGE_TYPE:
+            def handler(msg: Any) -> None:
+                with self._lock:
+                    seq = self._images.get(name, (0, None))[0] + 1
+                    self._images[name] = (seq, msg)
+
+        def sink(msg: Any) -> None:
+            if self._closed:
+                return
+            now = time.monotonic()
+            with self._lock:
+                info.count += 1
+                info.receipts.append(now)
+                if len(info.receipts) > 4096:  # bounded even without readers
+                    info.receipts.popleft()
+            if handler is not None:
+                try:
+                    handler(msg)
+                except Exception as exc:  # malformed input: log, keep running
+                    self.logger.warning(
+                        f"viewer: bad message on {name}: {type(exc).__name__}: {exc}",
+                        throttle_duration_sec=5.0,
+                    )
+
+        return sink
+
+    # -- sinks ------------------------------------------------------------------------------
+    def _on_tf(self, msg: Any, is_static: bool) -> None:
+        for t in msg.transforms:
+            if is_static:
+                ok = self.buffer.set_transform_static(t, "posekit_viewer")
+            else:
+                ok = self.buffer.set_transform(t, "posekit_viewer")
+            if not ok:
+                self.rejected_transforms += 1
+                continue
+            child = t.child_frame_id.lstrip("/")
+            with self._lock:
+                info = self._frames.get(child)
+                if info is None or info.static != is_static:
+                    info = self._frames[child] = FrameInfo(child, "", is_static)
+                info.parent = t.header.frame_id.lstrip("/")
+                stamp = _stamp_ns(t.header.stamp)
+                if not is_static and (
+                    self._newest_stamp is None or stamp > self._newest_stamp[0]
+                ):
+                    self._newest_stamp = (stamp, time.monotonic())
+                if not info.stamps_ns or stamp != info.stamps_ns[-1]:
+                    info.stamps_ns.append(stamp)
+                self._tf_version += 1
+
+    def _on_clock(self, msg: Any) -> None:
+        ns = _stamp_ns(msg.clock)
+        jumped = self._clock_ns is not None and ns < self._clock_ns - _BACKWARD_JUMP_NS
+        self._clock_ns = ns
+        if jumped:
+            self.buffer.clear()
+            with self._lock:
+                for info in self._frames.values():
+                    if not info.static:
+                        info.stamps_ns.clear()
+                for trail in self._trails.values():
+                    trail.poses.clear()
+                    trail.version += 1
+
+    def _on_odometry(self, topic: str, msg: Any) -> None:
+        p = msg.pose.pose.position
+        q = msg.pose.pose.orientation
+        v = msg.twist.twist.linear
+        pose = (
+            float(p.x), float(p.y), float(p.z),
+            float(q.x), float(q.y), float(q.z), float(q.w),
+            math.sqrt(float(v.x) ** 2 + float(v.y) ** 2 + float(v.z) ** 2),
+        )
+        if not all(math.isfinite(x) for x in pose):
+            raise ValueError(f"non-finite pose or twist {pose}")
+        with self._lock:
+            trail = self._trails.get(topic)
+            if trail is None:
+                trail = self._trails[topic] = OdometryTrail(topic)
+            trail.add(pose, msg.header.frame_id.lstrip("/"), msg.child_frame_id, self.trail_length)
+
+    # -- snapshots for the server -----------------------------------------------------------
+    def now_ns(self) -> int:
+        """"Now" (ns) for frame ages: the ``clock_ns`` given, else ``/clock`` when the system
+        publishes it, else the wall clock; but when the newest /tf stamp is more than an
+        hour away from the wall clock (sim time without /clock), that stamp plus the wall
+        time elapsed since it arrived."""
+        if self._clock_fn is not None:
+            return int(self._clock_fn())
+        if self._clock_ns is not None:
+            return self._clock_ns
+        wall = time.time_ns()
+        newest = self._newest_stamp
+        if newest is not None and abs(wall - newest[0]) > 3600 * NS:
+            return newest[0] + int((time.monotonic() - newest[1]) * NS)
+        return wall
+
+    @property
+    def tf_version(self) -> int:
+        """Increases with every transform stored (lets the server skip unchanged sends)."""
+        return self._tf_version
+
+    def frame_names(self) -> list[str]:
+        """Every frame seen as a child or a parent, sorted."""
+        with self._lock:
+            names = set(self._frames)
+            names.update(f.parent for f in self._frames.values() if f.parent)
+        return sorted(names)
+
+    def frames_in(self, fixed_frame: str) -> tuple[str | None, list[list[Any]]]:
+        """Pose of every frame in ``fixed_frame`` at the latest common time.
+
+        Returns ``(error, rows)``: ``error`` is a message when ``fixed_frame`` does not exist
+        (yet), else None; each row is ``[name, parent, x, y, z, qx, qy, qz, qw, age_s,
+        static, ok]`` with the pose of ``name`` in ``fixed_frame`` (T_fixed_name; zeros and
+        ``ok`` false when it cannot be looked up, e.g. another tree) and the age of its
+        newest transform (s, by :meth:`now_ns`).
+        """
+        now = self.now_ns()
+        with self._lock:
+            frames = {n: (f.parent, f.static, f.last_stamp_ns) for n, f in self._frames.items()}
+        names = set(frames)
+        names.update(p for p, _, _ in frames.values() if p)
+        if fixed_frame not in names:
+            if not names:
+                return f"No tf data. Fixed Frame [{fixed_frame}] does not exist", []
+            error: str | None = f"Fixed Frame [{fixed_frame}] does not exist"
+        else:
+            error = None
+        rows: list[list[Any]] = []
+        for name in sorted(names):
+            parent, static, stamp = frames.get(name, ("", True, 0))
+            age = 0.0 if static or name not in frames else max(0.0, (now - stamp) / NS)
+            pose: list[float] = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+            ok = False
+            if error is None:
+                try:
+                    t = self.buffer.lookup_transform_core(fixed_frame, name, 0)
+                except TransformException:
+                    pass
+                else:
+                    tr, rot = t.transform.translation, t.transform.rotation
+                    pose = [tr.x, tr.y, tr.z, rot.x, rot.y, rot.z, rot.w]
+                    ok = True
+            rows.append([name, parent, *(round(v, 5) for v in pose), round(age, 3), static, ok])
+        return error, rows
+
+    def tree(self) -> list[dict[str, Any]]:
+        """The TF tree panel: every frame with its parent, rate (Hz), age (s) and kind."""
+        now = self.now_ns()
+        with self._lock:
+            out = [
+                {
+                    "name": f.name,
+                    "parent": f.parent,
+                    "rate": round(f.rate_hz(), 2),
+                    "age": None if f.static else round(max(0.0, (now - f.last_stamp_ns) / NS), 3),
+                    "static": f.static,
+                }
+                for f in self._frames.values()
+            ]
+        return sorted(out, key=lambda d: d["name"])
+
+    def topics(self) -> list[dict[str, Any]]:
+        """The topic panel: name, type, rate (Hz), messages received, publisher count."""
+        now = time.monotonic()
+        with self._lock:
+            infos = list(self._topics.values())
+            rows = [
+                {
+                    "name": i.name,
+                    "type": i.type_name,
+                    "rate": round(i.rate_hz(now), 2),
+                    "count": i.count,
+                    "error": i.error,
+                }
+                for i in infos
+            ]
+        for row in rows:
+            try:
+                row["publishers"] = self.transport.count_publishers(row["name"])
+            except Exception:  # graph query failure: show unknown
+                row["publishers"] = None
+        return sorted(rows, key=lambda d: d["name"])
+
+    def image_topics(self) -> list[str]:
+        """Topics carrying sensor_msgs/Image."""
+        with self._lock:
+            return sorted(n for n, i in self._topics.items() if i.type_name == IMAGE_TYPE)
+
+    def latest_image(self, topic: str) -> tuple[int, Any] | None:
+        """``(sequence number, newest Image message)`` of ``topic``, or None."""
+        with self._lock:
+            return self._images.get(topic)
+
+    def trails(self) -> dict[str, dict[str, Any]]:
+        """Every Odometry display: frame, child frame, kept poses, messages received."""
+        with self._lock:
+            return {
+                topic: {
+                    "frame": t.frame_id,
+                    "child": t.child_frame_id,
+                    "received": t.received,
+                    "version": t.version,
+                    "trail": [[round(v, 4) for v in p] for p in t.poses],
+                }
+                for topic, t in self._trails.items()
+            }
+
+    def trails_version(self) -> int:
+        """Changes whenever any trail changes."""
+        with self._lock:
+            return sum(t.version for t in self._trails.values())
+
+    def close(self) -> None:
+        """Destroy every subscription; sinks ignore late messages."""
+        self._closed = True
+        with self._lock:
+            endpoints = list(self._endpoints.values())
+            self._endpoints.clear()
+        for endpoint in endpoints:
+            try:
+                endpoint.destroy()
+            except Exception as exc:  # closing transport: nothing more to do
+                self.logger.debug(f"viewer: destroying a subscription failed: {exc}")

@@ -1,0 +1,328 @@
+// posekit viewer page: WebSocket client, panels and controls; the scene is drawn by
+// scene3d.js (three.js / WebGL) or, when WebGL or three.js is unavailable, scene2d.js.
+// Protocol: see src/posekit/viewer/server.py.
+
+const params = new URLSearchParams(location.search);
+const STALE_S = Number(params.get("stale") || 1.0);          // frames older than this: grey
+const ODOM_TOPICS = { filtered: "/odometry/filtered", wheels: "/odometry/wheels" };
+
+const $ = (id) => document.getElementById(id);
+
+// Introspection for tests and scripts (read-only use).
+const debug = (window.posekitViewer = {
+  renderer: "none", rendererNote: "", renders: 0, tfMessages: 0, odomMessages: 0,
+  graphMessages: 0, imageUpdates: {}, frames: [], fixedFrame: null, fixedFrameError: null,
+  trails: {}, connected: false, paused: false,
+});
+
+const state = {
+  fixedFrame: params.get("fixed_frame") || null,
+  paused: false,
+  ws: null,
+  hello: null,
+  lastTf: null,
+  lastOdom: null,
+  imageTopics: [],
+  watched: new Set(),
+  imageUrls: {},
+  dirty: true,
+  fps: Number(params.get("fps") || 30),
+};
+
+const visibility = () => ({
+  grid: $("show-grid").checked,
+  tf: $("show-tf").checked,
+  names: $("show-names").checked,
+  robot: $("show-robot").checked,
+  [ODOM_TOPICS.filtered]: $("show-odom-filtered").checked,
+  [ODOM_TOPICS.wheels]: $("show-odom-wheels").checked,
+  truth: $("show-truth").checked,
+  world: $("show-world").checked,
+});
+
+// ------------------------------------------------------------------------------ scene
+let scene = null;
+
+async function createScene() {
+  const container = $("view");
+  const want2d = params.get("renderer") === "2d";
+  if (!want2d) {
+    try {
+      const mod = await import("./scene3d.js");
+      scene = await mod.createScene3D(container);
+      debug.renderer = "webgl";
+    } catch (err) {
+      debug.rendererNote = `3D view unavailable (${err && err.message ? err.message : err}); showing the 2D top-down view`;
+      console.warn(debug.rendererNote);
+    }
+  } else {
+    debug.rendererNote = "2D top-down view (renderer=2d)";
+  }
+  if (!scene) {
+    const mod = await import("./scene2d.js");
+    scene = mod.createScene2D(container);
+    debug.renderer = "2d";
+  }
+  if (debug.rendererNote) {
+    $("renderer-note").textContent = debug.rendererNote;
+    $("renderer-note").hidden = false;
+  }
+  scene.setVisibility(visibility());
+}
+
+// Render loop capped at state.fps (30 by default) so a laptop stays cool.
+let lastRender = 0;
+function loop(now) {
+  requestAnimationFrame(loop);
+  if (!scene) return;
+  const interval = 1000 / state.fps;
+  if (now - lastRender < interval - 1) return;
+  if (!state.dirty && !scene.needsRender()) return;
+  lastRender = now;
+  state.dirty = false;
+  scene.render();
+  debug.renders += 1;
+}
+
+// ------------------------------------------------------------------------------ socket
+function send(obj) {
+  if (state.ws && state.ws.readyState === WebSocket.OPEN) state.ws.send(JSON.stringify(obj));
+}
+
+function connect() {
+  const proto = location.protocol === "https:" ? "wss:" : "ws:";
+  const ws = new WebSocket(`${proto}//${location.host}/ws`);
+  ws.binaryType = "arraybuffer";
+  state.ws = ws;
+  ws.onopen = () => {
+    debug.connected = true;
+    setConnection("connected", "ok");
+    if (state.fixedFrame) send({ op: "fixed_frame", frame: state.fixedFrame });
+    if (state.paused) send({ op: "pause", paused: true });
+    updateWatch(true);
+  };
+  ws.onclose = () => {
+    debug.connected = false;
+    setConnection("disconnected — retrying", "bad");
+    setTimeout(connect, 1000);
+  };
+  ws.onmessage = (ev) => {
+    if (typeof ev.data !== "string") { onImage(ev.data); return; }
+    const msg = JSON.parse(ev.data);
+    switch (msg.type) {
+      case "hello": onHello(msg); break;
+      case "tf": onTf(msg); break;
+      case "odom": onOdom(msg); break;
+      case "graph": onGraph(msg); break;
+      case "error": console.warn("viewer server:", msg.message); break;
+      default: break;
+    }
+  };
+}
+
+function setConnection(text, cls) {
+  const el = $("connection");
+  el.textContent = text;
+  el.className = `status ${cls}`;
+}
+
+function onHello(msg) {
+  state.hello = msg;
+  if (!state.fixedFrame) state.fixedFrame = msg.fixed_frame;
+  if (!params.get("fps") && msg.fps) state.fps = msg.fps;
+  if (scene) scene.setWorld(msg.world);
+  debug.world = msg.world ? msg.world.name : null;
+  fillFixedFrames([]);
+  state.dirty = true;
+}
+
+function onTf(msg) {
+  if (state.paused) return;
+  if (msg.fixed !== state.fixedFrame) return;   // an answer for a previous choice
+  state.lastTf = msg;
+  debug.tfMessages += 1;
+  debug.frames = msg.frames.map((f) => f[0]);
+  debug.fixedFrame = msg.fixed;
+  debug.fixedFrameError = msg.error;
+  const banner = $("fixed-frame-status");
+  if (msg.error) {
+    banner.textContent = msg.error;
+    banner.hidden = false;
+  } else {
+    banner.hidden = true;
+  }
+  $("sim-time").textContent = `t = ${msg.now.toFixed(2)} s`;
+  fillFixedFrames(debug.frames);
+  if (scene) scene.setFrames(msg, STALE_S);
+  state.dirty = true;
+}
+
+function onOdom(msg) {
+  if (state.paused) return;
+  state.lastOdom = msg;
+  debug.odomMessages += 1;
+  for (const [topic, d] of Object.entries(msg.displays)) debug.trails[topic] = d.trail.length;
+  if (scene) scene.setOdometry(msg.displays, state.hello);
+  state.dirty = true;
+}
+
+function onGraph(msg) {
+  if (state.paused) return;
+  debug.graphMessages += 1;
+  fillTree(msg.tree);
+  fillTopics(msg.topics);
+  state.imageTopics = msg.images;
+  fillCameraTopics(msg.images);
+  updateWatch(false);
+}
+
+// ------------------------------------------------------------------------------ controls
+function fillFixedFrames(frames) {
+  const select = $("fixed-frame");
+  const names = new Set(frames);
+  if (state.fixedFrame) names.add(state.fixedFrame);
+  const sorted = [...names].sort();
+  const current = [...select.options].map((o) => o.value);
+  if (current.join("\n") !== sorted.join("\n")) {
+    select.replaceChildren(...sorted.map((n) => new Option(n, n)));
+  }
+  if (state.fixedFrame) select.value = state.fixedFrame;
+}
+
+$("fixed-frame").addEventListener("change", (ev) => {
+  state.fixedFrame = ev.target.value;
+  state.lastTf = null;
+  send({ op: "fixed_frame", frame: state.fixedFrame });
+  if (scene) scene.resetTrails();
+});
+
+$("pause").addEventListener("click", () => {
+  state.paused = !state.paused;
+  debug.paused = state.paused;
+  const button = $("pause");
+  button.textContent = state.paused ? "Resume" : "Pause";
+  button.setAttribute("aria-pressed", String(state.paused));
+  send({ op: "pause", paused: state.paused });
+});
+
+for (const input of document.querySelectorAll(".toggles input")) {
+  input.addEventListener("change", () => {
+    if (scene) scene.setVisibility(visibility());
+    state.dirty = true;
+  });
+}
+
+// ------------------------------------------------------------------------------ panels
+function cell(text, cls) {
+  const td = document.createElement("td");
+  td.textContent = text;
+  if (cls) td.className = cls;
+  return td;
+}
+
+function fillTree(tree) {
+  const body = $("tf-tree").tBodies[0];
+  // Depth-first order under each root, indented, like rqt_tf_tree read top-down.
+  const children = new Map();
+  const names = new Set(tree.map((f) => f.name));
+  for (const f of tree) {
+    if (!children.has(f.parent)) children.set(f.parent, []);
+    children.get(f.parent).push(f);
+  }
+  const roots = [...new Set(tree.map((f) => f.parent))].filter((p) => !names.has(p)).sort();
+  const rows = [];
+  const walk = (name, depth) => {
+    for (const f of (children.get(name) || []).sort((a, b) => a.name.localeCompare(b.name))) {
+      const tr = document.createElement("tr");
+      tr.dataset.frame = f.name;
+      const stale = !f.static && f.age !== null && f.age > STALE_S;
+      tr.className = `${f.static ? "static" : ""} ${stale ? "stale" : ""}`;
+      tr.append(
+        cell(`${"\u00a0".repeat(depth)}${f.name}`),
+        cell(f.parent),
+        cell(f.static ? "static" : f.rate.toFixed(1), "num"),
+        cell(f.static ? "" : f.age.toFixed(2), "num"),
+      );
+      rows.push(tr);
+      if (depth < 64) walk(f.name, depth + 1);
+    }
+  };
+  for (const root of roots) {
+    const tr = document.createElement("tr");
+    tr.dataset.frame = root;
+    tr.append(cell(root), cell(""), cell("", "num"), cell("", "num"));
+    rows.push(tr);
+    walk(root, 1);
+  }
+  body.replaceChildren(...rows);
+}
+
+function fillTopics(topics) {
+  const body = $("topics").tBodies[0];
+  body.replaceChildren(...topics.map((t) => {
+    const tr = document.createElement("tr");
+    tr.dataset.topic = t.name;
+    tr.append(cell(t.name), cell(t.type.replace("/msg/", "/")), cell(t.rate.toFixed(1), "num"));
+    if (t.error) tr.title = t.error;
+    return tr;
+  }));
+}
+
+const isAruco = (t) => t.endsWith("aruco_detection_image");
+const CAMERA_PREFERENCE = ["/oak/rgb/color", "/overhead_camera/image_raw"];
+
+function fillCameraTopics(images) {
+  const select = $("camera-topic");
+  const cams = images.filter((t) => !isAruco(t));
+  const current = [...select.options].map((o) => o.value);
+  if (current.join("\n") === cams.join("\n")) return;
+  const previous = select.value;
+  select.replaceChildren(...cams.map((t) => new Option(t, t)));
+  const preferred = CAMERA_PREFERENCE.find((t) => cams.includes(t)) || cams[0];
+  select.value = cams.includes(previous) ? previous : (preferred || "");
+  $("camera-info").textContent = cams.length ? "waiting for an image…" : "no image topic";
+}
+
+$("camera-topic").addEventListener("change", () => updateWatch(true));
+$("camera-topic").addEventListener("click", (ev) => ev.stopPropagation());
+for (const id of ["camera-panel", "aruco-panel"]) {
+  $(id).addEventListener("toggle", () => updateWatch(true));
+}
+
+// Images are sent only for panels that are open (the server encodes nothing otherwise).
+function updateWatch(force) {
+  const want = new Set();
+  const cam = $("camera-topic").value;
+  if ($("camera-panel").open && cam) want.add(cam);
+  const aruco = state.imageTopics.find(isAruco);
+  if ($("aruco-panel").open && aruco) want.add(aruco);
+  const same = want.size === state.watched.size && [...want].every((t) => state.watched.has(t));
+  if (same && !force) return;
+  state.watched = want;
+  send({ op: "watch", topics: [...want] });
+}
+
+function onImage(buffer) {
+  if (state.paused) return;
+  const view = new DataView(buffer);
+  const headerLength = view.getUint32(0, false);
+  const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, headerLength)));
+  const blob = new Blob([new Uint8Array(buffer, 4 + headerLength)], { type: "image/jpeg" });
+  const target = isAruco(header.topic) ? "aruco" : (header.topic === $("camera-topic").value ? "camera" : null);
+  if (!target) return;
+  const img = $(`${target}-image`);
+  const url = URL.createObjectURL(blob);
+  img.onload = () => {
+    if (state.imageUrls[target]) URL.revokeObjectURL(state.imageUrls[target]);
+    state.imageUrls[target] = url;
+    debug.imageUpdates[header.topic] = (debug.imageUpdates[header.topic] || 0) + 1;
+  };
+  img.src = url;
+  $(`${target}-info`).textContent =
+    `${header.topic}  ${header.width}×${header.height} ${header.encoding}  stamp ${header.stamp.toFixed(3)} s`;
+}
+
+// ------------------------------------------------------------------------------ start
+await createScene();
+connect();
+requestAnimationFrame(loop);

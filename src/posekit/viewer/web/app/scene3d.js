@@ -1,0 +1,359 @@
+// 3D scene with three.js, in ROS coordinates (z up, metres). Everything is placed in the
+// Fixed Frame: the server sends every frame's pose T_fixed_frame, and objects that live in a
+// frame (the robot in base_link, the world and odometry trails in their header frame) are
+// children of a group holding that pose.
+
+import * as THREE from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+
+const AXIS_LENGTH = 0.15;         // m, per frame
+const STALE_GREY = 0x8a8a8a;
+const ODOM_COLORS = { "/odometry/filtered": 0xff1900, "/odometry/wheels": 0x2f7bff, truth: 0x21c45a };
+
+// ROSbot 2R/3 (Husarion): about 0.20 m long, 0.15 m body width between the wheels,
+// wheels of radius 0.0425 m at x = +-0.053, y = +-0.096 in body_link (robot/description.py).
+const WHEEL_RADIUS = 0.0425;
+const WHEEL_WIDTH = 0.04;
+const WHEELS = [[0.053, 0.096], [0.053, -0.096], [-0.053, 0.096], [-0.053, -0.096]];
+
+function poseToMatrix(x, y, z, qx, qy, qz, qw, m = new THREE.Matrix4()) {
+  return m.compose(new THREE.Vector3(x, y, z), new THREE.Quaternion(qx, qy, qz, qw), new THREE.Vector3(1, 1, 1));
+}
+
+function textSprite(text, color = "#ffffff") {
+  const canvas = document.createElement("canvas");
+  const ctx = canvas.getContext("2d");
+  const font = "28px 'DejaVu Sans', sans-serif";
+  ctx.font = font;
+  const width = Math.ceil(ctx.measureText(text).width) + 8;
+  canvas.width = width;
+  canvas.height = 36;
+  ctx.font = font;
+  ctx.fillStyle = color;
+  ctx.textBaseline = "middle";
+  ctx.fillText(text, 4, 18);
+  const texture = new THREE.CanvasTexture(canvas);
+  texture.colorSpace = THREE.SRGBColorSpace;
+  const material = new THREE.SpriteMaterial({ map: texture, depthTest: false, transparent: true });
+  const sprite = new THREE.Sprite(material);
+  const h = 0.045;
+  sprite.scale.set((h * width) / 36, h, 1);
+  sprite.center.set(0, 0);
+  sprite.renderOrder = 10;
+  return sprite;
+}
+
+function makeAxes() {
+  const group = new THREE.Group();
+  const colors = [0xff2020, 0x20d020, 0x3060ff];
+  const dirs = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
+  group.userData.materials = [];
+  dirs.forEach((d, i) => {
+    const geom = new THREE.CylinderGeometry(0.006, 0.006, AXIS_LENGTH, 6);
+    geom.translate(0, AXIS_LENGTH / 2, 0);
+    const mat = new THREE.MeshBasicMaterial({ color: colors[i] });
+    mat.userData.color = colors[i];
+    const mesh = new THREE.Mesh(geom, mat);
+    mesh.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), new THREE.Vector3(...d));
+    group.add(mesh);
+    group.userData.materials.push(mat);
+  });
+  return group;
+}
+
+function makeRobot() {
+  const robot = new THREE.Group();
+  const body = new THREE.Mesh(
+    new THREE.BoxGeometry(0.2, 0.15, 0.09),
+    new THREE.MeshStandardMaterial({ color: 0x3a3f47, roughness: 0.7, metalness: 0.1 }),
+  );
+  body.position.set(0, 0, WHEEL_RADIUS + 0.045);
+  robot.add(body);
+  const cover = new THREE.Mesh(
+    new THREE.BoxGeometry(0.16, 0.12, 0.012),
+    new THREE.MeshStandardMaterial({ color: 0xc0392b, roughness: 0.6 }),
+  );
+  cover.position.set(-0.01, 0, WHEEL_RADIUS + 0.096);
+  robot.add(cover);
+  const camera = new THREE.Mesh(
+    new THREE.BoxGeometry(0.03, 0.1, 0.03),
+    new THREE.MeshStandardMaterial({ color: 0x15171a }),
+  );
+  camera.position.set(-0.02, 0, WHEEL_RADIUS + 0.15);
+  robot.add(camera);
+  const wheelMat = new THREE.MeshStandardMaterial({ color: 0x111111, roughness: 0.9 });
+  for (const [x, y] of WHEELS) {
+    const wheel = new THREE.Mesh(new THREE.CylinderGeometry(WHEEL_RADIUS, WHEEL_RADIUS, WHEEL_WIDTH, 20), wheelMat);
+    wheel.position.set(x, y, WHEEL_RADIUS);   // cylinder axis is +y: the wheel axle
+    robot.add(wheel);
+  }
+  return robot;
+}
+
+function arrowLength(speed) {
+  // Proportional to speed (where the robot is in 0.5 s), at least 3 cm so stops stay visible.
+  return Math.max(0.03, 0.5 * speed);
+}
+
+export async function createScene3D(container) {
+  const canvas = document.createElement("canvas");
+  canvas.id = "scene";
+  container.prepend(canvas);
+  let renderer;
+  try {
+    // preserveDrawingBuffer: the canvas content stays readable (canvas.toDataURL()).
+    renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+  } catch (err) {
+    canvas.remove();
+    throw new Error(`WebGL is not available: ${err.message || err}`);
+  }
+  renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
+  renderer.setClearColor(0x30303a);
+
+  const scene = new THREE.Scene();
+  const camera = new THREE.PerspectiveCamera(50, 1, 0.02, 500);
+  camera.up.set(0, 0, 1);
+  camera.position.set(0.2, -2.2, 3.2);
+  const controls = new OrbitControls(camera, canvas);
+  controls.target.set(2.2, 2.0, 0);
+  controls.update();
+  let controlsMoved = false;
+  controls.addEventListener("change", () => { controlsMoved = true; });
+
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x404050, 1.6));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+  sun.position.set(3, -1, 8);
+  scene.add(sun);
+
+  const grid = new THREE.GridHelper(20, 20, 0x8888a0, 0x55555f);
+  grid.rotation.x = Math.PI / 2;                // XZ plane -> XY plane (z up)
+  scene.add(grid);
+
+  const tfRoot = new THREE.Group();
+  scene.add(tfRoot);
+  const frameObjects = new Map();               // name -> {group, axes, label}
+  const linkGeometry = new THREE.BufferGeometry();
+  linkGeometry.setAttribute("position", new THREE.Float32BufferAttribute(new Float32Array(6 * 256), 3));
+  const links = new THREE.LineSegments(linkGeometry, new THREE.LineBasicMaterial({ color: 0xf0d050, transparent: true, opacity: 0.8 }));
+  links.frustumCulled = false;
+  scene.add(links);
+
+  const framePose = new Map();                  // name -> Matrix4 in the fixed frame
+  const robot = makeRobot();
+  robot.visible = false;
+  scene.add(robot);
+  const worldGroup = new THREE.Group();
+  worldGroup.matrixAutoUpdate = false;
+  scene.add(worldGroup);
+  let worldFrame = "odom";
+
+  const odomGroups = new Map();                 // topic -> {group, arrows: [], frame}
+  let vis = {};
+  let hello = null;
+
+  function frameGroup(name) {
+    let obj = frameObjects.get(name);
+    if (!obj) {
+      const group = new THREE.Group();
+      group.matrixAutoUpdate = false;
+      const axes = makeAxes();
+      const label = textSprite(name);
+      label.position.set(0.01, 0.01, 0.01);
+      group.add(axes, label);
+      tfRoot.add(group);
+      obj = { group, axes, label, stale: false };
+      frameObjects.set(name, obj);
+    }
+    return obj;
+  }
+
+  function setStale(obj, stale) {
+    if (obj.stale === stale) return;
+    obj.stale = stale;
+    for (const mat of obj.axes.userData.materials) mat.color.setHex(stale ? STALE_GREY : mat.userData.color);
+    obj.label.material.opacity = stale ? 0.45 : 1.0;
+  }
+
+  function setFrames(msg, staleSeconds) {
+    framePose.clear();
+    const seen = new Set();
+    const positions = links.geometry.attributes.position;
+    let nLinks = 0;
+    const okFrames = new Map();
+    for (const f of msg.frames) {
+      const [name, , x, y, z, qx, qy, qz, qw, , , ok] = f;
+      if (ok) okFrames.set(name, f);
+    }
+    for (const f of msg.frames) {
+      const [name, parent, x, y, z, qx, qy, qz, qw, age, isStatic, ok] = f;
+      const obj = frameGroup(name);
+      seen.add(name);
+      obj.group.visible = ok && vis.tf !== false;
+      if (!ok) continue;
+      const m = poseToMatrix(x, y, z, qx, qy, qz, qw);
+      framePose.set(name, m);
+      obj.group.matrix.copy(m);
+      obj.group.matrixWorldNeedsUpdate = true;
+      obj.label.visible = vis.names !== false;
+      setStale(obj, !isStatic && age > staleSeconds);
+      const p = okFrames.get(parent);
+      if (p && nLinks < 256) {
+        positions.setXYZ(2 * nLinks, x, y, z);
+        positions.setXYZ(2 * nLinks + 1, p[2], p[3], p[4]);
+        nLinks += 1;
+      }
+    }
+    for (const [name, obj] of frameObjects) if (!seen.has(name)) obj.group.visible = false;
+    positions.needsUpdate = true;
+    links.geometry.setDrawRange(0, 2 * nLinks);
+    links.visible = vis.tf !== false;
+    const base = framePose.get((hello && hello.base_frame) || "base_link");
+    robot.visible = Boolean(base) && vis.robot !== false;
+    if (base) robot.matrix.copy(base), (robot.matrixAutoUpdate = false), (robot.matrixWorldNeedsUpdate = true);
+    placeWorld();
+    placeOdometry();
+  }
+
+  function placeWorld() {
+    const m = framePose.get(worldFrame);
+    worldGroup.visible = Boolean(m) && vis.world !== false;
+    if (m) { worldGroup.matrix.copy(m); worldGroup.matrixWorldNeedsUpdate = true; }
+  }
+
+  function setWorld(world) {
+    worldGroup.clear();
+    if (!world) return;
+    worldFrame = world.frame || "odom";
+    const boxMat = new THREE.MeshStandardMaterial({ color: 0xf4f4f0, roughness: 0.8 });
+    const edgeMat = new THREE.LineBasicMaterial({ color: 0x999999 });
+    for (const b of world.boxes) {
+      const geom = new THREE.BoxGeometry(b.size, b.size, b.size);
+      const mesh = new THREE.Mesh(geom, boxMat);
+      mesh.matrixAutoUpdate = false;
+      mesh.matrix.set(...b.T);
+      const edges = new THREE.LineSegments(new THREE.EdgesGeometry(geom), edgeMat);
+      mesh.add(edges);
+      worldGroup.add(mesh);
+    }
+    const loader = new THREE.TextureLoader();
+    for (const mk of world.markers) {
+      const mat = new THREE.MeshBasicMaterial({ color: 0xffffff });
+      if (mk.image) {
+        const tex = loader.load(mk.image, () => { controlsMoved = true; });
+        tex.magFilter = THREE.NearestFilter;
+        tex.colorSpace = THREE.SRGBColorSpace;
+        mat.map = tex;
+      } else {
+        mat.color.setHex(0x111111);
+      }
+      const plane = new THREE.Mesh(new THREE.PlaneGeometry(mk.size, mk.size), mat);
+      plane.matrixAutoUpdate = false;
+      const m = new THREE.Matrix4().set(...mk.T);
+      m.multiply(new THREE.Matrix4().makeTranslation(0, 0, 0.001));  // just off the face
+      plane.matrix.copy(m);
+      worldGroup.add(plane);
+    }
+    for (const c of world.cameras) {
+      const cam = new THREE.Mesh(new THREE.BoxGeometry(0.12, 0.08, 0.08), new THREE.MeshStandardMaterial({ color: 0x222222 }));
+      cam.matrixAutoUpdate = false;
+      cam.matrix.set(...c.T);
+      worldGroup.add(cam);
+    }
+  }
+
+  function odomGroup(topic) {
+    let g = odomGroups.get(topic);
+    if (!g) {
+      const group = new THREE.Group();
+      group.matrixAutoUpdate = false;
+      scene.add(group);
+      g = { group, arrows: [], frame: "odom" };
+      odomGroups.set(topic, g);
+    }
+    return g;
+  }
+
+  function placeOdometry() {
+    for (const [topic, g] of odomGroups) {
+      const m = framePose.get(g.frame);
+      const key = topic === (hello && hello.ground_truth_topic) ? "truth" : topic;
+      g.group.visible = Boolean(m) && vis[key] !== false;
+      if (m) { g.group.matrix.copy(m); g.group.matrixWorldNeedsUpdate = true; }
+    }
+  }
+
+  const xAxis = new THREE.Vector3();
+  function setOdometry(displays, helloMsg) {
+    hello = helloMsg;
+    for (const [topic, d] of Object.entries(displays)) {
+      const g = odomGroup(topic);
+      g.frame = d.frame || "odom";
+      const truth = topic === (hello && hello.ground_truth_topic);
+      const color = truth ? ODOM_COLORS.truth : (ODOM_COLORS[topic] || 0xffaa00);
+      while (g.arrows.length < d.trail.length) {
+        const arrow = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 0.1, color, 0.04, 0.025);
+        g.group.add(arrow);
+        g.arrows.push(arrow);
+      }
+      g.arrows.forEach((arrow, i) => {
+        const p = d.trail[i];
+        arrow.visible = Boolean(p);
+        if (!p) return;
+        arrow.position.set(p[0], p[1], p[2] + (truth ? 0.004 : 0.002));
+        xAxis.set(1, 0, 0).applyQuaternion(new THREE.Quaternion(p[3], p[4], p[5], p[6]));
+        arrow.setDirection(xAxis);
+        const len = arrowLength(p[7]);
+        arrow.setLength(len, Math.min(0.04, 0.5 * len), Math.min(0.025, 0.35 * len));
+      });
+    }
+    placeOdometry();
+  }
+
+  function resetTrails() {
+    for (const g of odomGroups.values()) {
+      for (const a of g.arrows) a.visible = false;
+    }
+  }
+
+  function setVisibility(v) {
+    vis = v;
+    grid.visible = v.grid !== false;
+    links.visible = v.tf !== false;
+    for (const obj of frameObjects.values()) {
+      obj.group.visible = obj.group.visible && v.tf !== false;
+      obj.label.visible = v.names !== false;
+    }
+    controlsMoved = true;
+  }
+
+  function resize() {
+    const w = container.clientWidth || 640;
+    const h = container.clientHeight || 480;
+    const size = renderer.getSize(new THREE.Vector2());
+    if (size.x !== w || size.y !== h) {
+      renderer.setSize(w, h, false);
+      camera.aspect = w / h;
+      camera.updateProjectionMatrix();
+      controlsMoved = true;
+    }
+  }
+  new ResizeObserver(resize).observe(container);
+  resize();
+
+  return {
+    kind: "webgl",
+    canvas,
+    setFrames,
+    setWorld,
+    setOdometry,
+    resetTrails,
+    setVisibility,
+    needsRender: () => controlsMoved,
+    render() {
+      controlsMoved = false;
+      resize();
+      // Re-apply the TF visibility toggle (setFrames sets group visibility per message).
+      renderer.render(scene, camera);
+    },
+  };
+}
