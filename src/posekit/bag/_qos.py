@@ -68,10 +68,14 @@ def to_rosbags_qos(profile: QoSProfile) -> Any:
     )
 
 
+def _value(policy: Any) -> int:
+    return int(getattr(policy, "value", policy))
+
+
 def from_rosbags_qos(qos: Any) -> QoSProfile:
     """posekit's profile for a recorded rosbags ``Qos`` (unknown policies: ROS defaults)."""
     try:
-        history = HistoryPolicy(int(qos.history))
+        history = HistoryPolicy(_value(qos.history))
     except ValueError:
         history = HistoryPolicy.KEEP_LAST
     if history not in (HistoryPolicy.KEEP_LAST, HistoryPolicy.KEEP_ALL):
@@ -81,12 +85,12 @@ def from_rosbags_qos(qos: Any) -> QoSProfile:
         depth = 10  # ROS 2 graph reports depth 0 for foreign publishers; use rclpy's default
     reliability = (
         ReliabilityPolicy.BEST_EFFORT
-        if int(qos.reliability) == int(ReliabilityPolicy.BEST_EFFORT)
+        if _value(qos.reliability) == int(ReliabilityPolicy.BEST_EFFORT)
         else ReliabilityPolicy.RELIABLE
     )
     durability = (
         DurabilityPolicy.TRANSIENT_LOCAL
-        if int(qos.durability) == int(DurabilityPolicy.TRANSIENT_LOCAL)
+        if _value(qos.durability) == int(DurabilityPolicy.TRANSIENT_LOCAL)
         else DurabilityPolicy.VOLATILE
     )
     return QoSProfile(
@@ -101,7 +105,10 @@ def offered_qos_profiles(node: Any, topic: str) -> list[QoSProfile]:
     ``qos_profile``), a transport method ``publisher_qos_profiles(topic)``, the in-process
     bus's endpoint table. Without any of these, ``/tf_static`` gets tf2_ros's static profile
     (transient local, depth 1) and every other topic rclpy's default (reliable, depth 10).
+    A topic without publishers (only subscriptions so far) has no offers: ``[]``.
     """
+    if node.count_publishers(topic) == 0:
+        return []
     get_info = getattr(node, "get_publishers_info_by_topic", None)
     if callable(get_info):
         infos = get_info(topic)
