@@ -46,6 +46,7 @@ __all__ = ["BoxRenderer", "VisibleMarker", "marker_texture", "render_boxes"]
 F64Array = npt.NDArray[np.float64]
 U8Array = npt.NDArray[np.uint8]
 F32Array = npt.NDArray[np.float32]
+I16Array = npt.NDArray[np.int16]
 
 #: Sun direction of the course worlds (world frame, pointing from the sun to the scene).
 SUN_DIRECTION = (-0.5, 0.1, -0.9)
@@ -76,7 +77,8 @@ def marker_texture(
 ) -> list[U8Array]:
     """Mip pyramid of one face texture: white face with the marker centred, grey uint8 levels.
 
-    Level 0 has ``cell_px`` texels per marker cell; each next level halves the side
+    Each level is (N, N, 4) uint8: grey, coverage (255), 0, 0. Level 0 has ``cell_px`` texels
+    per marker cell; each next level halves the side
     (``INTER_AREA``) down to about 16 texels. Texel ``(col, row)`` of a level with ``N``
     texels per side covers face coordinates ``x = -S/2 + (col + 0.5) S/N``,
     ``y = S/2 - (row + 0.5) S/N`` (marker frame, x right, y up).
@@ -100,7 +102,13 @@ def marker_texture(
         n = levels[-1].shape[0] // 2
         levels.append(np.asarray(cv2.resize(levels[-1], (n, n), interpolation=cv2.INTER_AREA),
                                  dtype=np.uint8))
-    pyramid = [np.ascontiguousarray(np.dstack([lv, np.full_like(lv, 255)])) for lv in levels]
+    # Channels (grey, coverage, 0, 0): OpenCV's warps are several times faster on 4-channel
+    # uint8 images than on 2-channel ones.
+    pyramid = [
+        np.ascontiguousarray(np.dstack([lv, np.full_like(lv, 255), np.zeros_like(lv),
+                                        np.zeros_like(lv)]))
+        for lv in levels
+    ]
     _TEXTURE_CACHE[key] = pyramid
     return pyramid
 
@@ -196,9 +204,10 @@ class BoxRenderer:
         self.sky_level = float(sky_level)
         self.cell_px = int(cell_px)
         self._rng = np.random.default_rng(seed)
-        self._noise_bank: F32Array | None = None
+        self._noise_bank: I16Array | None = None
         self._background_key: tuple[float, ...] | None = None
-        self._background: F32Array | None = None
+        self._background: U8Array | None = None
+        self._lit_textures: dict[tuple[int, int], list[U8Array]] = {}
         self._textures = {
             face.marker_id: marker_texture(
                 face.marker_id, dictionary=model.dictionary, face_size=model.size,
@@ -241,42 +250,71 @@ class BoxRenderer:
 
     # -- rendering ---------------------------------------------------------------------------
 
-    def _background_for(self, cam: PinholeCamera, T_wo: F64Array) -> F32Array:
+    def _background_for(self, cam: PinholeCamera, T_wo: F64Array) -> U8Array:
         r = T_wo[2, :3]  # world z of the optical axes: dz = r . ray
         height = T_wo[2, 3]
         key = (*np.round(r, 12).tolist(), float(height > 0.0))
         if self._background is not None and self._background_key == key:
             return self._background
         h, w = cam.height, cam.width
-        bg = np.full((h, w), self.sky_level, dtype=np.float32)
+        sky = round(self.sky_level)
+        bg_u8 = np.full((h, w), sky, dtype=np.uint8)
         if self.ground_level is not None and height > 0.0:
             # f(u, v) = world-z component of the (unnormalised) pixel ray; ground where f < 0.
+            # s = f / |grad f| is the signed distance to the horizon in pixels, and the pixel
+            # value is ground for s <= -0.5, sky for s >= 0.5, linear in between (box filter of
+            # a straight edge), evaluated on the pixel grid (cached per camera attitude).
             gu, gv = r[0] / cam.fx, r[1] / cam.fy
             f0 = r[2] - gu * cam.cx - gv * cam.cy
             grad = math.hypot(gu, gv)
-            if grad < 1e-12:
-                cover = np.full((h, w), 1.0 if f0 < 0 else 0.0, dtype=np.float32)
-            else:
+            ground = round(self.ground_level)
+            corners_s = [
+                (gu * u + gv * v + f0) / grad if grad > 0.0 else math.copysign(math.inf, f0)
+                for u in (-0.5, w - 0.5) for v in (-0.5, h - 0.5)
+            ]
+            if max(corners_s) <= -0.5:
+                bg_u8[:] = ground
+            elif min(corners_s) < 0.5:
                 u = np.arange(w, dtype=np.float32) * np.float32(gu / grad)
-                v = np.arange(h, dtype=np.float32) * np.float32(gv / grad)
-                signed = v[:, None] + u[None, :] + np.float32(f0 / grad)  # pixels from horizon
-                cover = np.clip(0.5 - signed, 0.0, 1.0)
-            bg += cover * np.float32(self.ground_level - self.sky_level)
-        self._background, self._background_key = bg, key
-        return bg
+                v = np.arange(h, dtype=np.float32) * np.float32(gv / grad) + np.float32(f0 / grad)
+                ramp = np.add.outer(v, u)  # signed distance s in pixels
+                np.subtract(np.float32(0.5), ramp, out=ramp)
+                np.clip(ramp, 0.0, 1.0, out=ramp)  # ground coverage
+                ramp *= np.float32(ground - sky)
+                ramp += np.float32(sky)
+                cv2.convertScaleAbs(ramp, bg_u8)  # rounds and saturates into uint8
+        self._background, self._background_key = bg_u8, key
+        return bg_u8
 
-    def _noise(self, h: int, w: int) -> F32Array:
+    def _noise(self, h: int, w: int) -> I16Array:
+        # One seeded field, cropped at a random offset per frame: the per-frame cost is a
+        # saturating add instead of drawing a million normals.
         pad = 64
         if self._noise_bank is None or self._noise_bank.shape != (h + pad, w + pad):
-            self._noise_bank = self._rng.normal(0.0, self.noise_sigma, (h + pad, w + pad)).astype(
-                np.float32
-            )
+            field = self._rng.normal(0.0, self.noise_sigma, (h + pad, w + pad))
+            self._noise_bank = np.rint(field).astype(np.int16)
         dy, dx = (int(x) for x in self._rng.integers(0, pad, size=2))
         return self._noise_bank[dy : dy + h, dx : dx + w]
 
+    def _lit_pyramid(self, marker_id: int, white: float) -> list[U8Array]:
+        # Bake the face's light into the texture: grey g -> black + (white - black) g / 255.
+        key = (marker_id, round(white))
+        lit = self._lit_textures.get(key)
+        if lit is None:
+            w = float(key[1])
+            black = 0.06 * w
+            lit = []
+            for level in self._textures[marker_id]:
+                out = level.copy()
+                out[:, :, 0] = cv2.convertScaleAbs(level[:, :, 0], alpha=(w - black) / 255.0,
+                                                   beta=black)
+                lit.append(out)
+            self._lit_textures[key] = lit
+        return lit
+
     def _draw_face(
         self,
-        canvas: F32Array,
+        canvas: U8Array,
         cam: PinholeCamera,
         face: BoxFace,
         T_om: F64Array,
@@ -302,7 +340,8 @@ class BoxRenderer:
         if x1 <= x0 or y1 <= y0:
             return
         # Mip level: texels per pixel over the (clipped) face, from the area ratio.
-        pyramid = self._textures[face.marker_id]
+        light = self.ambient + self.diffuse * max(0.0, float(face_normal_world @ self._to_sun))
+        pyramid = self._lit_pyramid(face.marker_id, 255.0 * min(light, 1.0))
         n0 = pyramid[0].shape[0]
         area_px = _polygon_area(uv)
         if area_px < 0.25:
@@ -326,26 +365,19 @@ class BoxRenderer:
             tex, H, (w_roi, h_roi), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
             borderValue=(0, 0, 0, 0),
         )
-        # Both channels come out premultiplied by coverage (the border is 0), so composite
-        # "over" in premultiplied form: roi = roi * (1 - a) + black * a + (white - black) * g.
-        grey = warped[:, :, 0].astype(np.float32)
-        cover = warped[:, :, 1].astype(np.float32)
+        # Both channels come out premultiplied by coverage (the border is 0), so "over"
+        # compositing is roi = roi * (255 - a) / 255 + g, with saturating uint8 arithmetic.
+        grey = cv2.extractChannel(warped, 0)
+        cover = cv2.extractChannel(warped, 1)
         if clipped:
             mask = np.zeros((h_roi, w_roi), dtype=np.uint8)
             pts = np.round((uv - (x0, y0)) * 16.0).astype(np.int32)
             cv2.fillConvexPoly(mask, pts, 255, lineType=cv2.LINE_AA, shift=4)
-            m = mask.astype(np.float32) * np.float32(1.0 / 255.0)
-            grey *= m
-            cover *= m
-        light = self.ambient + self.diffuse * max(0.0, float(face_normal_world @ self._to_sun))
-        white = 255.0 * min(light, 1.0)
-        black = 0.06 * white
+            grey = cv2.multiply(grey, mask, scale=1.0 / 255.0)
+            cover = cv2.multiply(cover, mask, scale=1.0 / 255.0)
         roi = canvas[y0:y1, x0:x1]
-        cover *= np.float32(1.0 / 255.0)
-        grey *= np.float32((white - black) / 255.0)
-        grey += cover * np.float32(black)
-        grey -= roi * cover
-        roi += grey
+        cv2.multiply(roi, cv2.bitwise_not(cover), dst=roi, scale=1.0 / 255.0)
+        cv2.add(roi, grey, dst=roi)
 
     def render(
         self, T_world_optical: npt.ArrayLike, boxes_T_world_box: Sequence[npt.ArrayLike]
@@ -381,14 +413,15 @@ class BoxRenderer:
             canvas = np.asarray(
                 cv2.resize(canvas, (self.camera.width, self.camera.height),
                            interpolation=cv2.INTER_AREA),
-                dtype=np.float32,
+                dtype=np.uint8,
             )
         if self.noise_sigma > 0.0:
-            canvas += self._noise(self.camera.height, self.camera.width)
-        grey = np.empty(canvas.shape, dtype=np.uint8)
-        # saturating round-to-nearest float32 -> uint8
-        cv2.convertScaleAbs(np.maximum(canvas, 0.0, out=canvas), grey)
-        return np.asarray(cv2.cvtColor(grey, cv2.COLOR_GRAY2RGB), dtype=np.uint8)
+            canvas = np.asarray(
+                cv2.add(canvas, self._noise(self.camera.height, self.camera.width),
+                        dtype=cv2.CV_8U),
+                dtype=np.uint8,
+            )
+        return np.asarray(cv2.cvtColor(canvas, cv2.COLOR_GRAY2RGB), dtype=np.uint8)
 
 
 def render_boxes(
