@@ -299,6 +299,12 @@ class RosbotBase:
         return self._left_angle, self._right_angle
 
     @property
+    def wheel_velocities(self) -> tuple[float, float, float, float]:
+        """Commanded wheel angular velocities (fl, fr, rl, rr), rad/s, cheap to read."""
+        wl, wr = self._omega_left, self._omega_right
+        return wl, wr, wl, wr
+
+    @property
     def body_velocity(self) -> tuple[float, float, float]:
         """True ``(v, omega, ax)`` in base_link, cheap to read."""
         return self._v_true, self._w_true, self._ax

@@ -226,10 +226,14 @@ class Ekf2D:
         return tf
 
 
+_PLANAR_BASE = np.zeros(36)
+_PLANAR_BASE[::7] = 1e-9
+# Row-major positions of the (x, y, yaw) x (x, y, yaw) entries in a 6x6 over (x..z, roll..yaw).
+_PLANAR_FLAT = np.array([6 * r + c for r in (0, 1, 5) for c in (0, 1, 5)])
+
+
 def _embed_planar(block: _FloatArray) -> _FloatArray:
     """3x3 covariance over (x, y, yaw) -> 36-element row-major 6x6 over (x..z, roll..yaw)."""
-    full = np.zeros((6, 6))
-    full[np.diag_indices(6)] = 1e-9
-    idx = np.array([0, 1, 5])
-    full[np.ix_(idx, idx)] = block
-    return full.reshape(36)
+    full = _PLANAR_BASE.copy()
+    full[_PLANAR_FLAT] = block.ravel()
+    return full

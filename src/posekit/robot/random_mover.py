@@ -49,7 +49,8 @@ class RandomMover:
 
     def pose_log(self, t: float, x: float, y: float, yaw: float) -> str | None:
         """The log line for a filtered pose received at ``t`` (s), or None when throttled."""
-        if self._last_log is not None and t - self._last_log < self.params.log_period:
+        # 1 ns of slack: float seconds such as 2.05 - 1.05 fall just short of 1.0.
+        if self._last_log is not None and t - self._last_log < self.params.log_period - 1e-9:
             return None
         self._last_log = t
         return f"Odom: x={x:.2f}, y={y:.2f}, yaw={yaw:.2f}"

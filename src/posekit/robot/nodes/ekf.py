@@ -82,5 +82,6 @@ class EkfNode(Node):
             return
         self.filter.step(self._now_ns() / 1e9)
         self._pub.publish(self.filter.to_msg())
-        if self._tf is not None:
+        # Building the TF is skipped while nobody listens (the bus would drop it anyway).
+        if self._tf is not None and self._tf.pub_tf.get_subscription_count():
             self._tf.sendTransform(self.filter.to_transform())

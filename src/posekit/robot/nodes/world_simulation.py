@@ -251,8 +251,7 @@ class WorldSimulation(Node):
     def _publish_joints(self, now_ns: int) -> None:
         left, right = self.base.wheel_angles
         positions = (left, right, left, right)
-        state = self.base.state
-        msg = self._encoders.joint_state(positions, state.wheel_velocities, now_ns / NS)
+        msg = self._encoders.joint_state(positions, self.base.wheel_velocities, now_ns / NS)
         msg.header.stamp = stamp_msg(now_ns)
         self._joint_pub.publish(msg)
         if self._tf.pub_tf.get_subscription_count():

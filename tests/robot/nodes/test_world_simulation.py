@@ -1,0 +1,228 @@
+"""world_simulation node: physics against the model stepped by hand, sensors, cmd_vel timeout
+and stale rejection, static frames and wheel TFs through a TransformListener, worlds."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from posekit.msgs.geometry_msgs import TwistStamped
+from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.sensor_msgs import Imu, JointState
+from posekit.robot.drive import RosbotBase
+from posekit.robot.headless import sub_seeds
+from posekit.robot.kinematics import yaw_from_quaternion_xyzw
+from posekit.robot.nodes import WorldSimulation
+from posekit.robot.nodes._util import stamp_msg
+from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, WHEEL_JOINT_NAMES
+from posekit.robot.worlds import WorldError
+from posekit.runtime.node import Node
+from posekit.tf2_ros import Buffer, TransformListener
+from posekit.time import Time
+
+SIM = {"use_sim_time": True}
+
+
+def _yaw(q) -> float:
+    return yaw_from_quaternion_xyzw(q.x, q.y, q.z, q.w)
+
+
+class _Commander(Node):
+    """Publishes ``command(t)`` -> (v, w) or None at 20 Hz, stamped with ``stamp(t)``."""
+
+    def __init__(self, ctx, command, stamp=lambda t_ns: t_ns) -> None:
+        super().__init__("commander", context=ctx, parameter_overrides=SIM)
+        self.pub = self.create_publisher(TwistStamped, "cmd_vel", 10)
+        self.command, self.stamp = command, stamp
+        self.create_timer(0.05, self._tick)
+
+    def _tick(self) -> None:
+        t_ns = self.get_clock().now_ns()
+        cmd = self.command(t_ns / 1e9)
+        if cmd is None:
+            return
+        msg = TwistStamped()
+        msg.header.stamp = stamp_msg(self.stamp(t_ns))
+        msg.twist.linear.x, msg.twist.angular.z = cmd
+        self.pub.publish(msg)
+
+
+class _Sink(Node):
+    def __init__(self, ctx) -> None:
+        super().__init__("sink", context=ctx, parameter_overrides=SIM)
+        self.truth: list[Odometry] = []
+        self.imu: list[Imu] = []
+        self.joints: list[JointState] = []
+        self.create_subscription(Odometry, "ground_truth/odom", self.truth.append, 100)
+        self.create_subscription(Imu, "imu/data", self.imu.append, 100)
+        self.create_subscription(JointState, "joint_states", self.joints.append, 100)
+
+
+def _t(msg) -> float:
+    return msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+
+
+def _wavy(t: float) -> tuple[float, float] | None:
+    return (0.4 * math.sin(1.3 * t), 0.8 * math.cos(0.7 * t)) if t < 3.0 else None
+
+
+def test_physics_equals_the_model_stepped_at_100_hz(ctx, executor) -> None:
+    world = WorldSimulation(context=ctx, parameter_overrides={**SIM, "seed": 7})
+    commander = _Commander(ctx, _wavy)
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(4.0)
+
+    # Reference: the drive model stepped by hand on the 10 ms grid with the same commands
+    # (issued at each 50 ms tick after the pose at that tick is read).
+    ref = RosbotBase(DEFAULT_DRIVE, DEFAULT_SLIP, seed=sub_seeds(7)[0])
+    expected = {}
+    for k in range(401):
+        t_ns = k * 10_000_000
+        if k % 5 == 0 and k > 0:
+            x, y, yaw = ref.pose
+            expected[k // 5] = (x, y, math.remainder(yaw, 2 * math.pi))
+            cmd = _wavy(t_ns / 1e9)
+            if cmd is not None:
+                ref.submit_velocity(*cmd, stamp=t_ns / 1e9, now=t_ns / 1e9)
+        ref.step(t_ns / 1e9, 0.01)
+    assert len(sink.truth) == 80
+    for msg in sink.truth:
+        k = round(_t(msg) / 0.05)
+        x, y, yaw = expected[k]
+        p = msg.pose.pose
+        assert (p.position.x, p.position.y) == pytest.approx((x, y), abs=1e-12)
+        assert math.remainder(_yaw(p.orientation) - yaw, 2 * math.pi) == pytest.approx(0, abs=1e-12)
+    assert msg.header.frame_id == "odom"
+    assert msg.child_frame_id == "base_link"
+    assert abs(sink.truth[30].pose.pose.position.x) > 0.05  # it did move
+
+
+def test_sensor_topics_rates_frames_and_consistency(ctx, executor) -> None:
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    commander = _Commander(ctx, lambda t: (0.3, 0.5))
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(2.0)
+    imu_t = [_t(m) for m in sink.imu]
+    assert imu_t == pytest.approx([0.04 * k for k in range(1, 51)], abs=1e-9)  # 25 Hz
+    assert {m.header.frame_id for m in sink.imu} == {"imu_link"}
+    joint_t = [_t(m) for m in sink.joints]
+    assert joint_t == pytest.approx([0.05 * k for k in range(1, 41)], abs=1e-9)
+    last = sink.joints[-1]
+    assert list(last.name) == list(WHEEL_JOINT_NAMES)
+    fl, fr, rl, rr = last.position
+    assert fl == rl
+    assert fr == rr
+    assert fr > fl > 0
+    # IMU yaw is the true yaw (Gazebo adds no orientation noise) where both are stamped alike.
+    truth_by_t = {round(_t(m), 6): _yaw(m.pose.pose.orientation) for m in sink.truth}
+    common = [(m, truth_by_t[round(_t(m), 6)]) for m in sink.imu if round(_t(m), 6) in truth_by_t]
+    assert len(common) == 10
+    for m, yaw in common:
+        assert _yaw(m.orientation) == pytest.approx(yaw, abs=1e-12)
+    # Gyro: truth + bias (2e-3) + white noise (5.24e-3) around the true yaw rate.
+    wz = np.array([m.angular_velocity.z for m in sink.imu[-25:]])
+    true_w = np.array([m.twist.twist.angular.z for m in sink.truth[-10:]])
+    assert abs(wz.mean() - true_w.mean()) < 0.01
+    assert m.orientation_covariance[8] == pytest.approx(1.9e-3)
+
+
+def test_a_stopped_command_stream_stops_the_robot_within_the_timeout(ctx, executor) -> None:
+    t_last = 2.0
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    commander = _Commander(ctx, lambda t: (0.5, 0.0) if t <= t_last + 1e-9 else None)
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(5.0)
+    by_t = {round(_t(m), 3): m for m in sink.truth}
+    # Until the 0.5 s timeout the last command still drives the robot (slip: about 5 % less).
+    for t in (2.1, 2.3, 2.45):
+        assert by_t[t].twist.twist.linear.x > 0.45
+    # Then it brakes at 1 m/s^2 from 0.5 m/s: still by t_last + 0.5 + 0.5 s.
+    assert 0.0 < by_t[2.8].twist.twist.linear.x < 0.3
+    x_stop = by_t[3.05].pose.pose.position.x
+    for t in (3.05, 3.5, 4.0, 5.0):
+        assert by_t[t].twist.twist.linear.x == 0.0
+        assert by_t[t].pose.pose.position.x == x_stop
+    assert world.rejected == []
+
+
+def test_stale_and_non_finite_commands_are_rejected_with_a_logged_reason(
+    ctx, executor, logs
+) -> None:
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    # Every command is stamped 0.6 s in the past: older than cmd_vel_timeout (0.5 s).
+    stale = _Commander(
+        ctx, lambda t: (0.5, 0.0) if t > 0.6 else None, stamp=lambda t_ns: t_ns - 600_000_000
+    )
+    sink = _Sink(ctx)
+    for n in (world, stale, sink):
+        executor.add_node(n)
+    executor.run_until(2.0)
+    assert len(world.rejected) == 28  # 0.65 ... 2.0 s
+    warnings = [r for r in logs if r.name == "world_simulation" and "Rejected cmd_vel" in r.message]
+    assert len(warnings) == 28
+    assert "stale command" in warnings[0].message
+    assert "cmd_vel_timeout" in warnings[0].message
+    assert all(m.pose.pose.position.x == 0.0 for m in sink.truth)
+
+    bad = TwistStamped()
+    bad.header.stamp = stamp_msg(executor.now_ns)
+    bad.twist.linear.x = float("nan")
+    stale.pub.publish(bad)
+    executor.run_until(2.01)
+    assert "non-finite" in world.rejected[-1][1]
+
+
+def test_static_frames_wheels_and_world_statics_through_a_transform_listener(
+    ctx, executor
+) -> None:
+    world = WorldSimulation(
+        context=ctx, parameter_overrides={**SIM, "world": "aruco_box_camera_world"}
+    )
+    listener_node = Node("listener", context=ctx, parameter_overrides=SIM)
+    buffer = Buffer()
+    TransformListener(buffer, listener_node)
+    commander = _Commander(ctx, lambda t: (0.0, 1.0))
+    for n in (world, listener_node, commander):
+        executor.add_node(n)
+    executor.run_until(1.0)
+    # Spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875), identity rotation;
+    # the optical frame adds R = Rz(-pi/2) Rx(-pi/2).
+    t = buffer.lookup_transform("base_link", "oak_rgb_camera_optical_frame", Time())
+    tr, q = t.transform.translation, t.transform.rotation
+    assert (tr.x, tr.y, tr.z) == pytest.approx((-0.0241, 0.0, 0.1875), abs=1e-12)
+    assert (q.x, q.y, q.z, q.w) == pytest.approx((-0.5, 0.5, -0.5, 0.5), abs=1e-12)
+    t = buffer.lookup_transform("body_link", "imu_link", Time())
+    assert t.transform.translation.y == pytest.approx(-0.0495)
+    # Wheels spin about +y: the left wheels turn backwards while the robot turns in place.
+    t = buffer.lookup_transform("body_link", "fl_wheel_link", Time())
+    assert (t.transform.translation.x, t.transform.translation.y) == pytest.approx((0.053, 0.096))
+    assert t.transform.rotation.x == 0.0
+    assert t.transform.rotation.z == 0.0
+    left_angle = world.base.wheel_angles[0]
+    assert left_angle < 0
+    spin = 2 * math.atan2(t.transform.rotation.y, t.transform.rotation.w)
+    assert math.remainder(spin - left_angle, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+    # The world's own static frames (overhead camera) hang off odom.
+    t = buffer.lookup_transform("odom", "overhead_camera", Time())
+    assert (t.transform.translation.x, t.transform.translation.z) == pytest.approx((2.0, 2.0))
+
+
+def test_worlds_by_name_file_and_errors(ctx, tmp_path) -> None:
+    path = tmp_path / "mine.json"
+    path.write_text(json.dumps({"name": "mine", "spawn": [1.0, -2.0, 0.5]}))
+    world = WorldSimulation(context=ctx, parameter_overrides={**SIM, "world": str(path)})
+    assert world.world.name == "mine"
+    assert world.true_pose == pytest.approx((1.0, -2.0, 0.5))
+    with pytest.raises(WorldError, match="unknown world"):
+        WorldSimulation("w2", context=ctx, parameter_overrides={**SIM, "world": "no_such"})
+    with pytest.raises(ValueError, match=r"imu_rate 30\.0 Hz must divide the update rate"):
+        WorldSimulation("w3", context=ctx, parameter_overrides={**SIM, "imu_rate": 30.0})
