@@ -140,6 +140,7 @@ function onTf(msg) {
   if (state.paused) return;
   if (msg.fixed !== state.fixedFrame) return;   // an answer for a previous choice
   state.lastTf = msg;
+  debug.tf = msg;
   debug.tfMessages += 1;
   debug.frames = msg.frames.map((f) => f[0]);
   debug.fixedFrame = msg.fixed;

@@ -1,0 +1,214 @@
+"""The viewer page in a real browser (Debian chromium, software WebGL) on the P-controller
+scenario running in this process, with a small camera node for the image panels.
+
+Pixels are read from the canvas itself (``canvas.toDataURL()``), never from a page
+screenshot. Everything shares one scenario and one browser to stay well under a minute.
+"""
+
+from __future__ import annotations
+
+import base64
+import math
+import time
+from collections.abc import Callable, Iterator
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+import pytest
+
+cv2 = pytest.importorskip("cv2")
+
+BACKGROUND = np.array([58, 48, 48])  # the scene's clear colour 0x30303a as BGR
+ROBOT_FRAMES = {"odom", "base_link", "body_link", "imu_link", "fl_wheel_link", "rr_wheel_link",
+                "oak_rgb_camera_optical_frame"}
+
+
+def wait_for(predicate: Callable[[], Any], timeout: float = 10.0, what: str = "") -> Any:
+    end = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value:
+            return value
+        if time.monotonic() > end:
+            raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+        time.sleep(0.05)
+
+
+def canvas_pixels(page: Any, selector: str) -> np.ndarray:
+    """The canvas content as a BGR array, from ``canvas.toDataURL()`` in the page."""
+    url = page.evaluate(f"document.querySelector('{selector}').toDataURL('image/png')")
+    assert url.startswith("data:image/png;base64,")
+    data = np.frombuffer(base64.b64decode(url.split(",", 1)[1]), np.uint8)
+    image = cv2.imdecode(data, cv2.IMREAD_COLOR)
+    assert image is not None and image.size
+    return image
+
+
+def drawn_fraction(image: np.ndarray) -> float:
+    """Share of pixels that differ from the clear colour."""
+    diff = np.abs(image.astype(int) - BACKGROUND).max(axis=2)
+    return float((diff > 12).mean())
+
+
+def debug(page: Any, key: str) -> Any:
+    return page.evaluate(f"window.posekitViewer && window.posekitViewer.{key}")
+
+
+@pytest.fixture(scope="module")
+def viewer(scenario_viewer: Any) -> Any:
+    return scenario_viewer
+
+
+@pytest.fixture(scope="module")
+def page(browser: Any, viewer: Any) -> Iterator[Any]:
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    errors: list[str] = []
+    page.on("pageerror", lambda exc: errors.append(str(exc)))
+    page.goto(viewer.url)
+    wait_for(lambda: debug(page, "connected"), what="the WebSocket connection")
+    yield page
+    assert not errors, f"page errors: {errors}"
+    page.close()
+
+
+def test_frame_list_contains_the_robot_frames(page: Any) -> None:
+    def options() -> set[str]:
+        values = page.eval_on_selector_all("#fixed-frame option", "os => os.map(o => o.value)")
+        return set(values) if ROBOT_FRAMES <= set(values) else set()
+
+    assert ROBOT_FRAMES <= wait_for(options, what="robot frames in the fixed-frame list")
+    tree = page.eval_on_selector_all("#tf-tree tbody tr", "rs => rs.map(r => r.dataset.frame)")
+    assert ROBOT_FRAMES <= set(tree)
+    assert debug(page, "renderer") == "webgl"
+    assert debug(page, "fixedFrame") == "odom" and debug(page, "fixedFrameError") is None
+
+
+def test_3d_canvas_draws_and_toggles_change_it(page: Any) -> None:
+    wait_for(lambda: debug(page, "renders") > 5, what="renders")
+    with_all = canvas_pixels(page, "#scene")
+    assert drawn_fraction(with_all) > 0.01, "the 3D canvas is (nearly) empty"
+    page.uncheck("#show-grid")
+    page.uncheck("#show-tf")
+    time.sleep(0.3)
+    without = canvas_pixels(page, "#scene")
+    page.check("#show-grid")
+    page.check("#show-tf")
+    assert with_all.shape == without.shape
+    assert drawn_fraction(without) < drawn_fraction(with_all) - 0.002, (
+        "hiding the grid and TF did not remove drawn pixels"
+    )
+
+
+def test_fixed_frame_selector(page: Any) -> None:
+    page.select_option("#fixed-frame", "base_link")
+    wait_for(lambda: debug(page, "fixedFrame") == "base_link", what="fixed frame base_link")
+    rows = {f[0]: f for f in debug(page, "tf.frames")}
+    # In its own frame base_link is the identity; odom is somewhere else once the robot moved.
+    assert rows["base_link"][2:9] == [0, 0, 0, 0, 0, 0, 1]
+    assert rows["odom"][11] is True
+    assert debug(page, "fixedFrameError") is None
+    assert page.eval_on_selector("#fixed-frame", "s => s.value") == "base_link"
+    page.select_option("#fixed-frame", "odom")
+    wait_for(lambda: debug(page, "fixedFrame") == "odom", what="fixed frame back to odom")
+    rows = {f[0]: f for f in debug(page, "tf.frames")}
+    assert rows["odom"][2:9] == [0, 0, 0, 0, 0, 0, 1]
+
+
+def test_fixed_frame_poses_match_tf2(viewer: Any, page: Any) -> None:
+    # The server's rows for fixed frame base_link: base_link is the identity and odom is the
+    # inverse of T_odom_base computed here with plain 2D trigonometry.
+    error, rows = viewer.tap.frames_in("base_link")
+    assert error is None
+    pose = {r[0]: r for r in rows}
+    assert pose["base_link"][2:9] == [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+    t = viewer.tap.buffer.lookup_transform_core("odom", "base_link", 0)
+    x, y = t.transform.translation.x, t.transform.translation.y
+    q = t.transform.rotation
+    yaw = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y**2 + q.z**2))
+    inv_x = -math.cos(yaw) * x - math.sin(yaw) * y
+    inv_y = math.sin(yaw) * x - math.cos(yaw) * y
+    _, rows_again = viewer.tap.frames_in("base_link")
+    odom = {r[0]: r for r in rows_again}["odom"]
+    assert odom[11] is True
+    # The robot may have moved between the two reads (20 Hz updates, <= 0.5 m/s).
+    assert abs(odom[2] - inv_x) < 0.05 and abs(odom[3] - inv_y) < 0.05
+
+
+def test_missing_fixed_frame_shows_a_clear_message(browser: Any, viewer: Any) -> None:
+    page = browser.new_page(viewport={"width": 900, "height": 600})
+    try:
+        page.goto(viewer.url + "?fixed_frame=map")
+        banner = page.wait_for_selector("#fixed-frame-status:not([hidden])", timeout=10_000)
+        assert banner is not None
+        assert "Fixed Frame [map] does not exist" in banner.inner_text()
+    finally:
+        page.close()
+
+
+def test_image_panels_update_with_the_published_pixels(page: Any, support: SimpleNamespace) -> None:
+    first = wait_for(lambda: (debug(page, "imageUpdates") or {}).get("/oak/rgb/color", 0),
+                     what="a camera image")
+    wait_for(lambda: debug(page, "imageUpdates").get("/oak/rgb/color", 0) >= first + 3,
+             what="more camera images")
+    wait_for(lambda: debug(page, "imageUpdates").get("/aruco_detection_image", 0) >= 1,
+             what="an aruco_detection_image")
+    # Read the displayed image back through a 2D canvas: size and colour (rgb8 -> RGB).
+    sample = page.evaluate(
+        """() => { const img = document.getElementById('camera-image');
+          const c = document.createElement('canvas'); c.width = img.naturalWidth;
+          c.height = img.naturalHeight; const g = c.getContext('2d'); g.drawImage(img, 0, 0);
+          const d = g.getImageData(0, 0, c.width, c.height).data;
+          // a column far from the moving white bar is not guaranteed: take the median colour
+          const rs = [], gs = [], bs = [];
+          for (let i = 0; i < d.length; i += 4 * 97) { rs.push(d[i]); gs.push(d[i+1]); bs.push(d[i+2]); }
+          const med = a => a.sort((x, y) => x - y)[a.length >> 1];
+          return [c.width, c.height, med(rs), med(gs), med(bs)]; }"""
+    )
+    h, w = support.CAMERA_SIZE
+    assert sample[:2] == [w, h]
+    assert np.allclose(sample[2:], support.CAMERA_RGB, atol=12), sample
+
+
+def test_odometry_trail_grows(page: Any) -> None:
+    first = wait_for(lambda: (debug(page, "trails") or {}).get("/odometry/filtered", 0),
+                     what="an odometry trail")
+    wait_for(lambda: debug(page, "trails").get("/odometry/filtered", 0) > first,
+             what="the odometry/filtered trail to grow")
+    trails = debug(page, "trails")
+    assert trails.get("/odometry/wheels", 0) >= 1
+    assert trails.get("/ground_truth/odom", 0) >= 1
+
+
+def test_stale_frame_is_greyed_in_the_tree(page: Any, support: SimpleNamespace) -> None:
+    stale = support.STALE_FRAME
+    row = page.wait_for_selector(f"#tf-tree tr.stale[data-frame='{stale}']",
+                                 timeout=10_000)
+    assert row is not None
+    assert page.eval_on_selector("#tf-tree tr[data-frame='base_link']",
+                                 "r => r.classList.contains('stale')") is False
+
+
+def test_pause_stops_updates(page: Any) -> None:
+    page.click("#pause")
+    time.sleep(0.3)
+    count = debug(page, "tfMessages")
+    time.sleep(0.6)
+    assert debug(page, "tfMessages") == count
+    page.click("#pause")
+    wait_for(lambda: debug(page, "tfMessages") > count, what="updates after resuming")
+
+
+def test_2d_fallback_draws(browser: Any, viewer: Any) -> None:
+    page = browser.new_page(viewport={"width": 900, "height": 600})
+    try:
+        page.goto(viewer.url + "?renderer=2d")
+        wait_for(lambda: debug(page, "renderer") == "2d", what="the 2D renderer")
+        wait_for(lambda: debug(page, "tfMessages") > 3 and debug(page, "renders") > 3,
+                 what="2D renders")
+        time.sleep(0.2)
+        image = canvas_pixels(page, "#scene2d")
+        assert drawn_fraction(image) > 0.01
+        assert "2D" in page.inner_text("#renderer-note")
+    finally:
+        page.close()
