@@ -17,8 +17,6 @@ __all__ = ["SUPPORTED_VERSIONS", "check_bag_dir", "open_reader"]
 #: rosbag2 metadata versions posekit writes (rosbags' Writer supports exactly these).
 SUPPORTED_VERSIONS = (8, 9)
 
-# What rosbags and the standard library raise on damaged files, beyond ReaderError.
-_DAMAGE = (OSError, EOFError, ValueError, TypeError, KeyError, IndexError, AssertionError)
 
 
 def check_bag_dir(path: str | Path) -> Path:
@@ -44,9 +42,12 @@ def open_reader(path: str | Path) -> Iterator[Any]:
     """An open ``rosbags.rosbag2.Reader`` on the bag directory ``path``.
 
     Every failure while opening *or* iterating inside the ``with`` block becomes a
-    :class:`BagFormatError` naming the bag (corruption of a chunk only shows while reading).
+    :class:`BagFormatError` naming the bag and the original error (corruption of a chunk
+    only shows while reading). Damaged input makes rosbags and the decompressor raise a wide
+    range of exception types (ReaderError, ZstdError, OverflowError, struct.error...), so
+    every ``Exception`` is translated; keep the code inside the block to storage access.
     """
-    from rosbags.rosbag2 import Reader, ReaderError
+    from rosbags.rosbag2 import Reader
 
     p = check_bag_dir(path)
     try:
@@ -54,13 +55,13 @@ def open_reader(path: str | Path) -> Iterator[Any]:
         reader.open()
     except FileNotFoundError as exc:
         raise BagNotFoundError(f"bag {str(p)!r}: {exc}") from exc
-    except (ReaderError, *_DAMAGE) as exc:
+    except Exception as exc:
         raise BagFormatError(f"cannot open bag {str(p)!r}: {_reason(exc)}") from exc
     try:
         yield reader
     except BagError:
         raise
-    except (ReaderError, *_DAMAGE) as exc:
+    except Exception as exc:
         raise BagFormatError(f"cannot read bag {str(p)!r}: {_reason(exc)}") from exc
     finally:
         with suppress(Exception):  # closing a damaged file must not hide the real error

@@ -96,18 +96,19 @@ def bag_info(path: str | Path) -> BagInfo:
     p = check_bag_dir(path)
     meta = _load_metadata(p)
     with open_reader(p) as reader:
-        topics = [
-            TopicInfo(
-                name=c.topic,
-                msgtype=c.msgtype,
-                message_count=int(c.msgcount),
-                serialization_format=c.ext.serialization_format,
-                offered_qos=[from_rosbags_qos(q) for q in c.ext.offered_qos_profiles],
-                type_hash=str(c.digest or ""),
-            )
-            for c in reader.connections
-        ]
+        connections = list(reader.connections)
         chunk_compression = _chunk_compression(reader)
+    topics = [
+        TopicInfo(
+            name=c.topic,
+            msgtype=c.msgtype,
+            message_count=int(c.msgcount),
+            serialization_format=c.ext.serialization_format,
+            offered_qos=[from_rosbags_qos(q) for q in c.ext.offered_qos_profiles],
+            type_hash=str(c.digest or ""),
+        )
+        for c in connections
+    ]
     try:
         files = [str(f) for f in meta.get("relative_file_paths", [])]
         size = sum((p / Path(f).name).stat().st_size for f in files)

@@ -145,6 +145,8 @@ class Player:
         self._clock_pub: Any = None
         #: Messages published so far.
         self.published = 0
+        #: Recorded messages that could not be decoded (each logged, then skipped).
+        self.skipped = 0
         #: Completed passes over the bag.
         self.loops_done = 0
         self._stopped = False
@@ -160,7 +162,17 @@ class Player:
         return read_messages(self.path, list(self.topics))
 
     def _publish(self, message: BagMessage) -> None:
-        self._publishers[message.topic].publish(message.decode())
+        from posekit.msgs.errors import MessageError
+
+        try:
+            msg = message.decode()
+        except MessageError as exc:  # a damaged record: skip it, keep playing
+            self.skipped += 1
+            self.node.get_logger().error(
+                f"skipped the message on '{message.topic}' at {message.timestamp_ns} ns: {exc}"
+            )
+            return
+        self._publishers[message.topic].publish(msg)
         self.published += 1
 
     def stop(self) -> None:
