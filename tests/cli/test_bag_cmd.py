@@ -1,0 +1,185 @@
+"""``posekit bag record|play|info`` on an in-process context (the tools' default transport,
+Zenoh, is replaced by the ``context=`` hook)."""
+
+from __future__ import annotations
+
+import io
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from posekit.bag import Recorder, bag_info, format_info, read_messages
+from posekit.cli.bag_cmd import info, play, record
+from posekit.msgs.rosgraph_msgs import Clock
+from posekit.msgs.std_msgs import String
+from posekit.runtime.context import Context
+from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
+from posekit.runtime.node import Node
+from posekit.runtime.qos import DurabilityPolicy, QoSProfile
+
+
+@pytest.fixture
+def ctx() -> Iterator[Context]:
+    context = Context()
+    context.init(transport="inprocess")
+    yield context
+    context.try_shutdown()
+
+
+@pytest.fixture
+def small_bag(tmp_path: Path) -> Path:
+    """0.5 s of /words at 10 Hz recorded in sim time starting at 20 s."""
+    context = Context()
+    context.init(transport="inprocess")
+    try:
+        executor = SimulatedTimeExecutor(context=context, start_time=20.0)
+        node = Node("speaker", context=context)
+        pub = node.create_publisher(String, "words", 10)
+        counter = iter(range(1000))
+        node.create_timer(0.1, lambda: pub.publish(String(data=f"w{next(counter)}")))
+        executor.add_node(node)
+        recorder = Recorder(tmp_path / "small", ["words"], context=context)
+        executor.add_node(recorder.node)
+        executor.run_for(0.5)
+        recorder.close()
+    finally:
+        context.try_shutdown()
+    return tmp_path / "small"
+
+
+def test_record_topics_from_a_live_publisher(ctx: Context, tmp_path: Path,
+                                             capsys: pytest.CaptureFixture[str]) -> None:
+    node = Node("outside", context=ctx)
+    chatter = node.create_publisher(String, "chatter", 10)
+    latched = node.create_publisher(
+        String, "/latched", QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    )
+    latched.publish(String(data="sent before recording"))
+    stop = threading.Event()
+    sent: list[str] = []
+
+    def talk() -> None:
+        k = 0
+        while not stop.is_set():
+            text = f"m{k}"
+            chatter.publish(String(data=text))
+            sent.append(text)
+            k += 1
+            time.sleep(0.005)
+
+    thread = threading.Thread(target=talk, daemon=True)
+    t_before = time.time_ns()
+    thread.start()
+    try:
+        code = record(["-o", str(tmp_path / "rec"), "/chatter", "latched", "--duration", "0.3"],
+                      context=ctx)
+    finally:
+        stop.set()
+        thread.join()
+    t_after = time.time_ns()
+    assert code == 0
+    assert "wrote" in capsys.readouterr().err
+    messages = list(read_messages(tmp_path / "rec"))
+    words = [m.decode().data for m in messages if m.topic == "/chatter"]
+    assert len(words) > 5
+    # A contiguous run of what was published (recording started and stopped mid-stream).
+    first = sent.index(words[0])
+    assert words == sent[first:first + len(words)]
+    assert [m.decode().data for m in messages if m.topic == "/latched"] == [
+        "sent before recording"
+    ]
+    # Wall-clock receive stamps (ns since the epoch) inside the recording window.
+    assert all(t_before <= m.timestamp_ns <= t_after for m in messages)
+    assert bag_info(tmp_path / "rec").version == 9
+
+
+def test_record_all_and_metadata_version(ctx: Context, tmp_path: Path) -> None:
+    node = Node("one", context=ctx)
+    pub = node.create_publisher(
+        String, "only", QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    )
+    pub.publish(String(data="x"))
+    code = record(["-o", str(tmp_path / "all"), "--all", "--metadata-version", "8",
+                   "--no-compression", "--duration", "0.05"], context=ctx)
+    assert code == 0
+    summary = bag_info(tmp_path / "all")
+    assert summary.version == 8
+    assert summary.chunk_compression == ""
+    assert [t.name for t in summary.topics] == ["/only"]
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["-o", "X"],  # neither topics nor --all
+        ["-o", "X", "/a", "--all"],  # both
+        ["/a"],  # no output
+        ["-o", "X", "/a", "--metadata-version", "7"],
+        ["-o", "X", "/a", "--duration", "-1"],
+    ],
+)
+def test_record_usage_errors(argv: list[str], tmp_path: Path, ctx: Context,
+                             capsys: pytest.CaptureFixture[str]) -> None:
+    argv = [str(tmp_path / a) if a == "X" else a for a in argv]
+    assert record(argv, context=ctx) == 2
+    assert "posekit bag record" in capsys.readouterr().err
+    assert not (tmp_path / "X").exists()
+
+
+def test_record_refuses_existing_output(tmp_path: Path, ctx: Context,
+                                        capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "exists").mkdir()
+    assert record(["-o", str(tmp_path / "exists"), "/a"], context=ctx) == 1
+    assert "exists already" in capsys.readouterr().err
+
+
+def test_info_prints_the_summary(small_bag: Path) -> None:
+    out = io.StringIO()
+    assert info([str(small_bag)], out=out) == 0
+    assert out.getvalue() == format_info(bag_info(small_bag))
+    assert "Topic information: Topic: /words | Type: std_msgs/msg/String | Count: 5 |" in (
+        out.getvalue()
+    )
+    verbose = io.StringIO()
+    assert info([str(small_bag), "-v"], out=verbose) == 0
+    assert "Version:           9" in verbose.getvalue()
+
+
+def test_info_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert info([str(tmp_path / "missing")]) == 1
+    assert "does not exist" in capsys.readouterr().err
+    assert info([]) == 2
+
+
+def test_play_publishes_messages_and_clock(small_bag: Path, ctx: Context) -> None:
+    listener = Node("listener", context=ctx)
+    words: list[str] = []
+    clocks: list[int] = []
+    listener.create_subscription(String, "/words", lambda m: words.append(m.data),
+                                 QoSProfile(depth=100))
+    listener.create_subscription(
+        Clock, "/clock", lambda m: clocks.append(m.clock.sec * 10**9 + m.clock.nanosec),
+        QoSProfile(depth=1000),
+    )
+    assert play([str(small_bag), "--rate", "50"], context=ctx) == 0
+    executor = SingleThreadedExecutor(context=ctx)
+    executor.add_node(listener)  # deliver what queued up while the tool played
+    executor.spin_some()
+    assert words == ["w0", "w1", "w2", "w3", "w4"]
+    assert clocks[0] == 20_100_000_000  # bag time, not wall time
+    assert clocks[-1] == 20_500_000_000
+    assert clocks == sorted(clocks)
+
+
+def test_play_errors(tmp_path: Path, small_bag: Path, ctx: Context,
+                     capsys: pytest.CaptureFixture[str]) -> None:
+    assert play([str(tmp_path / "missing")], context=ctx) == 1
+    assert "does not exist" in capsys.readouterr().err
+    assert play([str(small_bag), "--rate", "0"], context=ctx) == 1
+    assert "rate must be > 0" in capsys.readouterr().err
+    assert play([str(small_bag), "--topics", "/other"], context=ctx) == 1
+    assert "not in bag" in capsys.readouterr().err
+    assert play([], context=ctx) == 2
