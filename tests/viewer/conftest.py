@@ -6,8 +6,8 @@ import os
 import shutil
 import threading
 from collections.abc import Iterator
-from types import SimpleNamespace
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np

@@ -41,7 +41,8 @@ def canvas_pixels(page: Any, selector: str) -> np.ndarray:
     assert url.startswith("data:image/png;base64,")
     data = np.frombuffer(base64.b64decode(url.split(",", 1)[1]), np.uint8)
     image = cv2.imdecode(data, cv2.IMREAD_COLOR)
-    assert image is not None and image.size
+    assert image is not None
+    assert image.size
     return image
 
 
@@ -75,13 +76,14 @@ def page(browser: Any, viewer: Any) -> Iterator[Any]:
 def test_frame_list_contains_the_robot_frames(page: Any) -> None:
     def options() -> set[str]:
         values = page.eval_on_selector_all("#fixed-frame option", "os => os.map(o => o.value)")
-        return set(values) if ROBOT_FRAMES <= set(values) else set()
+        return set(values) if set(values) >= ROBOT_FRAMES else set()
 
-    assert ROBOT_FRAMES <= wait_for(options, what="robot frames in the fixed-frame list")
+    assert wait_for(options, what="robot frames in the fixed-frame list") >= ROBOT_FRAMES
     tree = page.eval_on_selector_all("#tf-tree tbody tr", "rs => rs.map(r => r.dataset.frame)")
-    assert ROBOT_FRAMES <= set(tree)
+    assert set(tree) >= ROBOT_FRAMES
     assert debug(page, "renderer") == "webgl"
-    assert debug(page, "fixedFrame") == "odom" and debug(page, "fixedFrameError") is None
+    assert debug(page, "fixedFrame") == "odom"
+    assert debug(page, "fixedFrameError") is None
 
 
 def test_3d_canvas_draws_and_toggles_change_it(page: Any) -> None:
@@ -132,7 +134,8 @@ def test_fixed_frame_poses_match_tf2(viewer: Any, page: Any) -> None:
     odom = {r[0]: r for r in rows_again}["odom"]
     assert odom[11] is True
     # The robot may have moved between the two reads (20 Hz updates, <= 0.5 m/s).
-    assert abs(odom[2] - inv_x) < 0.05 and abs(odom[3] - inv_y) < 0.05
+    assert abs(odom[2] - inv_x) < 0.05
+    assert abs(odom[3] - inv_y) < 0.05
 
 
 def test_missing_fixed_frame_shows_a_clear_message(browser: Any, viewer: Any) -> None:
@@ -146,7 +149,9 @@ def test_missing_fixed_frame_shows_a_clear_message(browser: Any, viewer: Any) ->
         page.close()
 
 
-def test_image_panels_update_with_the_published_pixels(page: Any, support: SimpleNamespace) -> None:
+def test_image_panels_update_with_the_published_pixels(
+    page: Any, support: SimpleNamespace
+) -> None:
     first = wait_for(lambda: (debug(page, "imageUpdates") or {}).get("/oak/rgb/color", 0),
                      what="a camera image")
     wait_for(lambda: debug(page, "imageUpdates").get("/oak/rgb/color", 0) >= first + 3,
@@ -159,9 +164,11 @@ def test_image_panels_update_with_the_published_pixels(page: Any, support: Simpl
           const c = document.createElement('canvas'); c.width = img.naturalWidth;
           c.height = img.naturalHeight; const g = c.getContext('2d'); g.drawImage(img, 0, 0);
           const d = g.getImageData(0, 0, c.width, c.height).data;
-          // a column far from the moving white bar is not guaranteed: take the median colour
+          // the white bar moves: take the median colour of sampled pixels
           const rs = [], gs = [], bs = [];
-          for (let i = 0; i < d.length; i += 4 * 97) { rs.push(d[i]); gs.push(d[i+1]); bs.push(d[i+2]); }
+          for (let i = 0; i < d.length; i += 4 * 97) {
+            rs.push(d[i]); gs.push(d[i + 1]); bs.push(d[i + 2]);
+          }
           const med = a => a.sort((x, y) => x - y)[a.length >> 1];
           return [c.width, c.height, med(rs), med(gs), med(bs)]; }"""
     )

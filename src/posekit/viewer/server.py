@@ -152,6 +152,7 @@ class ViewerServer:
         self._runner: web.AppRunner | None = None
         self._encoder = ThreadPoolExecutor(max_workers=1, thread_name_prefix="posekit-jpeg")
         self._stopping = False
+        self._image_tasks: set[asyncio.Task[None]] = set()
         self._ready = threading.Event()
         self._start_error: BaseException | None = None
         self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0}
@@ -197,9 +198,11 @@ class ViewerServer:
         try:
             loop.run_forever()
         finally:
-            producer.cancel()
+            pending = [producer, *self._image_tasks]
+            for task in pending:
+                task.cancel()
             with contextlib.suppress(BaseException):
-                loop.run_until_complete(producer)
+                loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
             loop.run_until_complete(self._cleanup())
             loop.close()
 
@@ -414,6 +417,7 @@ class ViewerServer:
         last_odom_version = -1
         next_odom = next_graph = next_image = 0.0
         encoding: set[str] = set()
+        tasks = self._image_tasks
         while not self._stopping:
             now = time.monotonic()
             active = [c for c in self._clients if not c.paused and not c.ws.closed]
@@ -452,7 +456,11 @@ class ViewerServer:
                                 and c.image_seq.get(topic, 0) < seq]
                     if watchers:
                         encoding.add(topic)
-                        loop.create_task(self._send_image(topic, seq, msg, watchers, encoding))
+                        task = loop.create_task(
+                            self._send_image(topic, seq, msg, watchers, encoding)
+                        )
+                        tasks.add(task)  # keep a reference until it is done
+                        task.add_done_callback(tasks.discard)
             await asyncio.sleep(period)
 
     async def _send_image(

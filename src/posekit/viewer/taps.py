@@ -188,7 +188,7 @@ def _resolve_class(type_name: str) -> type | None:
     if not module_name:
         return None
     try:
-        obj = importlib.import_module(module_name)
+        obj: Any = importlib.import_module(module_name)
     except ImportError:
         return None
     for part in attr.split("."):
@@ -481,7 +481,7 @@ class ViewerTap:
             ]
         for row in rows:
             try:
-                row["publishers"] = self.transport.count_publishers(row["name"])
+                row["publishers"] = self.transport.count_publishers(str(row["name"]))
             except Exception:  # graph query failure: show unknown
                 row["publishers"] = None
         return sorted(rows, key=lambda d: d["name"])

@@ -1,0 +1,274 @@
+"""ViewerTap on the in-process bus: TF poses in a fixed frame (vs scipy), trails with RViz2's
+tolerances, rates, latched /tf_static, bad input, and graph hygiene."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation as R
+
+from posekit.msgs.geometry_msgs import TransformStamped
+from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.rosgraph_msgs import Clock
+from posekit.msgs.sensor_msgs import Image
+from posekit.runtime.context import Context
+from posekit.runtime.logging import LogRecord, add_sink, remove_sink
+from posekit.runtime.node import Node
+from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.viewer.taps import TRAIL_POSITION_TOLERANCE_M, ViewerTap
+
+NS = 1_000_000_000
+
+
+@pytest.fixture
+def ctx() -> Iterator[Context]:
+    c = Context()
+    c.init()
+    yield c
+    c.try_shutdown()
+
+
+@pytest.fixture
+def node(ctx: Context) -> Node:
+    return Node("viewer_test_pub", context=ctx)
+
+
+def transform(parent: str, child: str, xyz: Any, quat_xyzw: Any, stamp_ns: int) -> TransformStamped:
+    t = TransformStamped()
+    t.header.frame_id = parent
+    t.child_frame_id = child
+    t.header.stamp.sec, t.header.stamp.nanosec = divmod(stamp_ns, NS)
+    t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = map(
+        float, xyz)
+    q = t.transform.rotation
+    q.x, q.y, q.z, q.w = map(float, quat_xyzw)
+    return t
+
+
+def odometry(x: float, y: float, yaw: float, speed: float = 0.0, frame: str = "odom") -> Odometry:
+    msg = Odometry()
+    msg.header.frame_id = frame
+    msg.child_frame_id = "base_link"
+    msg.pose.pose.position.x, msg.pose.pose.position.y = x, y
+    msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    msg.twist.twist.linear.x = speed
+    return msg
+
+
+def test_frames_in_fixed_frame_match_scipy_composition(ctx: Context, node: Node) -> None:
+    rng = np.random.default_rng(3)
+    chain = [("odom", "base_link"), ("base_link", "body_link"), ("body_link", "camera")]
+    poses = {child: (rng.normal(size=3), R.random(random_state=rng)) for _, child in chain}
+    dynamic = TransformBroadcaster(node)
+    static = StaticTransformBroadcaster(node)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    for parent, child in chain:
+        xyz, rot = poses[child]
+        t = transform(parent, child, xyz, rot.as_quat(), 5 * NS)
+        (static if child == "body_link" else dynamic).sendTransform(t)
+    tap.refresh()
+    for parent, child in chain:  # subscribed after the first publish: send the dynamic again
+        if child != "body_link":
+            xyz, rot = poses[child]
+            dynamic.sendTransform(transform(parent, child, xyz, rot.as_quat(), 5 * NS))
+
+    def T(child: str) -> np.ndarray:
+        m = np.eye(4)
+        m[:3, :3] = poses[child][1].as_matrix()
+        m[:3, 3] = poses[child][0]
+        return m
+
+    T_odom = {"odom": np.eye(4), "base_link": T("base_link")}
+    T_odom["body_link"] = T_odom["base_link"] @ T("body_link")
+    T_odom["camera"] = T_odom["body_link"] @ T("camera")
+    for fixed in ("odom", "body_link"):
+        error, rows = tap.frames_in(fixed)
+        assert error is None
+        by_name = {r[0]: r for r in rows}
+        assert set(by_name) == {"odom", "base_link", "body_link", "camera"}
+        for name, row in by_name.items():
+            expected = np.linalg.inv(T_odom[fixed]) @ T_odom[name]
+            assert row[11] is True
+            np.testing.assert_allclose(row[2:5], expected[:3, 3], atol=2e-5)
+            got = R.from_quat(row[5:9])
+            angle = (got.inv() * R.from_matrix(expected[:3, :3])).magnitude()
+            assert angle < 1e-4
+        assert by_name["body_link"][10] is True
+        assert by_name["camera"][10] is False
+        assert by_name["camera"][1] == "body_link"
+
+
+def test_missing_fixed_frame_is_reported(ctx: Context, node: Node) -> None:
+    tap = ViewerTap(ctx.transport())
+    error, rows = tap.frames_in("odom")
+    assert error is not None
+    assert "Fixed Frame [odom] does not exist" in error
+    assert rows == []
+    TransformBroadcaster(node)
+    tap.refresh()
+    TransformBroadcaster(node).sendTransform(
+        transform("map", "base_link", (1, 0, 0), (0, 0, 0, 1), NS))
+    error, rows = tap.frames_in("odom")
+    assert error == "Fixed Frame [odom] does not exist"
+    assert {r[0] for r in rows} == {"map", "base_link"}
+    assert not any(r[11] for r in rows)
+
+
+def test_static_transforms_sent_before_the_tap_arrive(ctx: Context, node: Node) -> None:
+    StaticTransformBroadcaster(node).sendTransform(
+        transform("base_link", "imu_link", (0, 0.1, 0), (0, 0, 0, 1), 0))
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    error, rows = tap.frames_in("base_link")
+    assert error is None
+    imu = {r[0]: r for r in rows}["imu_link"]
+    assert imu[2:5] == [0.0, 0.1, 0.0]
+    assert imu[10] is True
+    assert [f["name"] for f in tap.tree()] == ["imu_link"]
+
+
+def test_frame_rate_and_age_come_from_stamps(ctx: Context, node: Node) -> None:
+    clock_ns = [0]
+    tap = ViewerTap(ctx.transport(), clock_ns=lambda: clock_ns[0])
+    pub = TransformBroadcaster(node)
+    tap.refresh()
+    for i in range(21):  # 20 Hz for one second of stamps
+        pub.sendTransform(transform("odom", "base_link", (i, 0, 0), (0, 0, 0, 1), i * NS // 20))
+    clock_ns[0] = 3 * NS
+    (row,) = tap.tree()
+    assert row["rate"] == pytest.approx(20.0)
+    assert row["age"] == pytest.approx(2.0)
+    assert row["parent"] == "odom"
+    assert row["static"] is False
+
+
+def test_sim_time_without_clock_uses_the_newest_stamp(ctx: Context, node: Node) -> None:
+    tap = ViewerTap(ctx.transport())
+    pub = TransformBroadcaster(node)
+    tap.refresh()
+    pub.sendTransform(transform("odom", "base_link", (0, 0, 0), (0, 0, 0, 1), 7 * NS))
+    assert abs(tap.now_ns() - 7 * NS) < NS // 2  # not the wall clock (~1.7e18 ns)
+
+
+def test_clock_drives_ages_and_a_backward_jump_clears(ctx: Context, node: Node) -> None:
+    clock_pub = node.create_publisher(Clock, "/clock", 1)
+    tf = TransformBroadcaster(node)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    tf.sendTransform(transform("odom", "base_link", (1, 0, 0), (0, 0, 0, 1), 10 * NS))
+    msg = Clock()
+    msg.clock.sec = 12
+    clock_pub.publish(msg)
+    assert tap.now_ns() == 12 * NS
+    assert tap.tree()[0]["age"] == pytest.approx(2.0)
+    msg.clock.sec = 1  # the run restarted
+    clock_pub.publish(msg)
+    error, rows = tap.frames_in("odom")
+    assert error is None
+    assert {r[0]: r for r in rows}["base_link"][11] is False  # buffer cleared
+
+
+def test_trail_keeps_poses_past_rviz_tolerances(ctx: Context, node: Node) -> None:
+    pub = node.create_publisher(Odometry, "/odometry/filtered", 10)
+    tap = ViewerTap(ctx.transport(), trail_length=5)
+    tap.refresh()
+    step = 0.04
+    xs = [i * step for i in range(30)]
+    for x in xs:
+        pub.publish(odometry(x, 0.0, 0.0, speed=0.4))
+    # Independent replay of the rule: keep when >= 0.1 m from the last kept pose.
+    kept = [xs[0]]
+    for x in xs[1:]:
+        if x - kept[-1] >= TRAIL_POSITION_TOLERANCE_M:
+            kept.append(x)
+    trail = tap.trails()["/odometry/filtered"]
+    assert trail["received"] == 30
+    assert trail["frame"] == "odom"
+    assert [p[0] for p in trail["trail"]] == pytest.approx(kept[-5:])
+    assert trail["trail"][-1][7] == pytest.approx(0.4)
+    # Turning in place past 0.1 rad adds an arrow; 0.05 rad does not.
+    before = len(tap.trails()["/odometry/filtered"]["trail"])
+    pub.publish(odometry(xs[-1], 0.0, 0.05))
+    pub.publish(odometry(kept[-1], 0.0, 0.15))
+    after = tap.trails()["/odometry/filtered"]["trail"]
+    assert len(after) == min(5, before + 1)
+    assert after[-1][5] == pytest.approx(math.sin(0.075), abs=1e-4)
+
+
+def test_bad_odometry_is_logged_and_the_tap_keeps_working(ctx: Context, node: Node) -> None:
+    pub = node.create_publisher(Odometry, "/odometry/wheels", 10)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    records: list[LogRecord] = []
+    add_sink(records.append)
+    try:
+        pub.publish(odometry(float("nan"), 0.0, 0.0))
+    finally:
+        remove_sink(records.append)
+    assert any("bad message on /odometry/wheels" in r.message for r in records)
+    pub.publish(odometry(1.0, 2.0, 0.0))
+    assert tap.trails()["/odometry/wheels"]["trail"][0][:2] == [1.0, 2.0]
+
+
+def test_images_newest_only_and_rates(ctx: Context, node: Node) -> None:
+    pub = node.create_publisher(Image, "camera/image", 5)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    images = []
+    for i in range(11):
+        msg = Image(height=1, width=1, encoding="mono8", step=1, data=np.array([i], np.uint8))
+        images.append(msg)
+        pub.publish(msg)
+        time.sleep(0.01)
+    seq, newest = tap.latest_image("/camera/image")
+    assert seq == 11
+    assert int(newest.data[0]) == 10
+    assert tap.image_topics() == ["/camera/image"]
+    row = {t["name"]: t for t in tap.topics()}["/camera/image"]
+    assert row["count"] == 11
+    assert row["publishers"] == 1
+    # 10 intervals of >= 10 ms: at most 100 Hz, and a loaded machine still gives > 10 Hz.
+    assert 10.0 < row["rate"] <= 101.0
+
+
+def test_tap_creates_no_topics_and_skips_unknown_types(ctx: Context, node: Node) -> None:
+    transport = ctx.transport()
+    tap = ViewerTap(transport)
+    tap.refresh()
+    assert transport.get_topic_names_and_types() == []
+
+    @dataclass
+    class Custom:  # a type the registry does not know, defined in a function
+        value: int = 0
+        __msgtype__: ClassVar[str] = "my_pkg/msg/Custom"
+
+    pub = node.create_publisher(Custom, "custom", 1)
+    tap.refresh()
+    pub.publish(Custom(1))
+    row = {t["name"]: t for t in tap.topics()}["/custom"]
+    assert "unknown message type" in row["error"]
+    assert row["count"] == 0
+    assert transport.count_subscribers("/custom") == 0
+
+
+def test_close_stops_listening(ctx: Context, node: Node) -> None:
+    pub = node.create_publisher(Odometry, "/odometry/filtered", 10)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    assert ctx.transport().count_subscribers("/odometry/filtered") == 1
+    tap.close()
+    assert ctx.transport().count_subscribers("/odometry/filtered") == 0
+    pub.publish(odometry(1.0, 0.0, 0.0))
+    assert tap.trails() == {}
+
+
+def test_trail_length_must_be_positive(ctx: Context) -> None:
+    with pytest.raises(ValueError, match="trail_length"):
+        ViewerTap(ctx.transport(), trail_length=0)
