@@ -18,6 +18,13 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("tf", "static"): ("posekit.cli.tf_static:main", "static_transform_publisher"),
     ("tf", "frames"): ("posekit.cli.view_frames:main", "view_frames: write frames_*.gv/.pdf"),
     ("tf", "tree"): ("posekit.cli.view_frames:main_tree", "print the frame tree"),
+    ("topic", "list"): ("posekit.cli.topic_cmd:main_list", "list topics (-t: with types)"),
+    ("topic", "info"): ("posekit.cli.topic_cmd:main_info", "type and endpoint counts of a topic"),
+    ("topic", "echo"): ("posekit.cli.topic_cmd:main_echo", "print a topic's messages"),
+    ("topic", "hz"): ("posekit.cli.topic_cmd:main_hz", "average receive rate of a topic"),
+    ("topic", "pub"): ("posekit.cli.topic_cmd:main_pub", "publish a message (YAML values)"),
+    ("node", "list"): ("posekit.cli.node_cmd:main_list", "list nodes on the graph"),
+    ("router", None): ("posekit.cli.router_cmd:main", "run a zenoh router until Ctrl-C"),
     ("launch", None): ("posekit.cli.launch_cmd:main", "run a scenario or a launch file"),
     ("demo", None): ("posekit.demos.main:main", "run the main demo"),
 }

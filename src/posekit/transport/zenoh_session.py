@@ -262,7 +262,7 @@ class ZenohSession:
         self.zid = str(session.info.zid())
         self._ids = itertools.count()
         self._lock = threading.Lock()
-        self._tokens: list[Any] = []
+        self._tokens: dict[str, Any] = {}
         self._entities: list[WirePublisher | WireSubscription] = []
         self._graph: ZenohGraph | None = None
         self._closed = False
@@ -285,7 +285,7 @@ class ZenohSession:
     def _declare_token(self, key: str) -> Any:
         token = self.session.liveliness().declare_token(key)
         with self._lock:
-            self._tokens.append(token)
+            self._tokens[key] = token
         return token
 
     def create_node(self, name: str, namespace: str = "/") -> NodeEntity:
@@ -295,6 +295,32 @@ class ZenohSession:
         key = node_token(self.domain_id, self.zid, node_id, namespace, name, self.options.enclave)
         self._declare_token(key)
         return NodeEntity(name, namespace, node_id, key)
+
+    def destroy_node(self, node: NodeEntity) -> None:
+        """Withdraw a node's ``NN`` token (its endpoints are destroyed separately)."""
+        with self._lock:
+            token = self._tokens.pop(node.token_key, None)
+        if token is not None:
+            _quiet(token.undeclare)
+
+    def sync_graph(self, timeout: float = 2.0) -> int:
+        """Query every live token of the domain now and add it to :attr:`graph`.
+
+        Returns the number of tokens received. Unlike the liveliness subscriber's history,
+        the query has an end, so a command-line tool knows when its graph snapshot is
+        complete (bounded by ``timeout`` seconds).
+        """
+        graph = self.graph
+        replies = self.session.liveliness().get(
+            f"{LIVELINESS_PREFIX}/{int(self.domain_id)}/**", timeout=max(0.05, timeout)
+        )
+        count = 0
+        for reply in replies:
+            ok = reply.ok
+            if ok is not None:
+                graph.add_remote(str(ok.key_expr))
+                count += 1
+        return count
 
     def create_publisher(
         self, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS
@@ -336,7 +362,7 @@ class ZenohSession:
                 return
             self._closed = True
             entities, self._entities = self._entities, []
-            tokens, self._tokens = self._tokens, []
+            tokens, self._tokens = list(self._tokens.values()), {}
             graph, self._graph = self._graph, None
         for entity in entities:
             entity.destroy()
@@ -598,6 +624,12 @@ class ZenohGraph:
                 self.cache.remove(key)
             self._cond.notify_all()
 
+    def add_remote(self, keyexpr: str) -> None:
+        """Record a token learnt from a liveliness query."""
+        with self._cond:
+            self.cache.add(keyexpr)
+            self._cond.notify_all()
+
     def add_local(self, keyexpr: str) -> None:
         """Record one of this session's own tokens now (liveliness echoes it later)."""
         with self._cond:
@@ -614,6 +646,11 @@ class ZenohGraph:
         """Block until ``predicate(cache)`` holds (True) or ``timeout`` seconds pass (False)."""
         with self._cond:
             return self._cond.wait_for(lambda: predicate(self.cache), timeout)
+
+    def entities(self) -> list[TokenInfo]:
+        """A consistent snapshot of every announced entity (duplicates kept)."""
+        with self._cond:
+            return self.cache.entities()
 
     def node_names(self) -> list[str]:
         """Fully qualified node names, sorted."""

@@ -2,7 +2,9 @@
 
 Select it with ``POSEKIT_TRANSPORT=zenoh``, ``init(transport="zenoh")`` or
 ``Node(..., transport="zenoh")``. One instance (one Zenoh session) per context; nodes are
-announced on the ROS graph with their first endpoint (or :meth:`ZenohTransport.declare_node`).
+announced on the ROS graph with their first endpoint, or as soon as the runtime calls
+:meth:`ZenohTransport.declare_node` (withdrawn with :meth:`ZenohTransport.undeclare_node`
+or when their last endpoint goes).
 
 QoS: reliability, durability and depth are mapped as rmw_zenoh maps them
 (TRANSIENT_LOCAL through zenoh-ext's advanced publisher cache / subscriber history).
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import os
 import threading
+from dataclasses import dataclass
 from typing import Any
 
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -36,6 +39,7 @@ from posekit.transport.zenoh_session import (
     SessionOptions,
     WirePublisher,
     WireSubscription,
+    ZenohGraph,
     ZenohSession,
     open_session,
 )
@@ -99,7 +103,7 @@ class _Publisher(PublisherEndpoint):
     def destroy(self) -> None:
         if self.alive:
             self.alive = False
-            self._owner._forget(self.wire)
+            self._owner._forget(self.wire, self.info)
 
     @property
     def subscription_count(self) -> int:
@@ -117,11 +121,17 @@ class _Subscription(SubscriptionEndpoint):
         if self.alive:
             self.alive = False
             if self.wire is not None:
-                self._owner._forget(self.wire)
+                self._owner._forget(self.wire, self.info)
 
     @property
     def publisher_count(self) -> int:
         return len(self._owner._endpoints(self.info.topic, EntityKind.PUBLISHER))
+
+
+@dataclass(slots=True)
+class _NodeRef:
+    node: NodeEntity
+    refs: int = 0
 
 
 class ZenohTransport(Transport):
@@ -136,34 +146,66 @@ class ZenohTransport(Transport):
             session if session is not None else open_session(options or options_from_env())
         )
         self._lock = threading.Lock()
-        self._nodes: dict[tuple[str, str], NodeEntity] = {}
+        # (namespace, name) -> node and its references (endpoints + declare_node calls)
+        self._nodes: dict[tuple[str, str], _NodeRef] = {}
         self._graph = self.session.graph
         self._warned_qos: set[tuple[str, str]] = set()
 
     # -- nodes -------------------------------------------------------------------------
     def declare_node(self, name: str, namespace: str = "/") -> NodeEntity:
-        """Announce a node (idempotent); endpoints announce their node automatically."""
+        """Announce a node on the graph (the ``NN`` token), e.g. from ``Node.__init__``.
+
+        Reference counted together with the node's endpoints: the token is withdrawn when
+        :meth:`undeclare_node` has balanced every call and the node's last endpoint is
+        destroyed. Without these calls a node is announced by its first endpoint.
+        """
+        return self._acquire_node(namespace, name)
+
+    def undeclare_node(self, name: str, namespace: str = "/") -> None:
+        """Balance one :meth:`declare_node` call (``Node.destroy_node``); unknown: no-op."""
+        self._release_node(namespace, name)
+
+    def _acquire_node(self, namespace: str, name: str) -> NodeEntity:
         key = (namespace or "/", name)
         with self._lock:
-            node = self._nodes.get(key)
-            if node is None:
+            entry = self._nodes.get(key)
+            if entry is None:
                 node = self.session.create_node(name, key[0])
                 self._graph.add_local(node.token_key)  # visible locally at once
-                self._nodes[key] = node
-            return node
+                entry = self._nodes[key] = _NodeRef(node)
+            entry.refs += 1
+            return entry.node
+
+    def _release_node(self, namespace: str, name: str) -> None:
+        key = (namespace or "/", name)
+        with self._lock:
+            entry = self._nodes.get(key)
+            if entry is None:
+                return
+            entry.refs -= 1
+            if entry.refs > 0:
+                return
+            del self._nodes[key]
+        node = entry.node
+        self.session.destroy_node(node)
+        self._graph.remove_local(node.token_key)
 
     # -- endpoints ---------------------------------------------------------------------
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
         type_name = _type_name(info)
-        node = self.declare_node(info.node_name, info.node_namespace)
-        wire = self.session.create_publisher(node, info.topic, type_name, wire_qos(info.qos))
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        try:
+            wire = self.session.create_publisher(node, info.topic, type_name, wire_qos(info.qos))
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
         self._graph.add_local(wire.token_key)
         self._check_qos(info, wire_qos(info.qos), EntityKind.PUBLISHER)
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
         _type_name(info)
-        node = self.declare_node(info.node_name, info.node_namespace)
+        node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Subscription(self, info)
 
         def deliver(msg: Any, _att: Attachment) -> None:
@@ -172,9 +214,13 @@ class ZenohTransport(Transport):
 
         qos = wire_qos(info.qos)
         self._check_qos(info, qos, EntityKind.SUBSCRIPTION)
-        endpoint.wire = self.session.create_subscription(
-            node, info.topic, info.msg_type, qos, deliver, warn=info.logger.warning
-        )
+        try:
+            endpoint.wire = self.session.create_subscription(
+                node, info.topic, info.msg_type, qos, deliver, warn=info.logger.warning
+            )
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
         self._graph.add_local(endpoint.wire.token_key)
         return endpoint
 
@@ -202,9 +248,10 @@ class ZenohTransport(Transport):
                     )
                 return
 
-    def _forget(self, wire: WirePublisher | WireSubscription) -> None:
+    def _forget(self, wire: WirePublisher | WireSubscription, info: EndpointInfo) -> None:
         wire.destroy()
         self._graph.remove_local(wire.token_key)
+        self._release_node(info.node_namespace, info.node_name)
 
     def _endpoints(self, topic: str, kind: EntityKind) -> list[TokenInfo]:
         if kind is EntityKind.PUBLISHER:
@@ -224,6 +271,23 @@ class ZenohTransport(Transport):
     def get_node_names(self) -> list[str]:
         """Fully qualified names of every node on the graph (this and other processes)."""
         return self._graph.node_names()
+
+    @property
+    def graph(self) -> ZenohGraph:
+        """The live ROS graph of this domain (posekit's and rmw_zenoh's tokens)."""
+        return self._graph
+
+    def sync_graph(self, timeout: float = 2.0) -> int:
+        """Complete the graph with a liveliness query (see :meth:`ZenohSession.sync_graph`)."""
+        return self.session.sync_graph(timeout)
+
+    def get_publishers_info_by_topic(self, topic: str) -> list[TokenInfo]:
+        """Every publisher announced on ``topic`` (node, type, hash, QoS, GID source)."""
+        return self._graph.publishers(topic)
+
+    def get_subscriptions_info_by_topic(self, topic: str) -> list[TokenInfo]:
+        """Every subscription announced on ``topic``."""
+        return self._graph.subscriptions(topic)
 
     def close(self) -> None:
         self.session.close()
