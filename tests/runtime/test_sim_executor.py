@@ -155,3 +155,15 @@ def test_backward_set_time_restarts_timers(ctx) -> None:
     ex.set_time(50.0)
     ex.run_until(52.0)
     assert fired == [101 * 10**9, 102 * 10**9, 51 * 10**9, 52 * 10**9]
+
+
+def test_zero_period_timer_runs_once_per_step(ctx) -> None:
+    node = Node("n", context=ctx)
+    calls: list[int] = []
+    node.create_timer(0.0, lambda: calls.append(node.get_clock().now().nanoseconds))
+    node.create_timer(0.5, lambda: None)
+    ex = SimulatedTimeExecutor(context=ctx)
+    ex.add_node(node)
+    ex.run_until(1.0)
+    # Ready at creation (t = 0), then once at each time the executor stops at.
+    assert calls == [0, 500_000_000, 1_000_000_000]

@@ -228,7 +228,9 @@ class Timer:
             missed = (now - nxt) // self._period_ns + 1
             nxt += missed * self._period_ns
         elif self._period_ns == 0:
-            nxt = now
+            # "As often as possible": ready again as soon as the clock moves (a frozen sim
+            # clock would otherwise re-fire it forever within one step).
+            nxt = now + 1
         self._next_ns = nxt
 
     def destroy(self) -> bool:

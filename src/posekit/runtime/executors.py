@@ -516,6 +516,8 @@ class SimulatedTimeExecutor(Executor):
             clock = timer.clock
             if not (isinstance(clock, ROSClock) and clock.ros_time_is_active):
                 continue
+            if timer.timer_period_ns == 0:
+                continue  # runs once per step; it does not drive time
             timer.is_ready()  # applies backward-jump rescheduling
             due = max(timer.next_call_ns, self._now_ns)
             if best is None or due < best:
@@ -624,12 +626,10 @@ def spin_once(node: Node, *, executor: Executor | None = None,
               timeout_sec: float | None = None) -> None:
     """rclpy.spin_once: one callback of ``node`` (global executor unless given)."""
     executor = executor or get_global_executor(node.context)
-    added = executor.add_node(node)
-    try:
-        executor.spin_once(timeout_sec=timeout_sec)
-    finally:
-        if added and executor is _global_executors.get(id(node.context)):
-            pass  # keep the node: removing would re-sort its queue on every call
+    # The node stays in the executor afterwards (rclpy removes it; re-adding on every call
+    # would re-scan its queues). A node belongs to one executor at a time either way.
+    executor.add_node(node)
+    executor.spin_once(timeout_sec=timeout_sec)
 
 
 def spin(node: Node, executor: Executor | None = None) -> None:
