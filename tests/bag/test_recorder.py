@@ -321,3 +321,24 @@ def test_close_is_idempotent_and_stops_recording(ctx: Context, tmp_path: Path) -
     assert rec.discover() == []
     assert (tmp_path / "c" / "metadata.yaml").read_text() == before
     assert [m.decode().data for m in read_messages(tmp_path / "c")] == ["one"]
+
+
+def test_context_shutdown_finishes_an_attached_bag(tmp_path: Path) -> None:
+    from posekit.bag import attach_recorder
+
+    context = Context()
+    context.init(transport="inprocess")
+    executor = SimulatedTimeExecutor(context=context)
+    node = Node("talk", context=context)
+    pub = node.create_publisher(String, "words", 10)
+    executor.add_node(node)
+    rec = attach_recorder(context, tmp_path / "auto", ["words"])
+    executor.add_node(rec.node)  # a bare context: the caller spins the recorder node
+    pub.publish(String(data="kept"))
+    executor.run_for(0.1)
+    assert not (tmp_path / "auto" / "metadata.yaml").exists()  # still recording
+    context.shutdown()
+    assert rec.closed
+    assert [m.decode().data for m in read_messages(tmp_path / "auto")] == ["kept"]
+    with pytest.raises(BagOptionError, match="LaunchRun, an Executor or a Context"):
+        attach_recorder(object(), tmp_path / "never")

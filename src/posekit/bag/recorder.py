@@ -297,22 +297,29 @@ class Recorder:
 
 def attach_recorder(target: Any, output: str | Path, topics: Sequence[str] | None = None,
                     **options: Any) -> Recorder:
-    """Start recording a running system: ``target`` is a :class:`posekit.launch.LaunchRun`
-    (anything with ``.executor`` and ``.context``) or an :class:`Executor`.
+    """Start recording a running system.
 
-    The recorder node joins the same context and executor (so under a
-    SimulatedTimeExecutor it records in sim time) and the bag is finished automatically
-    when the context shuts down; call :meth:`Recorder.close` to finish it earlier.
-    ``options`` are :class:`Recorder`'s keyword arguments.
+    ``target`` is a :class:`posekit.launch.LaunchRun` (anything with ``.executor``), an
+    :class:`Executor`, or a :class:`Context`. With a run or an executor the recorder node joins
+    that executor (under a SimulatedTimeExecutor it records in sim time); with a bare context
+    the caller adds ``recorder.node`` to whatever spins it. Either way the bag is finished
+    when the context shuts down, or earlier by :meth:`Recorder.close`. ``options`` are
+    :class:`Recorder`'s keyword arguments.
     """
-    executor = target if isinstance(target, Executor) else getattr(target, "executor", None)
-    if not isinstance(executor, Executor):
-        raise BagOptionError(
-            f"attach_recorder needs a LaunchRun or an Executor, got {type(target).__name__}"
-        )
-    context = executor.context
+    executor: Executor | None
+    if isinstance(target, Context):
+        context, executor = target, None
+    else:
+        executor = target if isinstance(target, Executor) else getattr(target, "executor", None)
+        if not isinstance(executor, Executor):
+            raise BagOptionError(
+                "attach_recorder needs a LaunchRun, an Executor or a Context, got "
+                f"{type(target).__name__}"
+            )
+        context = executor.context
     recorder = Recorder(output, topics, context=context, **options)
-    executor.add_node(recorder.node)
+    if executor is not None:
+        executor.add_node(recorder.node)
 
     def finish() -> None:
         try:
