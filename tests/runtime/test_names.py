@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from posekit.msgs.std_msgs import String
 from posekit.runtime.names import (
@@ -94,3 +96,23 @@ def test_special_remaps_rename_node(ctx) -> None:
     node = Node("orig", context=ctx, cli_args=["--ros-args", "-r", "__node:=renamed",
                                                  "-r", "__ns:=/team"])
     assert node.get_fully_qualified_name() == "/team/renamed"
+
+
+token = st.from_regex(r"[A-Za-z_][A-Za-z0-9_]{0,6}", fullmatch=True)
+
+
+@given(
+    parts=st.lists(token, min_size=1, max_size=4),
+    ns_parts=st.lists(token, max_size=3),
+    node=token,
+    kind=st.sampled_from(["relative", "absolute", "private"]),
+)
+def test_expansion_properties(parts, ns_parts, node, kind) -> None:
+    namespace = "/" + "/".join(ns_parts)
+    body = "/".join(parts)
+    name = {"relative": body, "absolute": "/" + body, "private": "~/" + body}[kind]
+    full = expand_topic_name(name, node, namespace)
+    # Independent construction of the expected absolute name.
+    prefix = {"relative": ns_parts, "absolute": [], "private": [*ns_parts, node]}[kind]
+    assert full == "/" + "/".join([*prefix, *parts])
+    assert expand_topic_name(full, "other", "/elsewhere") == full  # absolute is a fixed point

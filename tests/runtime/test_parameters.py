@@ -106,3 +106,20 @@ def test_parse_parameter_value(text: str, value: object) -> None:
     parsed = parse_parameter_value(text)
     assert parsed == value
     assert type(parsed) is type(value)
+
+
+def test_log_level_argument_and_rclpy_init_signature() -> None:
+    from posekit.runtime.context import init
+    from posekit.runtime.logging import LoggingSeverity, get_logger_level
+
+    context = Context()
+    init(["prog", "--ros-args", "--log-level", "lvl_node:=debug"], context=context,
+         domain_id=3)
+    try:
+        assert get_logger_level("lvl_node") == LoggingSeverity.DEBUG
+        with pytest.raises(ValueError, match="unknown log level"):
+            Context().init(["--ros-args", "--log-level", "loud"])
+        with pytest.raises(ValueError, match="unsupported ROS argument"):
+            Context().init(["--ros-args", "--enclave", "x"])
+    finally:
+        context.shutdown()

@@ -74,9 +74,28 @@ def parse_ros_args(args: Sequence[str] | None) -> tuple[dict[str, Any], list[Rem
             if spec is None or ":=" not in spec:
                 raise ValueError(f"expected from:=to after {arg}, got {spec!r}")
             remaps.append(spec)
+        elif arg == "--log-level":
+            spec = next(it, None)
+            if spec is None:
+                raise ValueError("expected a level after --log-level")
+            _apply_log_level(spec)
         else:
-            raise ValueError(f"unsupported ROS argument {arg!r} (supported: -p, -r)")
+            raise ValueError(
+                f"unsupported ROS argument {arg!r} (supported: -p, -r, --log-level)"
+            )
     return params, parse_remap_rules(remaps)
+
+
+def _apply_log_level(spec: str) -> None:
+    """``--log-level debug`` (every logger) or ``--log-level talker:=debug`` (one logger)."""
+    from posekit.runtime.logging import LoggingSeverity, set_logger_level
+
+    name, _, level = spec.rpartition(":=")
+    try:
+        severity = LoggingSeverity[level.strip().upper().replace("WARNING", "WARN")]
+    except KeyError:
+        raise ValueError(f"unknown log level {level!r} in --log-level {spec}") from None
+    set_logger_level(name, severity)
 
 
 class Context:
@@ -161,17 +180,22 @@ def get_default_context() -> Context:
 
 
 def init(
-    *,
     args: Sequence[str] | None = None,
+    *,
     context: Context | None = None,
+    domain_id: int | None = None,
     transport: str | None = None,
+    signal_handler_options: object = None,
 ) -> None:
-    """rclpy.init: initialize ``context`` (default: the global one)."""
+    """rclpy.init: initialize ``context`` (default: the global one). ``domain_id`` and
+    ``signal_handler_options`` are accepted for compatibility and ignored."""
+    del domain_id, signal_handler_options
     (context or _default_context).init(args, transport=transport)
 
 
-def shutdown(*, context: Context | None = None) -> None:
+def shutdown(*, context: Context | None = None, uninstall_handlers: object = None) -> None:
     """rclpy.shutdown."""
+    del uninstall_handlers
     (context or _default_context).shutdown()
 
 
