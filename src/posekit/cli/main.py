@@ -25,6 +25,9 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("topic", "pub"): ("posekit.cli.topic_cmd:main_pub", "publish a message (YAML values)"),
     ("node", "list"): ("posekit.cli.node_cmd:main_list", "list nodes on the graph"),
     ("router", None): ("posekit.cli.router_cmd:main", "run a zenoh router until Ctrl-C"),
+    ("bag", "record"): ("posekit.cli.bag_cmd:record", "record topics to a ROS 2 bag (MCAP)"),
+    ("bag", "play"): ("posekit.cli.bag_cmd:play", "play a bag back on sim time"),
+    ("bag", "info"): ("posekit.cli.bag_cmd:info", "summarise a bag like ros2 bag info"),
     ("launch", None): ("posekit.cli.launch_cmd:main", "run a scenario or a launch file"),
     ("demo", None): ("posekit.demos.main:main", "run the main demo"),
 }
