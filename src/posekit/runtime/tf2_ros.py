@@ -32,7 +32,7 @@ from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.bus import snapshot
 from posekit.runtime.callback_groups import ReentrantCallbackGroup
 from posekit.runtime.clock import ClockChange, JumpThreshold, TimeJump
-from posekit.runtime.node import Node
+from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.time import Duration
 
@@ -157,14 +157,16 @@ class TransformListener:
         if spin_thread:
             from posekit.runtime.executors import SingleThreadedExecutor
 
-            self._helper = Node(
-                f"{node.get_name()}_tf_listener",
-                namespace=node.get_namespace(),
-                context=node.context,
-                parameter_overrides={
-                    "use_sim_time": node.get_parameter("use_sim_time").value
-                },
-            )
+            # A fresh scope: a launch's name/remapping overrides are for the user's node.
+            with node_defaults(context=node.context):
+                self._helper = Node(
+                    f"{node.get_name()}_tf_listener",
+                    namespace=node.get_namespace(),
+                    context=node.context,
+                    parameter_overrides={
+                        "use_sim_time": node.get_parameter("use_sim_time").value
+                    },
+                )
             sub_node = self._helper
         self.group = ReentrantCallbackGroup()
         self.tf_sub = sub_node.create_subscription(
