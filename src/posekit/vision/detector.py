@@ -293,14 +293,14 @@ class ArucoMarkerDetector:
             object_points, image_points, self.camera_matrix, self.dist_coeffs,
             flags=cv2.SOLVEPNP_IPPE_SQUARE,
         )
-        errs = np.asarray(errors, dtype=np.float64).reshape(-1)
+        errs = np.asarray(errors, dtype=np.float64).reshape(-1).tolist() if n else []
         candidates: list[PoseCandidate] = []
         for k in range(int(n)):
-            rvec = np.asarray(rvecs[k], dtype=np.float64).reshape(3)
-            tvec = np.asarray(tvecs[k], dtype=np.float64).reshape(3)
-            err = float(errs[k]) if k < errs.size else math.inf
-            if not (np.all(np.isfinite(rvec)) and np.all(np.isfinite(tvec))
-                    and math.isfinite(err)):
+            rvec = rvecs[k].reshape(3).astype(np.float64)
+            tvec = tvecs[k].reshape(3).astype(np.float64)
+            err = errs[k] if k < len(errs) else math.inf
+            # a NaN anywhere makes the sum NaN (one scalar check instead of two array scans)
+            if not math.isfinite(float(rvec.sum() + tvec.sum()) + err):
                 continue
             candidates.append(
                 PoseCandidate(
