@@ -36,7 +36,7 @@ function textSprite(text, color = "#ffffff") {
   texture.colorSpace = THREE.SRGBColorSpace;
   const material = new THREE.SpriteMaterial({ map: texture, depthTest: false, transparent: true });
   const sprite = new THREE.Sprite(material);
-  const h = 0.045;
+  const h = 0.03;
   sprite.scale.set((h * width) / 36, h, 1);
   sprite.center.set(0, 0);
   sprite.renderOrder = 10;
@@ -90,9 +90,36 @@ function makeRobot() {
   return robot;
 }
 
+// A grid on the z = 0 plane of the Fixed Frame, +-half metres, one segment per cell edge:
+// short segments because some software GL drivers drop a whole line that crosses the near
+// plane (a long grid line under the camera would vanish).
+function makeGrid(half, step) {
+  const minor = [], major = [];
+  for (let i = -half; i <= half; i += step) {
+    const target = Math.abs(i) < 1e-9 ? major : minor;
+    for (let j = -half; j < half; j += step) {
+      target.push(i, j, 0, i, j + step, 0, j, i, 0, j + step, i, 0);
+    }
+  }
+  const group = new THREE.Group();
+  for (const [points, color] of [[minor, 0x5a5a66], [major, 0x9a9ab0]]) {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute("position", new THREE.Float32BufferAttribute(points, 3));
+    group.add(new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color })));
+  }
+  return group;
+}
+
 function arrowLength(speed) {
   // Proportional to speed (where the robot is in 0.5 s), at least 3 cm so stops stay visible.
   return Math.max(0.03, 0.5 * speed);
+}
+
+// "x,y,z" from the page URL (e.g. ?camera=-1,-2,3&target=1,0,0), else the default.
+function vectorParam(name, fallback) {
+  const text = new URLSearchParams(location.search).get(name);
+  const v = text ? text.split(",").map(Number) : [];
+  return v.length === 3 && v.every(Number.isFinite) ? v : fallback;
 }
 
 export async function createScene3D(container) {
@@ -113,9 +140,9 @@ export async function createScene3D(container) {
   const scene = new THREE.Scene();
   const camera = new THREE.PerspectiveCamera(50, 1, 0.02, 500);
   camera.up.set(0, 0, 1);
-  camera.position.set(0.2, -2.2, 3.2);
+  camera.position.set(...vectorParam("camera", [-1.5, -2.5, 4.0]));
   const controls = new OrbitControls(camera, canvas);
-  controls.target.set(2.2, 2.0, 0);
+  controls.target.set(...vectorParam("target", [2.0, 2.0, 0]));
   controls.update();
   let controlsMoved = false;
   controls.addEventListener("change", () => { controlsMoved = true; });
@@ -125,8 +152,7 @@ export async function createScene3D(container) {
   sun.position.set(3, -1, 8);
   scene.add(sun);
 
-  const grid = new THREE.GridHelper(20, 20, 0x8888a0, 0x55555f);
-  grid.rotation.x = Math.PI / 2;                // XZ plane -> XY plane (z up)
+  const grid = makeGrid(10, 1.0);
   scene.add(grid);
 
   const tfRoot = new THREE.Group();
