@@ -23,6 +23,7 @@ import transforms3d.quaternions as t3q
 from scipy.spatial.transform import Rotation as SciRot
 
 from posekit.geometry import Rotation
+from posekit.geometry import scalar as ps
 
 
 def best_time(fn: Callable[[], object], min_total: float = 0.2, repeat: int = 5) -> float:
@@ -58,13 +59,40 @@ def import_time(stmt: str, runs: int) -> float:
 
 
 def process_time(stmt: str, runs: int) -> float:
-    """Median wall time (s) of ``python -c stmt`` as a whole process (interpreter start included)."""
+    """Median wall time (s) of ``python -c stmt`` as a whole process (with interpreter start)."""
     times = []
     for _ in range(runs):
         t = timeit.default_timer()
         subprocess.run([sys.executable, "-c", stmt], check=True)
         times.append(timeit.default_timer() - t)
     return statistics.median(times)
+
+
+Case = tuple[str, Callable[[], object], Callable[[], object]]
+
+
+def batch_cases(n: int) -> list[Case]:
+    """(name, posekit call, scipy call) for batches of ``n`` rotations."""
+    qa = SciRot.random(n, rng=2).as_quat()
+    qb = SciRot.random(n, rng=3).as_quat()
+    ea = SciRot.from_quat(qa).as_euler("xyz")
+    va = np.random.default_rng(4).normal(size=(n, 3))
+    ma = SciRot.from_quat(qa).as_matrix()
+    pa, pb = Rotation.from_quat(qa), Rotation.from_quat(qb)
+    sa, sb = SciRot.from_quat(qa), SciRot.from_quat(qb)
+    tag = f"{n:.0e}".replace("+0", "")
+    return [
+        (f"batch {tag} quat->euler", lambda: Rotation.from_quat(qa).as_euler("xyz"),
+         lambda: SciRot.from_quat(qa).as_euler("xyz")),
+        (f"batch {tag} euler->quat", lambda: Rotation.from_euler("xyz", ea).as_quat(),
+         lambda: SciRot.from_euler("xyz", ea).as_quat()),
+        (f"batch {tag} compose", lambda: pa * pb, lambda: sa * sb),
+        (f"batch {tag} apply", lambda: pa.apply(va), lambda: sa.apply(va)),
+        (f"batch {tag} quat->matrix", lambda: Rotation.from_quat(qa).as_matrix(),
+         lambda: SciRot.from_quat(qa).as_matrix()),
+        (f"batch {tag} matrix->quat", lambda: Rotation.from_matrix(ma).as_quat(),
+         lambda: SciRot.from_matrix(ma).as_quat()),
+    ]
 
 
 def main() -> None:
@@ -74,83 +102,81 @@ def main() -> None:
     min_total = 0.05 if args.quick else 0.3
     sizes = [10_000] if args.quick else [100_000, 1_000_000]
 
-    rows: list[tuple[str, float, float, float | None]] = []
+    singles: list[tuple[str, float, float, float, float]] = []
+    rows: list[tuple[str, float, float]] = []
 
     # ---------------------------------------------------------------- single items
     rng = np.random.default_rng(0)
     q_np = SciRot.random(rng=rng).as_quat()
     q_list = q_np.tolist()
     q_wxyz = np.array([q_np[3], q_np[0], q_np[1], q_np[2]])
+    q_tuple = tuple(q_list)
     e_list = [0.1, 0.2, 0.3]
     v_list = [1.0, 2.0, 3.0]
     v_np = np.array(v_list)
     p1, p2 = Rotation.from_quat(q_list), Rotation.random(rng=1)
     s1, s2 = SciRot.from_quat(q_np), SciRot.from_quat(p2.as_quat())
     q2_wxyz = p2.as_quat(scalar_first=True)
+    q2_tuple = p2.as_quat_tuple()
 
-    def single(name: str, ours: Callable[[], object], ref: Callable[[], object],
-               t3d: Callable[[], object] | None) -> None:
-        rows.append((name, best_time(ours, min_total), best_time(ref, min_total),
-                     None if t3d is None else best_time(t3d, min_total)))
+    def single(name: str, obj: Callable[[], object], fn: Callable[[], object],
+               ref: Callable[[], object], t3d: Callable[[], object]) -> None:
+        singles.append((name, best_time(obj, min_total), best_time(fn, min_total),
+                        best_time(ref, min_total), best_time(t3d, min_total)))
 
-    single("single quat->euler 'xyz'",
+    single("quat->euler 'xyz'",
            lambda: Rotation.from_quat(q_list).as_euler("xyz"),
+           lambda: ps.euler_from_quat("xyz", q_tuple),
            lambda: SciRot.from_quat(q_list).as_euler("xyz"),
            lambda: t3e.quat2euler(q_wxyz, "sxyz"))
-    single("single euler->quat 'xyz'",
+    single("euler->quat 'xyz'",
            lambda: Rotation.from_euler("xyz", e_list).as_quat(),
+           lambda: ps.quat_from_euler("xyz", 0.1, 0.2, 0.3),
            lambda: SciRot.from_euler("xyz", e_list).as_quat(),
            lambda: t3e.euler2quat(0.1, 0.2, 0.3, "sxyz"))
-    single("single compose r1*r2", lambda: p1 * p2, lambda: s1 * s2,
+    single("compose r1*r2", lambda: p1 * p2,
+           lambda: ps.quat_multiply(q_tuple, q2_tuple),
+           lambda: s1 * s2,
            lambda: t3q.qmult(q_wxyz, q2_wxyz))
-    single("single apply (vector)", lambda: p1.apply(v_list), lambda: s1.apply(v_list),
+    single("apply (one vector)", lambda: p1.apply(v_list),
+           lambda: ps.rotate_vector(q_tuple, v_list),
+           lambda: s1.apply(v_list),
            lambda: t3q.rotate_vector(v_np, q_wxyz))
-    single("single quat->matrix",
+    single("quat->matrix",
            lambda: Rotation.from_quat(q_list).as_matrix(),
+           lambda: ps.quat_to_matrix(q_tuple),
            lambda: SciRot.from_quat(q_list).as_matrix(),
            lambda: t3q.quat2mat(q_wxyz))
-    single("single matrix->quat",
-           lambda: Rotation.from_matrix(s1.as_matrix()).as_quat(),
-           lambda: SciRot.from_matrix(s1.as_matrix()).as_quat(),
-           lambda: t3q.mat2quat(s1.as_matrix()))
 
     # ---------------------------------------------------------------- batches
     for n in sizes:
-        qa = SciRot.random(n, rng=2).as_quat()
-        qb = SciRot.random(n, rng=3).as_quat()
-        ea = SciRot.from_quat(qa).as_euler("xyz")
-        va = np.random.default_rng(4).normal(size=(n, 3))
-        ma = SciRot.from_quat(qa).as_matrix()
-        pa, pb = Rotation.from_quat(qa), Rotation.from_quat(qb)
-        sa, sb = SciRot.from_quat(qa), SciRot.from_quat(qb)
-        tag = f"{n:.0e}".replace("+0", "")
-        batch_rows = [
-            (f"batch {tag} quat->euler", lambda: Rotation.from_quat(qa).as_euler("xyz"),
-             lambda: SciRot.from_quat(qa).as_euler("xyz")),
-            (f"batch {tag} euler->quat", lambda: Rotation.from_euler("xyz", ea).as_quat(),
-             lambda: SciRot.from_euler("xyz", ea).as_quat()),
-            (f"batch {tag} compose", lambda: pa * pb, lambda: sa * sb),
-            (f"batch {tag} apply", lambda: pa.apply(va), lambda: sa.apply(va)),
-            (f"batch {tag} quat->matrix", lambda: Rotation.from_quat(qa).as_matrix(),
-             lambda: SciRot.from_quat(qa).as_matrix()),
-            (f"batch {tag} matrix->quat", lambda: Rotation.from_matrix(ma).as_quat(),
-             lambda: SciRot.from_matrix(ma).as_quat()),
-        ]
+        batch_rows = batch_cases(n)
         for name, ours, ref in batch_rows:
             rows.append((name, best_time(ours, min_total, repeat=3),
-                         best_time(ref, min_total, repeat=3), None))
+                         best_time(ref, min_total, repeat=3)))
 
     # ---------------------------------------------------------------- report
     print(f"python {sys.version.split()[0]}, numpy {np.__version__}, "
           f"scipy {__import__('scipy').__version__}, transforms3d {t3q.__name__.split('.')[0]} "
           f"{__import__('transforms3d').__version__}")
-    header = (f"{'operation':30s} {'posekit':>11s} {'scipy':>11s} {'x scipy':>8s} "
-              f"{'transforms3d':>12s} {'x t3d':>6s}")
+    print()
+    print("Single items (one rotation; inputs are Python lists/tuples, outputs as each API gives)")
+    print("  Rotation = posekit object API (vs scipy Rotation); fn = posekit.geometry.scalar "
+          "functions on tuples (vs transforms3d functions)")
+    header = (f"{'operation':20s} {'Rotation':>10s} {'scipy':>10s} {'x scipy':>8s} | "
+              f"{'fn':>10s} {'t3d':>10s} {'x t3d':>6s} {'t3d/Rotation':>12s}")
     print(header)
     print("-" * len(header))
-    for name, ours, ref, t3d in rows:
-        t3 = f"{fmt_time(t3d):>12s} {t3d / ours:6.2f}" if t3d is not None else f"{'-':>12s} {'-':>6s}"
-        print(f"{name:30s} {fmt_time(ours):>11s} {fmt_time(ref):>11s} {ref / ours:8.2f} {t3}")
+    for name, obj, fn, ref, t3d in singles:
+        print(f"{name:20s} {fmt_time(obj):>10s} {fmt_time(ref):>10s} {ref / obj:8.2f} | "
+              f"{fmt_time(fn):>10s} {fmt_time(t3d):>10s} {t3d / fn:6.2f} {t3d / obj:12.2f}")
+    print()
+    print("Batches (posekit Rotation vs scipy Rotation; construction from arrays included)")
+    header = f"{'operation':30s} {'posekit':>11s} {'scipy':>11s} {'x scipy':>8s}"
+    print(header)
+    print("-" * len(header))
+    for name, ours, ref in rows:
+        print(f"{name:30s} {fmt_time(ours):>11s} {fmt_time(ref):>11s} {ref / ours:8.2f}")
 
     runs = 3 if args.quick else 9
     ours_imp = import_time("import posekit.geometry", runs)
@@ -160,9 +186,11 @@ def main() -> None:
     np_imp = import_time("import numpy", runs)
     sci_imp = import_time("from scipy.spatial.transform import Rotation", runs)
     proc = process_time("import posekit.geometry", runs)
+    bare = process_time("pass", runs)
     print()
     print(f"import posekit.geometry (in-process)          {ours_imp * 1e3:7.1f} ms")
     print(f"python -c 'import posekit.geometry' (process) {proc * 1e3:7.1f} ms")
+    print(f"python -c 'pass' (interpreter start alone)    {bare * 1e3:7.1f} ms")
     print(f"import + first array result (loads numpy)     {ours_use * 1e3:7.1f} ms")
     print(f"import numpy                                  {np_imp * 1e3:7.1f} ms")
     print(f"from scipy.spatial.transform import Rotation  {sci_imp * 1e3:7.1f} ms")

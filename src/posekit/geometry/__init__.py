@@ -6,6 +6,7 @@ The bottom layer of posekit; it imports nothing else from the package. Public AP
   and the lecture's world/body composition helpers.
 * :class:`Transform` - SE(3) ``T_a_b`` with ``T_a_c = T_a_b * T_b_c``.
 * :class:`Pose2D` - SE(2) with exact ``exp``/``log`` for arc odometry.
+* :mod:`posekit.geometry.scalar` - the same maths as functions on plain float tuples.
 * duck-typed ROS message conversions, named errors and :class:`GimbalLockWarning`.
 
 Conventions (quaternion order ``(x, y, z, w)`` unless ``scalar_first=True``, active
@@ -14,6 +15,7 @@ rotations, lowercase extrinsic / uppercase intrinsic Euler) are in ``docs/conven
 
 from __future__ import annotations
 
+from posekit.geometry import scalar
 from posekit.geometry._quat import EULER_SEQUENCES
 from posekit.geometry.conversions import (
     pose2d_from_transform,
@@ -59,6 +61,7 @@ __all__ = [
     "pose2d_to_transform",
     "rotation_from_msg",
     "rotation_to_msg",
+    "scalar",
     "transform_from_msg",
     "transform_to_msg",
     "transform_to_pose_msg",

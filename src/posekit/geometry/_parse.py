@@ -26,11 +26,19 @@ def parse_rows(obj: Any, width: int, what: str) -> tuple[float, ...] | F64:
 
     Plain tuples/lists of numbers take a numpy-free path (the single-item fast path).
     """
-    if (type(obj) is tuple or type(obj) is list) and len(obj) == width:
-        try:
-            return tuple([float(v) for v in obj])
-        except TypeError:
-            pass  # nested sequences: a batch, handled below
+    items: Any = obj
+    try:  # one item: exactly ``width`` numbers (list, tuple or 1-D array), no numpy needed
+        if width == 3:
+            a, b, c = items
+            return (float(a), float(b), float(c))
+        if width == 4:
+            a, b, c, d = items
+            return (float(a), float(b), float(c), float(d))
+        if width == 2:
+            a, b = items
+            return (float(a), float(b))
+    except (TypeError, ValueError):
+        pass  # not ``width`` scalars: a batch (or an error), handled below
     arr = np.asarray(obj, dtype=np.float64)
     if arr.shape == (width,):
         return tuple(arr.tolist())

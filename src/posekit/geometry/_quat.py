@@ -263,13 +263,16 @@ def quat_from_euler_xyzw(seq: str, a: float, b: float, c: float) -> Quat:
     R_K(c)`` (same conventions as scipy). Closed form of the product of the three elementary
     quaternions; the result has ``w >= 0``.
     """
-    i, j, k, extrinsic, proper, e = euler_params(seq)
+    try:
+        i, j, k, extrinsic, proper, e = _SEQ[seq]
+    except (KeyError, TypeError):
+        i, j, k, extrinsic, proper, e = euler_params(seq)  # raises the named error
     if not extrinsic:
         a, c = c, a
     # now extrinsic: first a about i, then b about j, then c about k (or i again if proper)
     hb = 0.5 * b
     cb, sb = math.cos(hb), math.sin(hb)
-    v = [0.0, 0.0, 0.0]
+    v = [0.0, 0.0, 0.0, 0.0]
     if proper:
         hs, hd = 0.5 * (a + c), 0.5 * (c - a)
         w = cb * math.cos(hs)
@@ -286,7 +289,8 @@ def quat_from_euler_xyzw(seq: str, a: float, b: float, c: float) -> Quat:
         v[k] = ca * cb * sc - e * sa * sb * cc
     if w < 0.0:
         return (-v[0], -v[1], -v[2], -w)
-    return (v[0], v[1], v[2], w)
+    v[3] = w
+    return tuple(v)  # type: ignore[return-value]
 
 
 def quat_to_euler_xyzw(seq: str, q: Quat) -> tuple[float, float, float, bool]:

@@ -128,20 +128,21 @@ class Rotation:
             InvalidQuaternionError: NaN, inf or zero norm.
             ShapeError: not ``(4,)`` or ``(N, 4)``.
         """
-        if isinstance(quat, (list, tuple)) and len(quat) == 4:
-            try:
-                x, y, z, w = float(quat[0]), float(quat[1]), float(quat[2]), float(quat[3])
-            except TypeError:
-                pass  # nested sequences: a batch
-            else:
-                if scalar_first:
-                    x, y, z, w = y, z, w, x
-                n = math.sqrt(x * x + y * y + z * z + w * w)
-                if n == 1.0:
-                    return cls._single((x, y, z, w))
-                if 1e-100 < n < 1e100:  # no under/overflow in the squares
-                    return cls._single((x / n, y / n, z / n, w / n))
-                return cls._single(sk.quat_normalize_xyzw(x, y, z, w))  # exact or raises
+        try:  # one item: four numbers (list, tuple or (4,) array); anything else is a batch
+            items: Any = quat
+            x, y, z, w = items
+            x, y, z, w = float(x), float(y), float(z), float(w)
+        except (TypeError, ValueError):
+            pass
+        else:
+            if scalar_first:
+                x, y, z, w = y, z, w, x
+            n = math.sqrt(x * x + y * y + z * z + w * w)
+            if n == 1.0:
+                return cls._single((x, y, z, w))
+            if 1e-100 < n < 1e100:  # no under/overflow in the squares
+                return cls._single((x / n, y / n, z / n, w / n))
+            return cls._single(sk.quat_normalize_xyzw(x, y, z, w))  # exact, or raises
         p = parse_rows(quat, 4, "quaternion")
         if isinstance(p, tuple):
             if scalar_first:
@@ -255,17 +256,18 @@ class Rotation:
         Raises:
             UnknownSequenceError, ShapeError, NonFiniteError.
         """
-        if isinstance(angles, (list, tuple)) and len(angles) == 3:
-            try:
-                a, b, c = float(angles[0]), float(angles[1]), float(angles[2])
-            except TypeError:
-                pass  # nested: a batch
-            else:
-                if not math.isfinite(a + b + c):
-                    check_finite((a, b, c), "Euler angles")
-                if degrees:
-                    a, b, c = math.radians(a), math.radians(b), math.radians(c)
-                return cls._single(sk.quat_from_euler_xyzw(seq, a, b, c))
+        try:  # one item: three numbers (list, tuple or (3,) array); anything else is a batch
+            items: Any = angles
+            a, b, c = items
+            a, b, c = float(a), float(b), float(c)
+        except (TypeError, ValueError):
+            pass
+        else:
+            if not math.isfinite(a + b + c):
+                check_finite((a, b, c), "Euler angles")
+            if degrees:
+                a, b, c = math.radians(a), math.radians(b), math.radians(c)
+            return cls._single(sk.quat_from_euler_xyzw(seq, a, b, c))
         sk.euler_params(seq)
         p = parse_rows(angles, 3, "Euler angles")
         if isinstance(p, tuple):
@@ -445,8 +447,15 @@ class Rotation:
         :class:`GimbalLockWarning` is emitted unless ``warn=False``. Use
         :meth:`as_euler_checked` to get the lock flags without warnings.
         """
+        if self._q is not None:
+            a, b, c, lock = sk.quat_to_euler_xyzw(seq, self._q)
+            if lock and warn:
+                warnings.warn(_GIMBAL_MSG.format(seq=seq), GimbalLockWarning, stacklevel=2)
+            if degrees:
+                return np.array((math.degrees(a), math.degrees(b), math.degrees(c)))
+            return np.array((a, b, c))
         angles, locked = self.as_euler_checked(seq, degrees)
-        if warn and (locked is True if type(locked) is bool else bool(np.any(locked))):
+        if warn and bool(np.any(locked)):
             warnings.warn(_GIMBAL_MSG.format(seq=seq), GimbalLockWarning, stacklevel=2)
         return angles
 
