@@ -343,6 +343,7 @@ def run_scenario(
     publish_clock: bool = False,
     extra_nodes: Sequence[Node] = (),
     step: float = 0.1,
+    on_start: Sequence[Callable[[LaunchRun], Any]] = (),
 ) -> ScenarioResult:
     """Run scenario ``name`` and return a :class:`ScenarioResult`.
 
@@ -357,6 +358,8 @@ def run_scenario(
         plot_path: write the odometry PNG (:func:`posekit.robot.plot.plot_odometry`) there
             at the end (needs ``record``).
         publish_clock, extra_nodes: see :func:`start_scenario`.
+        on_start: callables given the started run before any time passes (attach a bag
+            recorder or a viewer; whatever they start must end when the run's context does).
     """
     if until_sim_time is not None and not until_sim_time >= 0.0:
         raise ScenarioError(f"until_sim_time must be >= 0 s, got {until_sim_time}")
@@ -376,6 +379,12 @@ def run_scenario(
     )
     executor = run.executor
     assert isinstance(executor, SimulatedTimeExecutor)
+    try:
+        for hook in on_start:
+            hook(run)
+    except BaseException:
+        run.shutdown()
+        raise
     recorder: OdometryRecorder | None = None
     if record:
         node = run.node("odometry_recorder")

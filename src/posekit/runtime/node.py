@@ -160,6 +160,7 @@ class Node:
             self._transport = transport
         else:
             self._transport = self._context.transport(transport)
+        self._transport.declare_node(self._name, self._namespace)
 
         self._executor: Executor | None = None
         self._publishers: list[Publisher] = []
@@ -401,6 +402,7 @@ class Node:
         for timer in list(self._timers):
             self.destroy_timer(timer)
         self._time_source.destroy()
+        self._transport.undeclare_node(self._name, self._namespace)
         self._destroyed = True
         return True
 

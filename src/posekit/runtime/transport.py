@@ -143,6 +143,12 @@ class Transport(ABC):
     def count_subscribers(self, topic: str) -> int:
         """Subscriptions on a fully qualified topic."""
 
+    def declare_node(self, name: str, namespace: str = "/") -> Any:  # noqa: B027 - optional
+        """Announce a node on the graph (called by ``Node.__init__``); default: nothing."""
+
+    def undeclare_node(self, name: str, namespace: str = "/") -> None:  # noqa: B027 - optional
+        """Withdraw one :meth:`declare_node` (called by ``Node.destroy_node``)."""
+
     def close(self) -> None:  # noqa: B027 - optional hook
         """Release resources (called by Context.shutdown)."""
 
