@@ -65,7 +65,7 @@ def _backward(t: int, oldest: int) -> BackwardExtrapolationException:
 class TimeCache:
     """Samples of one dynamic frame within ``cache_time_ns`` of its newest stamp."""
 
-    __slots__ = ("_arrays", "cache_time_ns", "data", "parents", "stamps")
+    __slots__ = ("_arrays", "_iv", "cache_time_ns", "data", "parents", "stamps")
 
     is_static = False
 
@@ -74,6 +74,10 @@ class TimeCache:
         self.stamps: list[int] = []
         self.parents: list[int] = []
         self.data: list[Sample] = []
+        # _iv[i]: memo of tf2 slerp's angle terms for the interval (i, i+1), or None. They
+        # depend only on the two samples, so repeated lookups between the same samples
+        # skip the dot product, norms, acos and one sin.
+        self._iv: list[tuple[float, float, bool] | None] = []
         self._arrays: Any = None
 
     # -- insertion ---------------------------------------------------------------------------
@@ -92,12 +96,14 @@ class TimeCache:
                 del stamps[:k]
                 del self.parents[:k]
                 del self.data[:k]
+                del self._iv[:k]
             if stamp < limit:
                 return False
             if stamp > latest:
                 stamps.append(stamp)
                 self.parents.append(parent)
                 self.data.append(sample)
+                self._iv.append(None)
                 self._arrays = None
                 return True
             lo = bisect_left(stamps, stamp)
@@ -108,10 +114,14 @@ class TimeCache:
             stamps.insert(hi, stamp)
             self.parents.insert(hi, parent)
             self.data.insert(hi, sample)
+            self._iv.insert(hi, None)
+            if hi:
+                self._iv[hi - 1] = None
         else:
             stamps.append(stamp)
             self.parents.append(parent)
             self.data.append(sample)
+            self._iv.append(None)
         self._arrays = None
         return True
 
@@ -120,6 +130,7 @@ class TimeCache:
         self.stamps.clear()
         self.parents.clear()
         self.data.clear()
+        self._iv.clear()
         self._arrays = None
 
     # -- lookup ------------------------------------------------------------------------------
@@ -165,18 +176,19 @@ class TimeCache:
         # tf2 slerp (see _linear_math.slerp), inlined: this is the hot path of every lookup
         x1, y1, z1, w1, ax, ay, az = a
         x2, y2, z2, w2, bx, by, bz = b
-        dot = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
-        c = (-dot if dot < 0.0 else dot) / _sqrt(
-            (x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2)
-        )
-        theta = _acos(-1.0 if c < -1.0 else (1.0 if c > 1.0 else c))
+        iv = self._iv[i]
+        if iv is None:
+            dot = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
+            c = (-dot if dot < 0.0 else dot) / _sqrt(
+                (x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2)
+            )
+            theta = _acos(-1.0 if c < -1.0 else (1.0 if c > 1.0 else c))
+            iv = self._iv[i] = (theta, 1.0 / _sin(theta) if theta != 0.0 else 0.0, dot < 0.0)
+        theta, d, flip = iv
         if theta == 0.0:
             return parent, (x1, y1, z1, w1, u * ax + r * bx, u * ay + r * by, u * az + r * bz)
-        d = 1.0 / _sin(theta)
         s0f = _sin(u * theta)
-        s1f = _sin(r * theta)
-        if dot < 0.0:
-            s1f = -s1f
+        s1f = -_sin(r * theta) if flip else _sin(r * theta)
         return parent, (
             (x1 * s0f + x2 * s1f) * d,
             (y1 * s0f + y2 * s1f) * d,
