@@ -130,3 +130,13 @@ def test_bad_fov_and_scale_raise():
         OAK_RGB_CAMERA.scaled(0)
     with pytest.raises(CameraModelError, match="shape"):
         OAK_RGB_CAMERA.project([1.0, 2.0])
+
+
+def test_camera_and_box_model_import_without_opencv():
+    import subprocess
+    import sys
+
+    code = ("import sys, posekit.vision as v; v.PinholeCamera; v.ARUCO_BOX; "
+            "assert 'cv2' not in sys.modules, 'cv2 imported eagerly'; "
+            "v.BoxRenderer; assert 'cv2' in sys.modules")
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
