@@ -711,3 +711,17 @@ def test_result_message_equals_normally_built_message() -> None:
     q.x, q.y, q.z, q.w = rot(r)
     assert r == rebuilt
     assert repr(r) == repr(rebuilt)
+
+
+def test_full_lookup_resolves_each_half_and_stamps_target_time() -> None:
+    b = spec_tree()
+    # target half (laser <- world) at time 0 resolves to 3.0 s (min of odom 3.0, base 3.5)
+    r = b.lookup_transform_full_core("laser", Time(), "odom", at(1.5), "world")
+    assert stamp_ns(r) == 3 * S
+    t_world_odom_15 = as_matrix(b.lookup_transform_core("world", "odom", at(1.5)))
+    t_laser_world_3 = as_matrix(b.lookup_transform_core("laser", "world", at(3)))
+    np.testing.assert_allclose(as_matrix(r), t_laser_world_3 @ t_world_odom_15, atol=1e-12)
+
+
+def test_frame_names_in_id_order() -> None:
+    assert spec_tree().get_all_frame_names() == ["map", "world", "odom", "base", "laser"]
