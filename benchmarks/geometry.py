@@ -44,8 +44,8 @@ def fmt_time(s: float) -> str:
     return f"{s * 1e3:8.2f} ms"
 
 
-def import_time(stmt: str, runs: int) -> float:
-    """Median wall time (s) of a fresh interpreter running ``stmt``, minus an empty one."""
+def import_time(stmt: str, runs: int) -> tuple[float, float]:
+    """(min, median) seconds that a fresh interpreter spends running ``stmt``."""
 
     def run(code: str) -> float:
         out = subprocess.run(
@@ -55,17 +55,18 @@ def import_time(stmt: str, runs: int) -> float:
         )
         return float(out.stdout)
 
-    return statistics.median(run(stmt) for _ in range(runs))
+    times = [run(stmt) for _ in range(runs)]
+    return min(times), statistics.median(times)
 
 
-def process_time(stmt: str, runs: int) -> float:
-    """Median wall time (s) of ``python -c stmt`` as a whole process (with interpreter start)."""
+def process_time(stmt: str, runs: int) -> tuple[float, float]:
+    """(min, median) wall seconds of ``python -c stmt`` as a whole process (with start-up)."""
     times = []
     for _ in range(runs):
         t = timeit.default_timer()
         subprocess.run([sys.executable, "-c", stmt], check=True)
         times.append(timeit.default_timer() - t)
-    return statistics.median(times)
+    return min(times), statistics.median(times)
 
 
 Case = tuple[str, Callable[[], object], Callable[[], object]]
@@ -188,12 +189,17 @@ def main() -> None:
     proc = process_time("import posekit.geometry", runs)
     bare = process_time("pass", runs)
     print()
-    print(f"import posekit.geometry (in-process)          {ours_imp * 1e3:7.1f} ms")
-    print(f"python -c 'import posekit.geometry' (process) {proc * 1e3:7.1f} ms")
-    print(f"python -c 'pass' (interpreter start alone)    {bare * 1e3:7.1f} ms")
-    print(f"import + first array result (loads numpy)     {ours_use * 1e3:7.1f} ms")
-    print(f"import numpy                                  {np_imp * 1e3:7.1f} ms")
-    print(f"from scipy.spatial.transform import Rotation  {sci_imp * 1e3:7.1f} ms")
+    print(f"{'import cost (min / median of ' + str(runs) + ' fresh interpreters)':50s} "
+          f"{'min':>8s} {'median':>8s}")
+    for label, (lo, med) in [
+        ("python -c 'import posekit.geometry' (process)", proc),
+        ("python -c 'pass' (interpreter start alone)", bare),
+        ("import posekit.geometry (in-process)", ours_imp),
+        ("import + first array result (loads numpy)", ours_use),
+        ("import numpy", np_imp),
+        ("from scipy.spatial.transform import Rotation", sci_imp),
+    ]:
+        print(f"{label:50s} {lo * 1e3:6.1f}ms {med * 1e3:6.1f}ms")
 
 
 if __name__ == "__main__":

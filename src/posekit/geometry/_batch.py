@@ -29,6 +29,7 @@ __all__ = [
     "from_rotvec",
     "multiply",
     "normalize",
+    "orthonormality",
     "rotate",
     "slerp",
     "to_euler",
@@ -153,32 +154,52 @@ def to_matrix(q: F64) -> F64:
 
 
 def from_matrix(m: F64) -> F64:
-    """Unit quaternions of ``(N, 3, 3)`` rotation matrices, same branch rule as the scalar path."""
-    m00, m01, m02 = m[:, 0, 0], m[:, 0, 1], m[:, 0, 2]
-    m10, m11, m12 = m[:, 1, 0], m[:, 1, 1], m[:, 1, 2]
-    m20, m21, m22 = m[:, 2, 0], m[:, 2, 1], m[:, 2, 2]
-    trace = m00 + m11 + m22
-    q = np.empty((m.shape[0], 4))
-    b0 = trace > 0.0
-    b1 = ~b0 & (m00 >= m11) & (m00 >= m22)
-    b2 = ~b0 & ~b1 & (m11 >= m22)
-    b3 = ~(b0 | b1 | b2)
-    # Each branch: (index of the large component, the other three as (index, numerator)).
-    with np.errstate(invalid="ignore", divide="ignore"):
-        for mask, big, diag, rest in (
-            (b0, 3, trace + 1.0, ((0, m21 - m12), (1, m02 - m20), (2, m10 - m01))),
-            (b1, 0, m00 - m11 - m22 + 1.0, ((3, m21 - m12), (1, m10 + m01), (2, m20 + m02))),
-            (b2, 1, m11 - m22 - m00 + 1.0, ((3, m02 - m20), (2, m21 + m12), (0, m01 + m10))),
-            (b3, 2, m22 - m00 - m11 + 1.0, ((3, m10 - m01), (0, m02 + m20), (1, m12 + m21))),
-        ):
-            if not mask.any():
-                continue
-            s = np.sqrt(diag[mask])
-            q[mask, big] = 0.5 * s
-            s = 0.5 / s
-            for idx, num in rest:
-                q[mask, idx] = num[mask] * s
-    return np.asarray(q / np.linalg.norm(q, axis=1)[:, None], dtype=np.float64)
+    """Unit quaternions of ``(N, 3, 3)`` rotation matrices, same branch rule as the scalar path.
+
+    Branch: ``w`` if the trace is positive, else the largest diagonal element (first on
+    ties). Each branch's unnormalised quaternion is a sum/difference of matrix entries whose
+    large component is positive; one normalisation finishes it (no per-branch sqrt).
+    """
+    n = m.shape[0]
+    q = np.empty((n, 4))
+    for s, e in _blocks(n):
+        f = m[s:e].reshape(e - s, 9)
+        m00, m01, m02, m10, m11, m12, m20, m21, m22 = f.T
+        trace = m00 + m11 + m22
+        branch = np.argmax(f[:, [0, 4, 8]], axis=1)
+        branch[trace > 0.0] = 3
+        s01, s02, s12 = m01 + m10, m02 + m20, m12 + m21
+        d21, d02, d10 = m21 - m12, m02 - m20, m10 - m01
+        qb = q[s:e]
+        np.choose(branch, (1.0 + m00 - m11 - m22, s01, s02, d21), out=qb[:, 0])
+        np.choose(branch, (s01, 1.0 - m00 + m11 - m22, s12, d02), out=qb[:, 1])
+        np.choose(branch, (s02, s12, 1.0 - m00 - m11 + m22, d10), out=qb[:, 2])
+        np.choose(branch, (d21, d02, d10, 1.0 + trace), out=qb[:, 3])
+        qb /= np.sqrt(np.einsum("ij,ij->i", qb, qb))[:, None]
+    return q
+
+
+def orthonormality(m: F64) -> tuple[F64, F64]:
+    """Per matrix: ``max |R Rᵀ - I|`` (over the 6 distinct entries) and ``det R``."""
+    n = m.shape[0]
+    err = np.empty(n)
+    det = np.empty(n)
+    for s, e in _blocks(n):
+        r0, r1, r2 = m[s:e, 0], m[s:e, 1], m[s:e, 2]
+        d00 = np.abs(np.einsum("ij,ij->i", r0, r0) - 1.0)
+        d11 = np.abs(np.einsum("ij,ij->i", r1, r1) - 1.0)
+        d22 = np.abs(np.einsum("ij,ij->i", r2, r2) - 1.0)
+        d01 = np.abs(np.einsum("ij,ij->i", r0, r1))
+        d02 = np.abs(np.einsum("ij,ij->i", r0, r2))
+        d12 = np.abs(np.einsum("ij,ij->i", r1, r2))
+        # fmax would drop NaN; maximum propagates it so NaN matrices fail the check
+        np.maximum(np.maximum(np.maximum(d00, d11), np.maximum(d22, d01)),
+                   np.maximum(d02, d12), out=err[s:e])
+        a0, a1, a2 = r0[:, 0], r0[:, 1], r0[:, 2]
+        b0, b1, b2 = r1[:, 0], r1[:, 1], r1[:, 2]
+        c0, c1, c2 = r2[:, 0], r2[:, 1], r2[:, 2]
+        det[s:e] = a0 * (b1 * c2 - b2 * c1) - a1 * (b0 * c2 - b2 * c0) + a2 * (b0 * c1 - b1 * c0)
+    return err, det
 
 
 def wrap(a: F64) -> F64:
@@ -223,45 +244,50 @@ def from_euler(seq: str, angles: F64) -> F64:
 
 def to_euler(seq: str, q: F64) -> tuple[F64, Bools]:
     """``(N, 3)`` Euler angles (rad) and the gimbal-lock mask (see ``quat_to_euler_xyzw``)."""
-    out = np.empty((q.shape[0], 3))
-    locked = np.empty(q.shape[0], dtype=np.bool_)
-    for s, e in _blocks(q.shape[0]):
-        out[s:e], locked[s:e] = _to_euler_block(seq, q[s:e])
-    return out, locked
-
-
-def _to_euler_block(seq: str, q: F64) -> tuple[F64, Bools]:
     i, j, k, extrinsic, proper, parity = euler_params(seq)
-    w = q[:, 3]
-    qi, qj, qk = q[:, i], q[:, j], q[:, k] * parity
-    if proper:
-        a, b, c, d = w, qi, qj, qk
-    else:
-        a, b, c, d = w - qj, qi + qk, qj + w, qk - qi
-    middle = 2.0 * np.arctan2(np.hypot(c, d), np.hypot(a, b))
-    half_sum = np.arctan2(b, a)
-    half_diff = np.arctan2(d, c)
-    first = half_sum - half_diff
-    third = half_sum + half_diff
-    lock0 = np.abs(middle) <= GIMBAL_EPS
-    lock_pi = np.abs(middle - np.pi) <= GIMBAL_EPS
-    locked = lock0 | lock_pi
-    if locked.any():
-        if extrinsic:
-            first = np.where(lock0, 2.0 * half_sum, np.where(lock_pi, -2.0 * half_diff, first))
-            third = np.where(locked, 0.0, third)
+    n = q.shape[0]
+    out = np.empty((n, 3))
+    locked = np.empty(n, dtype=np.bool_)
+    # columns that receive the extrinsic first/third angle
+    c_first, c_third = (0, 2) if extrinsic else (2, 0)
+    for s, e in _blocks(n):
+        qb = q[s:e]
+        w, qi, qj = qb[:, 3], qb[:, i], qb[:, j]
+        qk = qb[:, k] if parity > 0 else -qb[:, k]
+        if proper:
+            a, b, c, d = w, qi, qj, qk
         else:
-            third = np.where(lock0, 2.0 * half_sum, np.where(lock_pi, 2.0 * half_diff, third))
-            first = np.where(locked, 0.0, first)
-    if not proper:
-        third = third * parity
-        middle -= np.pi / 2.0
-    out = np.empty((q.shape[0], 3))
-    if extrinsic:
-        out[:, 0], out[:, 2] = wrap(first), wrap(third)
-    else:
-        out[:, 0], out[:, 2] = wrap(third), wrap(first)
-    out[:, 1] = middle
+            a, b, c, d = w - qj, qi + qk, qj + w, qk - qi
+        middle = np.arctan2(np.hypot(c, d), np.hypot(a, b))
+        middle *= 2.0  # in [0, π]
+        half_sum = np.arctan2(b, a)
+        half_diff = np.arctan2(d, c)
+        o = out[s:e]
+        first, third = o[:, c_first], o[:, c_third]
+        np.subtract(half_sum, half_diff, out=first)
+        np.add(half_sum, half_diff, out=third)
+        lock0 = middle <= GIMBAL_EPS
+        lock_pi = middle >= np.pi - GIMBAL_EPS
+        lk = np.logical_or(lock0, lock_pi, out=locked[s:e])
+        if lk.any():
+            if extrinsic:
+                first[lock0] = 2.0 * half_sum[lock0]
+                first[lock_pi] = -2.0 * half_diff[lock_pi]
+                third[lk] = 0.0
+            else:
+                third[lock0] = 2.0 * half_sum[lock0]
+                third[lock_pi] = 2.0 * half_diff[lock_pi]
+                first[lk] = 0.0
+        if not proper:
+            if parity < 0:
+                np.negative(third, out=third)
+            middle -= np.pi / 2.0
+        o[:, 1] = middle
+        for col in (first, third):
+            big = np.abs(col) > np.pi
+            if big.any():
+                v = col[big]
+                col[big] = v - np.copysign(2.0 * np.pi, v)
     return out, locked
 
 

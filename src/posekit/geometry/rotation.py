@@ -229,10 +229,7 @@ class Rotation:
 
     @staticmethod
     def _check_orthonormal_batch(m: F64, atol: float) -> None:
-        err = np.abs(np.einsum("nij,nkj->nik", m, m) - np.eye(3)).max(axis=(1, 2)) if len(
-            m
-        ) else np.zeros(0)
-        det = np.linalg.det(m) if len(m) else np.zeros(0)
+        err, det = vk.orthonormality(m)
         bad = ~((err <= atol) & (np.abs(det - 1.0) <= atol))
         if bad.any():
             idx = int(np.flatnonzero(bad)[0])
