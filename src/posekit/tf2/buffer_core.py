@@ -42,7 +42,6 @@ MAX_GRAPH_DEPTH = 1000
 
 _logger = logging.getLogger("posekit.tf2")
 _sqrt = math.sqrt
-_isnan = math.isnan
 _NS = 1_000_000_000
 
 Cache = TimeCache | StaticCache
@@ -186,7 +185,9 @@ class BufferCore:
             qx, qy, qz, qw = quat_from_matrix(matrix_from_quat((x, y, z, w)))
         header = msg.header
         stamp = header.stamp
-        stamp_ns = time_to_ns(stamp)
+        stamp_ns = (
+            stamp.sec * _NS + stamp.nanosec if type(stamp) is TimeMsg else time_to_ns(stamp)
+        )
         parent = header.frame_id
         child = msg.child_frame_id
         if parent[:1] == "/":
@@ -218,7 +219,8 @@ class BufferCore:
                 authority,
             )
             ok = False
-        if _isnan(tx) or _isnan(ty) or _isnan(tz) or _isnan(qw + qx + qy + qz):
+        rot_nan = qx != qx or qy != qy or qz != qz or qw != qw
+        if rot_nan or tx != tx or ty != ty or tz != tz:
             _logger.error(
                 'TF_NAN_INPUT: Ignoring transform for child_frame_id "%s" from authority "%s" '
                 "because of a nan value in the transform (%f %f %f) (%f %f %f %f)",
@@ -233,8 +235,9 @@ class BufferCore:
                 qw,
             )
             ok = False
-        if not abs((qw * qw + qx * qx + qy * qy + qz * qz) - 1.0) < 10e-3:
-            # Only reachable with NaN: the quaternion was normalised above (ROS 2 behaviour).
+        if rot_nan:
+            # tf2 tests | |q|^2 - 1 | < 0.01 on the already normalised quaternion, so (ROS 2)
+            # only a NaN rotation fails it; it is then logged in addition to TF_NAN_INPUT.
             _logger.error(
                 'TF_DENORMALIZED_QUATERNION: Ignoring transform for child_frame_id "%s" from '
                 'authority "%s" because of an invalid quaternion in the transform '
