@@ -56,6 +56,8 @@ class GimbalLockWarning(UserWarning):
 
     Only the sum (or difference) of the first and third angles is then determined; posekit,
     like scipy, sets the **third** angle of the requested sequence to zero and puts the
-    whole rotation about that axis pair into the first angle. The returned angles still
-    reproduce the rotation exactly.
+    whole rotation about that axis pair into the first angle. At the singularity itself the
+    returned angles reproduce the rotation exactly; inside the 1e-7 rad band around it the
+    dropped third angle costs a rotation error of about the distance to the singularity
+    (scipy behaves the same).
     """
