@@ -72,9 +72,16 @@ def start(
     launch_arguments: Mapping[str, Any] | None = None,
     context: Context | None = None,
     multithreaded: bool = False,
+    publish_clock: bool = True,
 ) -> LaunchRun:
     """Create every node of ``description`` in a fresh (or given) context and add them to one
-    executor; nothing runs until the caller spins/steps ``run.executor``."""
+    executor; nothing runs until the caller spins/steps ``run.executor``.
+
+    ``publish_clock`` (sim time only): publish ``/clock`` at every simulated step, as
+    Gazebo does. The run's own nodes get the time from the executor either way, so only
+    outside observers (another process, a bag recorder of /clock) need it; switching it off
+    saves one /clock callback per node per step (about 20 % of a ROSbot scenario, see
+    docs/perf_sim.md)."""
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
     ctx = context or Context()
@@ -82,7 +89,9 @@ def start(
         ctx.init()
     executor: Executor
     if sim_time:
-        executor = SimulatedTimeExecutor(context=ctx, real_time_factor=real_time_factor)
+        executor = SimulatedTimeExecutor(
+            context=ctx, real_time_factor=real_time_factor, publish_clock=publish_clock
+        )
     elif multithreaded:
         executor = MultiThreadedExecutor(context=ctx)
     else:
@@ -123,15 +132,18 @@ def launch(
     launch_arguments: Mapping[str, Any] | None = None,
     context: Context | None = None,
     shutdown: bool = True,
+    publish_clock: bool = True,
 ) -> LaunchRun:
     """Start ``description`` and run it for ``duration`` seconds (sim seconds in sim time;
-    ``None`` = until shutdown / Ctrl-C). Returns the run (already shut down if ``shutdown``)."""
+    ``None`` = until shutdown / Ctrl-C). Returns the run (already shut down if ``shutdown``).
+    ``publish_clock``: see :func:`start`."""
     run = start(
         description,
         sim_time=sim_time,
         real_time_factor=real_time_factor,
         launch_arguments=launch_arguments,
         context=context,
+        publish_clock=publish_clock,
     )
     try:
         executor = run.executor
@@ -191,6 +203,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--wall", action="store_true", help="wall-clock time, not sim time")
     parser.add_argument("--rtf", type=float, default=None,
                         help="pace simulated time at this real-time factor (1.0 = real time)")
+    parser.add_argument("--no-clock", action="store_true",
+                        help="sim time: do not publish /clock (faster; in-process nodes "
+                             "follow the executor's time regardless)")
     ns = parser.parse_args(argv)
     arguments: dict[str, Any] = {}
     for item in ns.arguments:
@@ -205,6 +220,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             sim_time=not ns.wall,
             real_time_factor=ns.rtf,
             launch_arguments=arguments,
+            publish_clock=not ns.no_clock,
         )
     except LaunchDescriptionError as exc:
         print(f"posekit launch: {exc}", file=sys.stderr)

@@ -280,13 +280,10 @@ def start_scenario(
             sim_time=True,
             real_time_factor=1.0 if realtime else None,
             context=Context(),
+            publish_clock=publish_clock,
         )
     except (ParameterException, ValueError, TypeError) as exc:
         raise ScenarioError(f"scenario '{name}' cannot start: {exc}") from exc
-    executor = run.executor
-    if isinstance(executor, SimulatedTimeExecutor):
-        # No public switch in posekit.launch.start yet; see the docstring.
-        executor._publish_clock = publish_clock
     try:
         _check_parameters(run, params)
     except ScenarioError:

@@ -181,7 +181,7 @@ class ROSClock(Clock):
         """Set the simulated time (ns); fires jump callbacks when active and thresholds hit."""
         old = self._override_ns
         self._override_ns = int(ns)
-        if self._ros_time_active and ns != old:
+        if self._ros_time_active and ns != old and self._jump_handles:
             self._fire(TimeJump(ClockChange.ROS_TIME_NO_CHANGE, Duration(nanoseconds=ns - old)))
 
     def _fire(self, jump: TimeJump) -> None:

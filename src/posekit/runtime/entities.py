@@ -193,7 +193,7 @@ class Timer:
         self._next_ns = now + self._period_ns
         executor = self._node._executor
         if executor is not None:
-            executor.wake()
+            executor._timer_changed(self)
 
     def _check_jump(self, now: int) -> None:
         if now < self._last_ns:

@@ -19,6 +19,7 @@ or other callbacks. ``KeyboardInterrupt``/``SystemExit`` still propagate.
 
 from __future__ import annotations
 
+import heapq
 import inspect
 import os
 import threading
@@ -37,6 +38,7 @@ from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.task import Future, Task
+from posekit.runtime.time_source import TimeSource
 from posekit.time import ClockType, Duration, Time
 
 __all__ = [
@@ -124,6 +126,11 @@ class Executor:
             self._rebuild_timers()
         self.wake()
 
+    def _timer_changed(self, timer: Timer) -> None:
+        """A timer was reset or re-periodised (its next call time moved)."""
+        del timer
+        self.wake()
+
     def _rebuild_timers(self) -> None:
         self._timers = sorted((t for n in self._nodes for t in n._timers), key=lambda t: t.seq)
 
@@ -167,35 +174,45 @@ class Executor:
         with self._lock:
             if self._tasks:
                 return (_TASK, self._tasks.popleft(), None)
-            best: Timer | None = None
-            for timer in self._timers:
-                if timer.is_ready() and timer.callback_group.can_execute() and (
-                    best is None or timer._next_ns < best._next_ns
-                ):
-                    best = timer
+            best = self._scan_timers(self._timers)
             if best is not None and best.callback_group.beginning_execution():
                 best._mark_called()
                 return (_TIMER, best, None)
-            fifo = self._fifo
-            skipped: list[tuple[int, Subscription]] = []
-            found: tuple[int, Any, Any] | None = None
-            while fifo:
-                entry = fifo.popleft()
-                seq, sub = entry
-                queue = sub.queue
-                if sub.destroyed or not queue or queue[0][0] > seq or (
-                    sub._node._executor is not self
-                ):
-                    continue  # stale: delivered, dropped by KEEP_LAST, or moved away
-                if not sub.callback_group.beginning_execution():
-                    skipped.append(entry)
-                    continue
-                _, msg = queue.popleft()
-                found = (_MESSAGE, sub, msg)
-                break
-            if skipped:
-                fifo.extendleft(reversed(skipped))
-            return found
+            return self._take_message()
+
+    @staticmethod
+    def _scan_timers(timers: list[Timer]) -> Timer | None:
+        """The ready timer due first (creation order among equals) whose group is free."""
+        best: Timer | None = None
+        for timer in timers:
+            if timer.is_ready() and timer.callback_group.can_execute() and (
+                best is None or timer._next_ns < best._next_ns
+            ):
+                best = timer
+        return best
+
+    def _take_message(self) -> tuple[int, Any, Any] | None:
+        """Claim the oldest queued message whose group is free (caller holds the lock)."""
+        fifo = self._fifo
+        skipped: list[tuple[int, Subscription]] = []
+        found: tuple[int, Any, Any] | None = None
+        while fifo:
+            entry = fifo.popleft()
+            seq, sub = entry
+            queue = sub.queue
+            if sub.destroyed or not queue or queue[0][0] > seq or (
+                sub._node._executor is not self
+            ):
+                continue  # stale: delivered, dropped by KEEP_LAST, or moved away
+            if not sub.callback_group.beginning_execution():
+                skipped.append(entry)
+                continue
+            _, msg = queue.popleft()
+            found = (_MESSAGE, sub, msg)
+            break
+        if skipped:
+            fifo.extendleft(reversed(skipped))
+        return found
 
     def _drain_messages(self, budget: int) -> int:
         """Deliver up to ``budget`` queued messages in arrival order without re-checking
@@ -452,6 +469,11 @@ class SimulatedTimeExecutor(Executor):
         self._anchor: tuple[float, int] | None = None
         #: Callbacks executed so far.
         self.callbacks_run = 0
+        self._time_sources: list[TimeSource] = []
+        self._heap: list[tuple[int, int, Timer]] = []
+        self._zero_timers: list[Timer] = []
+        self._other_timers: list[Timer] = []
+        self._schedule_dirty = True
 
     # -- time -------------------------------------------------------------------------
     @property
@@ -468,6 +490,15 @@ class SimulatedTimeExecutor(Executor):
             node.set_parameters([Parameter("use_sim_time", value=True)])
         node._time_source.set_time_ns(self._now_ns)
         return super().add_node(node)
+
+    @property
+    def publish_clock(self) -> bool:
+        """Whether ``/clock`` is published at every step (settable; see ``__init__``)."""
+        return self._publish_clock
+
+    @publish_clock.setter
+    def publish_clock(self, enabled: bool) -> None:
+        self._publish_clock = bool(enabled)
 
     def _publish_clock_msg(self) -> None:
         if not self._publish_clock:
@@ -490,6 +521,7 @@ class SimulatedTimeExecutor(Executor):
         self._anchor = None
         for node in list(self._nodes):
             node._time_source.set_time_ns(ns)
+        self._schedule_dirty = True  # a backward jump restarts timer periods
         self._publish_clock_msg()
 
     def _advance(self, ns: int) -> None:
@@ -504,39 +536,138 @@ class SimulatedTimeExecutor(Executor):
             if delay > 0:
                 time.sleep(delay)
         self._now_ns = ns
-        for node in list(self._nodes):
-            node._time_source.set_time_ns(ns)
-        self._publish_clock_msg()
+        for source in self._time_sources:
+            source.set_time_ns(ns)
+        if self._publish_clock:
+            self._publish_clock_msg()
+
+    # -- timer schedule ---------------------------------------------------------------
+    # Timers on their node's own ROS clock (sim time: every node clock of this executor
+    # shows _now_ns) with a period sit in a heap keyed (next call ns, creation seq), so the
+    # next due timer is found without scanning all of them; the heap is rebuilt whenever
+    # timers, nodes, use_sim_time or the time itself change in a way it cannot follow
+    # (_schedule_dirty), and entries of canceled timers are dropped when they surface.
+    # Zero-period timers (once per step) and timers on any other clock (wall clocks,
+    # another node's clock) are scanned as the base executor does.
+    def _rebuild_timers(self) -> None:
+        super()._rebuild_timers()
+        self._time_sources = [node._time_source for node in self._nodes]
+        self._schedule_dirty = True
+
+    def _timer_changed(self, timer: Timer) -> None:
+        self._schedule_dirty = True
+        self.wake()
+
+    def _rebuild_schedule(self) -> None:
+        heap: list[tuple[int, int, Timer]] = []
+        zero: list[Timer] = []
+        other: list[Timer] = []
+        for timer in self._timers:
+            if timer._canceled or timer.destroyed:
+                continue  # reset() marks the schedule dirty again
+            clock = timer.clock
+            node = timer._node
+            if clock is node._clock and node._executor is self and node._clock._ros_time_active:
+                if timer._period_ns == 0:
+                    zero.append(timer)
+                else:
+                    timer.is_ready()  # applies backward-jump rescheduling first
+                    heap.append((timer._next_ns, timer.seq, timer))
+            else:
+                other.append(timer)
+        heapq.heapify(heap)
+        self._heap, self._zero_timers, self._other_timers = heap, zero, other
+        self._schedule_dirty = False
+
+    def _heap_top(self) -> Timer | None:
+        """The heap timer due first after dropping stale entries (caller holds the lock)."""
+        heap = self._heap
+        while heap:
+            due, seq, timer = heap[0]
+            if timer._canceled or timer.destroyed:
+                heapq.heappop(heap)
+                continue
+            if not timer.clock._ros_time_active:  # type: ignore[attr-defined]
+                # use_sim_time switched off behind the executor's back: reclassify.
+                self._rebuild_schedule()
+                heap = self._heap
+                continue
+            timer._check_jump(timer.clock.now_ns())
+            if timer._next_ns != due:
+                heapq.heapreplace(heap, (timer._next_ns, seq, timer))
+                continue
+            return timer
+        return None
+
+    def _take_ready(self) -> tuple[int, Any, Any] | None:
+        with self._lock:
+            if self._tasks:
+                return (_TASK, self._tasks.popleft(), None)
+            if self._schedule_dirty:
+                self._rebuild_schedule()
+            top = self._heap_top()
+            best: Timer | None = None
+            if top is not None and top._next_ns <= top.clock.now_ns():
+                if top.callback_group.can_execute():
+                    best = top
+                else:  # its group is busy (a re-entrant spin): the base executor's scan
+                    best = self._scan_timers(self._timers)
+                    # Whatever it picks may sit deeper in the heap: re-sort afterwards.
+                    self._schedule_dirty = True
+            if self._zero_timers or self._other_timers:
+                extra = self._scan_timers(self._zero_timers + self._other_timers)
+                if extra is not None and (
+                    best is None
+                    or (extra._next_ns, extra.seq) < (best._next_ns, best.seq)
+                ):
+                    best = extra
+            if best is not None and best.callback_group.beginning_execution():
+                best._mark_called()
+                if best is top and not self._schedule_dirty:
+                    heapq.heapreplace(self._heap, (best._next_ns, best.seq, best))
+                return (_TIMER, best, None)
+            if not self._fifo:
+                return None
+            return self._take_message()
 
     def _next_timer_ns(self) -> int | None:
-        best: int | None = None
-        for timer in self._timers:
-            if timer.is_canceled() or timer.destroyed:
-                continue
-            clock = timer.clock
-            if not (isinstance(clock, ROSClock) and clock.ros_time_is_active):
-                continue
-            if timer.timer_period_ns == 0:
-                continue  # runs once per step; it does not drive time
-            timer.is_ready()  # applies backward-jump rescheduling
-            due = max(timer.next_call_ns, self._now_ns)
-            if best is None or due < best:
-                best = due
-        return best
+        """Sim time (ns) of the next timer call that moves time (None: no such timer)."""
+        with self._lock:
+            if self._schedule_dirty:
+                self._rebuild_schedule()
+            top = self._heap_top()
+            best = None if top is None else max(top._next_ns, self._now_ns)
+            for timer in self._other_timers:
+                if timer.is_canceled() or timer.destroyed:
+                    continue
+                clock = timer.clock
+                if not (isinstance(clock, ROSClock) and clock.ros_time_is_active):
+                    continue
+                if timer.timer_period_ns == 0:
+                    continue  # runs once per step; it does not drive time
+                timer.is_ready()  # applies backward-jump rescheduling
+                due = max(timer.next_call_ns, self._now_ns)
+                if best is None or due < best:
+                    best = due
+            return best
 
     # -- running ----------------------------------------------------------------------
     def _run_ready(self) -> int:
         count = 0
-        while self._context.ok() and not self._is_shutdown:
-            work = self._take_ready()
+        context = self._context
+        take_ready = self._take_ready
+        execute = self._execute
+        drain = self._drain_messages
+        while context._ok and not self._is_shutdown:
+            work = take_ready()
             if work is None:
                 break
-            self._execute(work)
+            execute(work)
             count += 1
             if work[0] == _MESSAGE:
                 # Sim time is frozen during a step, so no timer can become due while the
                 # queued messages are delivered: drain them in arrival order.
-                count += self._drain_messages(1 << 62)
+                count += drain(1 << 62)
         self.callbacks_run += count
         return count
 

@@ -431,6 +431,8 @@ class Node:
         for p in params:
             if p.name == "use_sim_time":
                 self._time_source.ros_time_is_active = bool(p.value)
+                if self._executor is not None:  # its timers may change clocks of record
+                    self._executor._node_changed(self)
 
     def declare_parameter(
         self,

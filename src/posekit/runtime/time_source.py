@@ -67,7 +67,10 @@ class TimeSource:
         self._last_ns = ns
         if self._active:
             for clock in self._clocks:
-                clock._set_ros_time_override(ns)
+                if clock._jump_handles:
+                    clock._set_ros_time_override(ns)
+                else:  # nothing to notify (the stepped executor's per-step fast path)
+                    clock._override_ns = ns
 
     def destroy(self) -> None:
         """Stop following /clock."""
