@@ -290,6 +290,13 @@ def test_as_quat_canonical_and_orders():
     assert r.as_quat_tuple(scalar_first=True) == tuple(r.as_quat(scalar_first=True))
 
 
+def test_extreme_but_finite_quaternions_are_normalised():
+    big = Rotation.from_quat([[0, 0, 1e200, 1e200], [1e-200, 0, 0, 1e-200]])
+    s = math.sqrt(0.5)
+    np.testing.assert_allclose(big.as_quat(), [[0, 0, s, s], [s, 0, 0, s]], atol=1e-15)
+    np.testing.assert_allclose(Rotation.from_quat([0, 0, 1e200, 1e200]).as_quat(), [0, 0, s, s])
+
+
 def test_non_unit_quaternions_are_normalised():
     r = Rotation.from_quat([0, 0, 0, 5.0])
     assert r.as_quat().tolist() == [0, 0, 0, 1]
