@@ -1,0 +1,168 @@
+"""oak_camera and overhead_camera: topics, sizes, stamps, intrinsics and frames against the
+spec's numbers; the robot camera's pose from ground truth (checked against a fine Euler
+integration); lazy rendering; the overhead camera's static frames."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation as R
+
+from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.sensor_msgs import CameraInfo, Image
+from posekit.msgs.tf2_msgs import TFMessage
+from posekit.runtime.node import Node
+from posekit.runtime.tf2_ros import StaticListenerQoS
+from posekit.vision.detector import ArucoMarkerDetector
+from posekit.vision.nodes import OakCameraNode, OverheadCameraNode
+from posekit.vision.nodes._common import stamp_msg
+
+SIM = {"use_sim_time": True}
+
+
+class Sink(Node):
+    def __init__(self, ctx, image_topic: str, info_topic: str) -> None:
+        super().__init__("sink", context=ctx, parameter_overrides=SIM)
+        self.images: list[Image] = []
+        self.infos: list[CameraInfo] = []
+        self.tf_static: list[TFMessage] = []
+        self.truth_pub = self.create_publisher(Odometry, "/ground_truth/odom", 10)
+        self.image_topic = image_topic
+        self.create_subscription(CameraInfo, info_topic, self.infos.append, 10)
+        self.create_subscription(TFMessage, "/tf_static", self.tf_static.append,
+                                 StaticListenerQoS())
+
+    def watch_images(self) -> None:
+        self.create_subscription(Image, self.image_topic, self.images.append, 10)
+
+
+def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
+    cam = OakCameraNode(context=ctx, parameter_overrides=SIM)
+    sink = Sink(ctx, "/oak/rgb/color", "/oak/stereo/camera_info")
+    sink.watch_images()
+    executor.add_node(cam)
+    executor.add_node(sink)
+    executor.run_until(0.2)
+    assert len(sink.images) == 6  # 30 Hz: t = 1/30 ... 6/30
+    for k, (img, info) in enumerate(zip(sink.images, sink.infos, strict=True), start=1):
+        ns = k * 33_333_333  # timers fire on the integer-ns grid of round(1e9 / 30)
+        assert img.header.stamp == stamp_msg(ns) == info.header.stamp
+        assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_frame"
+        assert (img.width, img.height, img.encoding, img.step) == (1280, 720, "rgb8", 3840)
+    K = np.asarray(sink.infos[0].k).reshape(3, 3)
+    # spec: K = [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]], D = 0
+    assert pytest.approx(np.array([[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]]),
+                              abs=1e-3) == K
+    assert not np.any(sink.infos[0].d)
+
+
+def test_oak_optical_frame_from_the_robot_description(ctx) -> None:
+    cam = OakCameraNode(context=ctx)
+    T = cam.T_base_optical
+    # spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875);
+    # optical R = Rz(-pi/2) Rx(-pi/2)
+    assert T[:3, 3] == pytest.approx([-0.0241, 0.0, 0.1875], abs=1e-12)
+    assert T[:3, :3] == pytest.approx(R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]).as_matrix(),
+                                      abs=1e-12)
+
+
+def euler_integrate(x, y, yaw, v, w, dt, n=20000):
+    h = dt / n
+    for _ in range(n):
+        x += v * h * math.cos(yaw + 0.5 * w * h)
+        y += v * h * math.sin(yaw + 0.5 * w * h)
+        yaw += w * h
+    return x, y, yaw
+
+
+@pytest.mark.parametrize(("v", "w"), [(0.5, 0.0), (0.3, 0.8), (0.0, -1.2)])
+def test_oak_pose_follows_ground_truth_between_samples(ctx, executor, v, w) -> None:
+    cam = OakCameraNode(context=ctx, parameter_overrides=SIM)
+    sink = Sink(ctx, "/oak/rgb/color", "/oak/stereo/camera_info")
+    executor.add_node(cam)
+    executor.add_node(sink)
+    msg = Odometry()
+    msg.header.stamp = stamp_msg(0)
+    msg.pose.pose.position.x, msg.pose.pose.position.y = 1.0, -0.5
+    yaw0 = 0.4
+    msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw0 / 2), math.cos(
+        yaw0 / 2)
+    msg.twist.twist.linear.x, msg.twist.twist.angular.z = v, w
+    sink.truth_pub.publish(msg)
+    executor.run_until(0.01)
+    dt = 0.045
+    T = cam.T_world_base_at(round(dt * 1e9))
+    x, y, yaw = euler_integrate(1.0, -0.5, yaw0, v, w, dt)
+    assert T[:3, 3] == pytest.approx([x, y, 0.0], abs=1e-9)
+    assert math.atan2(T[1, 0], T[0, 0]) == pytest.approx(yaw, abs=1e-9)
+    # the optical frame rides on top: T_odom_optical = T_odom_base @ T_base_optical
+    assert cam.T_world_optical_at(round(dt * 1e9)) == pytest.approx(T @ cam.T_base_optical)
+
+
+def test_lazy_camera_renders_only_for_subscribers(ctx, executor) -> None:
+    cam = OakCameraNode(context=ctx, parameter_overrides=SIM)
+    sink = Sink(ctx, "/oak/rgb/color", "/oak/stereo/camera_info")
+    executor.add_node(cam)
+    executor.add_node(sink)
+    executor.run_until(0.1)
+    assert cam.frames_published == 0
+    assert len(sink.infos) == 3  # CameraInfo keeps flowing
+    sink.watch_images()
+    executor.run_until(0.2)
+    assert cam.frames_published == 3
+
+
+def test_oak_image_shows_the_front_markers_from_the_spawn_pose(ctx, executor) -> None:
+    cam = OakCameraNode(context=ctx, parameter_overrides=SIM)
+    sink = Sink(ctx, "/oak/rgb/color", "/oak/stereo/camera_info")
+    sink.watch_images()
+    executor.add_node(cam)
+    executor.add_node(sink)
+    executor.run_until(0.04)
+    img = sink.images[0]
+    pixels = np.asarray(img.data).reshape(720, 1280, 3)
+    dets = ArucoMarkerDetector(np.asarray(sink.infos[0].k).reshape(3, 3),
+                               marker_size=0.2).detect(pixels)
+    assert sorted(d.marker_id for d in dets) == [2, 4, 5]
+    # spec: optical frame at (-0.0241, 0, 0.1875); marker 4 at (2, 0, 0.25) in odom
+    d4 = next(d for d in dets if d.marker_id == 4)
+    expected = R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]).inv().apply(
+        np.array([2.0, 0.0, 0.25]) - [-0.0241, 0.0, 0.1875])
+    assert np.linalg.norm(d4.translation - expected) < 0.03
+
+
+def test_overhead_camera_frames_image_and_intrinsics(ctx, executor) -> None:
+    cam = OverheadCameraNode(context=ctx, parameter_overrides=SIM)
+    sink = Sink(ctx, "/overhead_camera/image_raw", "/overhead_camera/camera_info")
+    sink.watch_images()
+    executor.add_node(cam)
+    executor.add_node(sink)
+    executor.run_until(0.04)
+    (img,) = sink.images
+    assert (img.width, img.height, img.header.frame_id) == (640, 480, "overhead_camera")
+    K = np.asarray(sink.infos[0].k).reshape(3, 3)
+    assert K[0, 0] == pytest.approx(554.383, abs=1e-3)
+    assert (K[0, 2], K[1, 2]) == (320.0, 240.0)
+    statics = {t.child_frame_id: t for t in sink.tf_static[-1].transforms}
+    assert set(statics) == {"overhead_camera", "overhead_camera_optical_frame"}
+    top = statics["overhead_camera"]
+    assert top.header.frame_id == "odom"
+    p = top.transform.translation
+    assert (p.x, p.y, p.z) == (2.0, 2.0, 2.0)
+    q = top.transform.rotation
+    assert R.from_quat([q.x, q.y, q.z, q.w]).as_matrix() == pytest.approx(
+        R.from_euler("xyz", [0, 1.5708, 0]).as_matrix(), abs=1e-12)
+    # The optical z axis looks straight down, from (2, 2, 2).
+    T = cam.T_world_optical
+    assert T[:3, 3] == pytest.approx([2.0, 2.0, 2.0])
+    assert T[:3, 2] == pytest.approx([0.0, 0.0, -1.0], abs=1e-4)
+    pixels = np.asarray(img.data).reshape(480, 640, 3)
+    (det,) = ArucoMarkerDetector(K, marker_size=0.2).detect(pixels)
+    assert det.marker_id == 3  # the top face (spec)
+
+
+def test_unknown_camera_name_is_a_clear_error(ctx) -> None:
+    with pytest.raises(ValueError, match="no camera 'nope'"):
+        OverheadCameraNode(context=ctx, parameter_overrides={"camera_name": "nope"})
