@@ -121,11 +121,14 @@ class Time:
         nanoseconds: int = 0,
         clock_type: ClockType = ClockType.SYSTEM_TIME,
     ) -> None:
-        ns = _to_ns(seconds, nanoseconds)
+        ns = (
+            _to_ns(seconds, nanoseconds) if seconds or type(nanoseconds) is not int else nanoseconds
+        )
         if ns < 0:
             raise ValueError(f"Time cannot be negative, got {ns} ns")
         self._ns = ns
-        self._clock_type = ClockType(clock_type)
+        # Enum lookup by value is slow; lecture code builds Time() for every lookup
+        self._clock_type = clock_type if type(clock_type) is ClockType else ClockType(clock_type)
 
     @property
     def nanoseconds(self) -> int:
