@@ -39,8 +39,17 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from posekit.msgs.geometry_msgs import TransformStamped
+from posekit.msgs.geometry_msgs import (
+    Point,
+    Pose,
+    PoseWithCovariance,
+    TransformStamped,
+    Twist,
+    TwistWithCovariance,
+    Vector3,
+)
 from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.std_msgs import Header
 from posekit.robot._msgutil import stamp_from_seconds, yaw_quaternion
 from posekit.robot.drive import stamp_to_seconds
 from posekit.robot.kinematics import wrap_angle, yaw_from_quaternion_xyzw
@@ -80,10 +89,17 @@ class Ekf2D:
         self.state: _FloatArray = np.zeros(6)
         self.state[:3] = initial_pose
         self._yaw0 = float(initial_pose[2])
-        self.covariance: _FloatArray = np.diag(np.asarray(params.initial_covariance_diagonal))
-        self._q = np.asarray(params.process_noise_diagonal, dtype=np.float64)
-        self._f = np.eye(6)  # Jacobian buffer: only the entries written in predict_to change
-        self._diag = np.diag_indices(6)
+        # The covariance lives as a packed list (see the filter section) and is materialised
+        # as a 6x6 array when read through the ``covariance`` property.
+        self._cov_packed: list[float] | None = None
+        self._cov_array: _FloatArray | None = None
+        self._cov_bytes = b""
+        self.covariance = np.diag(np.asarray(params.initial_covariance_diagonal, dtype=float))
+        self._q_list = [float(q) for q in params.process_noise_diagonal]
+        if len(self._q_list) != 6:
+            raise ValueError(
+                f"process_noise_diagonal needs 6 values, got {len(self._q_list)}"
+            )
         self.t: float | None = t0
         self._queue: list[tuple[float, int, Measurement]] = []
         self._seq = 0
@@ -130,61 +146,185 @@ class Ekf2D:
             (float(msg.orientation_covariance[8]), float(msg.angular_velocity_covariance[8])),
         )
 
+    # ------------------------------------------------------------------ covariance
+    @property
+    def covariance(self) -> _FloatArray:
+        """The 6x6 state covariance (float64 array over x, y, yaw, vx, vy, vyaw). It may be
+        replaced or edited in place; the filter picks the change up at its next call."""
+        arr = self._cov_array
+        if arr is None:
+            p = self._cov_packed
+            assert p is not None
+            full = np.empty(36)
+            full[_UPPER_FLAT] = p
+            full[_LOWER_FLAT] = p
+            arr = full.reshape(6, 6)
+            self._cov_array, self._cov_bytes = arr, arr.tobytes()
+        return arr
+
+    @covariance.setter
+    def covariance(self, value: _FloatArray) -> None:
+        arr = np.asarray(value, dtype=np.float64)
+        if arr.shape != (6, 6):
+            raise ValueError(f"the covariance must be 6x6, got shape {arr.shape}")
+        self._cov_array, self._cov_packed = arr, None
+
+    def _packed_covariance(self) -> list[float]:
+        """The packed covariance, re-read from the array if that was set or edited."""
+        arr = self._cov_array
+        p = self._cov_packed
+        if p is None or (arr is not None and arr.tobytes() != self._cov_bytes):
+            assert arr is not None
+            p = _pack(arr)
+            self._cov_packed, self._cov_bytes = p, arr.tobytes()
+        return p
+
+    def _set_packed_covariance(self, p: list[float]) -> None:
+        self._cov_packed, self._cov_array = p, None
+
     # ------------------------------------------------------------------ filter
+    # ``state`` and ``covariance`` stay numpy arrays between calls (users read and set
+    # them), but the arithmetic runs on Python floats over the 21 distinct entries of the
+    # symmetric P (packed row-major upper triangle, see _PACKED): for a 6-state filter every
+    # numpy call costs more than the few flops it does (measured in docs/perf_sim.md). P is
+    # kept exactly symmetric, which also makes the symmetrisation of the array form moot.
     def predict_to(self, t: float) -> None:
         """Propagate state and covariance to time ``t`` (s); no-op for ``t`` <= filter time."""
         if self.t is None:
             self.t = t
             return
-        dt = t - self.t
-        if dt <= 0.0:
+        if t - self.t <= 0.0:
             return
-        s = self.state
-        yaw, vx, vy = s[YAW], s[VX], s[VY]
-        c, sn = math.cos(yaw), math.sin(yaw)
-        s[X] += (vx * c - vy * sn) * dt
-        s[Y] += (vx * sn + vy * c) * dt
-        s[YAW] = wrap_angle(yaw + s[VYAW] * dt)
-        f = self._f
-        f[X, YAW] = (-vx * sn - vy * c) * dt
-        f[X, VX] = c * dt
-        f[X, VY] = -sn * dt
-        f[Y, YAW] = (vx * c - vy * sn) * dt
-        f[Y, VX] = sn * dt
-        f[Y, VY] = c * dt
-        f[YAW, VYAW] = dt
-        p = f @ self.covariance @ f.T
-        p[self._diag] += self._q * dt
-        self.covariance = p
+        s = self.state.tolist()
+        p = self._predict(s, self._packed_covariance(), t - self.t)
+        self.state[:] = s
+        self._set_packed_covariance(p)
         self.t = t
 
     def update(self, m: Measurement) -> None:
         """Fuse one measurement now (sequential scalar updates, see module doc)."""
+        s = self.state.tolist()
+        p = list(self._packed_covariance())
+        self._update(s, p, m)
+        self.state[:] = s
+        self._set_packed_covariance(p)
+
+    def step(self, t: float) -> None:
+        """Process queued measurements up to ``t`` in stamp order, then predict to ``t``."""
+        s = self.state.tolist()
+        p = list(self._packed_covariance())  # _update edits in place
+        queue = self._queue
+        while queue and queue[0][0] <= t:
+            _, _, m = heapq.heappop(queue)
+            p = self._predict_packed_to(s, p, m.t)
+            self._update(s, p, m)
+        p = self._predict_packed_to(s, p, t)
+        self.state[:] = s
+        self._set_packed_covariance(p)
+
+    def _predict_packed_to(self, s: list[float], p: list[float], t: float) -> list[float]:
+        if self.t is None:
+            self.t = t
+            return p
+        dt = t - self.t
+        if dt <= 0.0:
+            return p
+        self.t = t
+        return self._predict(s, p, dt)
+
+    def _predict(self, s: list[float], p: list[float], dt: float) -> list[float]:
+        """Predict ``s`` in place by ``dt`` > 0 s; returns packed ``F P F^T + Q dt``."""
+        x, y, yaw, vx, vy, vyaw = s
+        c, sn = math.cos(yaw), math.sin(yaw)
+        s[X] = x + (vx * c - vy * sn) * dt
+        s[Y] = y + (vx * sn + vy * c) * dt
+        s[YAW] = wrap_angle(yaw + vyaw * dt)
+        # F = I except rows x: (yaw a, vx b, vy e), y: (yaw d, vx g, vy b), yaw: (vyaw dt).
+        a = (-vx * sn - vy * c) * dt
+        d = (vx * c - vy * sn) * dt
+        b, g = c * dt, sn * dt
+        e = -g
+        (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
+         p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = p  # fmt: skip
+        # M = P F^T, columns x, y, yaw (the rows the upper triangle of F M needs).
+        m00 = p00 + a * p02 + b * p03 + e * p04
+        m20 = p02 + a * p22 + b * p23 + e * p24
+        m30 = p03 + a * p23 + b * p33 + e * p34
+        m40 = p04 + a * p24 + b * p34 + e * p44
+        m01 = p01 + d * p02 + g * p03 + b * p04
+        m11 = p11 + d * p12 + g * p13 + b * p14
+        m21 = p12 + d * p22 + g * p23 + b * p24
+        m31 = p13 + d * p23 + g * p33 + b * p34
+        m41 = p14 + d * p24 + g * p34 + b * p44
+        m02 = p02 + dt * p05
+        m12 = p12 + dt * p15
+        m22 = p22 + dt * p25
+        m32 = p23 + dt * p35
+        m42 = p24 + dt * p45
+        m52 = p25 + dt * p55
+        q0, q1, q2, q3, q4, q5 = self._q_list
+        # P' = F M, upper triangle; columns vx, vy, vyaw of M equal those of P.
+        return [
+            m00 + a * m20 + b * m30 + e * m40 + q0 * dt,
+            m01 + a * m21 + b * m31 + e * m41,
+            m02 + a * m22 + b * m32 + e * m42,
+            p03 + a * p23 + b * p33 + e * p34,
+            p04 + a * p24 + b * p34 + e * p44,
+            p05 + a * p25 + b * p35 + e * p45,
+            m11 + d * m21 + g * m31 + b * m41 + q1 * dt,
+            m12 + d * m22 + g * m32 + b * m42,
+            p13 + d * p23 + g * p33 + b * p34,
+            p14 + d * p24 + g * p34 + b * p44,
+            p15 + d * p25 + g * p35 + b * p45,
+            m22 + dt * m52 + q2 * dt,
+            p23 + dt * p35,
+            p24 + dt * p45,
+            p25 + dt * p55,
+            p33 + q3 * dt,
+            p34,
+            p35,
+            p44 + q4 * dt,
+            p45,
+            p55 + q5 * dt,
+        ]
+
+    def _update(self, s: list[float], p: list[float], m: Measurement) -> None:
+        """:meth:`update` on a state list and packed covariance, in place."""
         floor = self.params.min_measurement_variance
-        s, p = self.state, self.covariance
         for i, z, r in zip(m.indices, m.values, m.variances, strict=True):
             if not (math.isfinite(z) and math.isfinite(r)):
                 continue
             innovation = z - s[i]
             if i == YAW:
                 innovation = wrap_angle(innovation)
-            row = p[i]
-            gain = row / (row[i] + max(r, floor))
-            s += gain * innovation
-            # P is symmetric, so column i equals row i; the product is formed before -=.
-            p -= gain[:, None] * row
+            (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
+             p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = p  # fmt: skip
+            # Row i of P (= column i, P is symmetric).
+            r0, r1, r2, r3, r4, r5 = (
+                (p00, p01, p02, p03, p04, p05),
+                (p01, p11, p12, p13, p14, p15),
+                (p02, p12, p22, p23, p24, p25),
+                (p03, p13, p23, p33, p34, p35),
+                (p04, p14, p24, p34, p44, p45),
+                (p05, p15, p25, p35, p45, p55),
+            )[i]
+            denominator = (r0, r1, r2, r3, r4, r5)[i] + max(r, floor)
+            g0, g1, g2 = r0 / denominator, r1 / denominator, r2 / denominator
+            g3, g4, g5 = r3 / denominator, r4 / denominator, r5 / denominator
+            s0, s1, s2, s3, s4, s5 = s
+            s[:] = (
+                s0 + g0 * innovation, s1 + g1 * innovation, s2 + g2 * innovation,
+                s3 + g3 * innovation, s4 + g4 * innovation, s5 + g5 * innovation,
+            )  # fmt: skip
+            # P -= gain row^T, upper triangle (P stays exactly symmetric).
+            p[:] = (
+                p00 - g0 * r0, p01 - g0 * r1, p02 - g0 * r2, p03 - g0 * r3, p04 - g0 * r4,
+                p05 - g0 * r5, p11 - g1 * r1, p12 - g1 * r2, p13 - g1 * r3, p14 - g1 * r4,
+                p15 - g1 * r5, p22 - g2 * r2, p23 - g2 * r3, p24 - g2 * r4, p25 - g2 * r5,
+                p33 - g3 * r3, p34 - g3 * r4, p35 - g3 * r5, p44 - g4 * r4, p45 - g4 * r5,
+                p55 - g5 * r5,
+            )  # fmt: skip
         s[YAW] = wrap_angle(s[YAW])
-
-    def step(self, t: float) -> None:
-        """Process queued measurements up to ``t`` in stamp order, then predict to ``t``."""
-        while self._queue and self._queue[0][0] <= t:
-            _, _, m = heapq.heappop(self._queue)
-            self.predict_to(m.t)
-            self.update(m)
-        self.predict_to(t)
-        # Keep P symmetric against round-off.
-        p = self.covariance
-        self.covariance = 0.5 * (p + p.T)
 
     # ------------------------------------------------------------------ output
     @property
@@ -197,21 +337,25 @@ class Ekf2D:
 
         The 6x6 covariances hold the filter's x, y, yaw (and vx, vy, vyaw) blocks; z, roll
         and pitch (and their rates) get 1e-9, the value robot_localization reports in 2D."""
-        p = self.params
-        msg = Odometry()
-        msg.header.stamp = stamp_from_seconds(self.t or 0.0)
-        msg.header.frame_id = p.world_frame
-        msg.child_frame_id = p.base_link_frame
-        s = self.state
-        msg.pose.pose.position.x = float(s[X])
-        msg.pose.pose.position.y = float(s[Y])
-        msg.pose.pose.orientation = yaw_quaternion(float(s[YAW]))
-        msg.twist.twist.linear.x = float(s[VX])
-        msg.twist.twist.linear.y = float(s[VY])
-        msg.twist.twist.angular.z = float(s[VYAW])
-        msg.pose.covariance = _embed_planar(self.covariance[:3, :3])
-        msg.twist.covariance = _embed_planar(self.covariance[3:, 3:])
-        return msg
+        params = self.params
+        x, y, yaw, vx, vy, vyaw = self.state.tolist()
+        (p00, p01, p02, _, _, _, p11, p12, _, _, _,
+         p22, _, _, _, p33, p34, p35, p44, p45, p55) = self._packed_covariance()  # fmt: skip
+        # Every field is given, so no default sub-message or covariance is built and dropped.
+        return Odometry(
+            header=Header(stamp=stamp_from_seconds(self.t or 0.0), frame_id=params.world_frame),
+            child_frame_id=params.base_link_frame,
+            pose=PoseWithCovariance(
+                pose=Pose(position=Point(x=x, y=y, z=0.0), orientation=yaw_quaternion(yaw)),
+                covariance=_embed_planar(p00, p01, p02, p11, p12, p22),
+            ),
+            twist=TwistWithCovariance(
+                twist=Twist(
+                    linear=Vector3(x=vx, y=vy, z=0.0), angular=Vector3(x=0.0, y=0.0, z=vyaw)
+                ),
+                covariance=_embed_planar(p33, p34, p35, p44, p45, p55),
+            ),
+        )
 
     def to_transform(self) -> TransformStamped:
         """TF ``odom -> base_link`` (T_odom_base) at the filter time."""
@@ -226,14 +370,36 @@ class Ekf2D:
         return tf
 
 
-_PLANAR_BASE = np.zeros(36)
-_PLANAR_BASE[::7] = 1e-9
-# Row-major positions of the (x, y, yaw) x (x, y, yaw) entries in a 6x6 over (x..z, roll..yaw).
-_PLANAR_FLAT = np.array([6 * r + c for r in (0, 1, 5) for c in (0, 1, 5)])
+# Packed symmetric 6x6: the upper triangle row-major (00 01 .. 05 11 12 .. 55).
+_PACKED = [(r, c) for r in range(6) for c in range(r, 6)]
+_UPPER_FLAT = np.array([6 * r + c for r, c in _PACKED])
+_LOWER_FLAT = np.array([6 * c + r for r, c in _PACKED])
+_UPPER_ROWS, _UPPER_COLS = np.triu_indices(6)
 
 
-def _embed_planar(block: _FloatArray) -> _FloatArray:
-    """3x3 covariance over (x, y, yaw) -> 36-element row-major 6x6 over (x..z, roll..yaw)."""
-    full = _PLANAR_BASE.copy()
-    full[_PLANAR_FLAT] = block.ravel()
-    return full
+def _pack(covariance: _FloatArray) -> list[float]:
+    """Packed upper triangle of a (symmetric) 6x6 covariance; an asymmetric one (set by a
+    user) is symmetrised first, 0.5 (P + P^T)."""
+    upper = covariance[_UPPER_ROWS, _UPPER_COLS]
+    lower = covariance[_UPPER_COLS, _UPPER_ROWS]
+    if not np.array_equal(upper, lower):
+        upper = 0.5 * (upper + lower)
+    packed: list[float] = upper.tolist()
+    return packed
+
+
+def _embed_planar(
+    a00: float, a01: float, a02: float, a11: float, a12: float, a22: float
+) -> _FloatArray:
+    """Symmetric 3x3 covariance over (x, y, yaw), given by its upper triangle -> 36-element
+    row-major 6x6 over (x, y, z, roll, pitch, yaw) with 1e-9 for z, roll and pitch."""
+    return np.array(
+        [
+            a00, a01, 0.0, 0.0, 0.0, a02,
+            a01, a11, 0.0, 0.0, 0.0, a12,
+            0.0, 0.0, 1e-9, 0.0, 0.0, 0.0,
+            0.0, 0.0, 0.0, 1e-9, 0.0, 0.0,
+            0.0, 0.0, 0.0, 0.0, 1e-9, 0.0,
+            a02, a12, 0.0, 0.0, 0.0, a22,
+        ]
+    )  # fmt: skip
