@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from posekit.msgs.sensor_msgs import JointState
+from posekit.msgs.std_msgs import Header
 from posekit.robot._msgutil import stamp_from_seconds
 from posekit.robot.params import DEFAULT_ENCODERS, WHEEL_JOINT_NAMES, EncoderParams
 
@@ -45,10 +46,10 @@ class WheelEncoders:
         t: float,
     ) -> JointState:
         """sensor_msgs/JointState for ``/joint_states`` at time ``t`` (s)."""
-        msg = JointState()
-        msg.header.stamp = stamp_from_seconds(t)
-        msg.name = list(WHEEL_JOINT_NAMES)
-        msg.position = np.array(self.read(wheel_positions), dtype=np.float64)
-        msg.velocity = np.array(wheel_velocities, dtype=np.float64)
-        msg.effort = np.zeros(0, dtype=np.float64)
-        return msg
+        return JointState(
+            header=Header(stamp=stamp_from_seconds(t), frame_id=""),
+            name=list(WHEEL_JOINT_NAMES),
+            position=np.array(self.read(wheel_positions), dtype=np.float64),
+            velocity=np.array(wheel_velocities, dtype=np.float64),
+            effort=np.zeros(0, dtype=np.float64),
+        )

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from posekit.msgs.geometry_msgs import Vector3
 from posekit.msgs.sensor_msgs import Imu
+from posekit.msgs.std_msgs import Header
 from posekit.robot._msgutil import covariance_from_diagonal, stamp_from_seconds, yaw_quaternion
 from posekit.robot.params import DEFAULT_IMU, ImuParams
 
@@ -85,14 +86,14 @@ class ImuModel:
 
         Angular velocity x and y are reported as 0 (planar motion: their truth is 0 and only
         z is used downstream)."""
-        msg = Imu()
-        msg.header.stamp = stamp_from_seconds(reading.t)
-        msg.header.frame_id = self.params.frame_id
-        msg.orientation = yaw_quaternion(reading.yaw)
-        msg.orientation_covariance = self._orientation_cov.copy()
-        msg.angular_velocity = Vector3(x=0.0, y=0.0, z=reading.angular_velocity_z)
-        msg.angular_velocity_covariance = self._gyro_cov.copy()
         ax, ay, az = reading.linear_acceleration
-        msg.linear_acceleration = Vector3(x=ax, y=ay, z=az)
-        msg.linear_acceleration_covariance = self._accel_cov.copy()
-        return msg
+        # Every field given: no default sub-message or covariance is built and replaced.
+        return Imu(
+            header=Header(stamp=stamp_from_seconds(reading.t), frame_id=self.params.frame_id),
+            orientation=yaw_quaternion(reading.yaw),
+            orientation_covariance=self._orientation_cov.copy(),
+            angular_velocity=Vector3(x=0.0, y=0.0, z=reading.angular_velocity_z),
+            angular_velocity_covariance=self._gyro_cov.copy(),
+            linear_acceleration=Vector3(x=ax, y=ay, z=az),
+            linear_acceleration_covariance=self._accel_cov.copy(),
+        )

@@ -14,7 +14,16 @@ in base_link. Messages carry the course's constant covariances.
 
 from __future__ import annotations
 
+from posekit.msgs.geometry_msgs import (
+    Point,
+    Pose,
+    PoseWithCovariance,
+    Twist,
+    TwistWithCovariance,
+    Vector3,
+)
 from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.std_msgs import Header
 from posekit.robot._msgutil import covariance_from_diagonal, stamp_from_seconds, yaw_quaternion
 from posekit.robot.kinematics import integrate_exact_arc, wrap_angle
 from posekit.robot.params import DEFAULT_DRIVE, DriveParams
@@ -75,16 +84,23 @@ class WheelOdometry:
     def to_msg(self, t: float | None = None) -> Odometry:
         """nav_msgs/Odometry: pose in odom, twist in base_link, course covariances."""
         p = self.params
-        msg = Odometry()
         stamp_t = t if t is not None else (self.t if self.t is not None else 0.0)
-        msg.header.stamp = stamp_from_seconds(stamp_t)
-        msg.header.frame_id = p.odom_frame_id
-        msg.child_frame_id = p.base_frame_id
-        msg.pose.pose.position.x = self.x
-        msg.pose.pose.position.y = self.y
-        msg.pose.pose.orientation = yaw_quaternion(self.yaw)
-        msg.pose.covariance = self._pose_cov.copy()
-        msg.twist.twist.linear.x = self.v
-        msg.twist.twist.angular.z = self.omega
-        msg.twist.covariance = self._twist_cov.copy()
-        return msg
+        # Every field given: no default sub-message or covariance is built and replaced.
+        return Odometry(
+            header=Header(stamp=stamp_from_seconds(stamp_t), frame_id=p.odom_frame_id),
+            child_frame_id=p.base_frame_id,
+            pose=PoseWithCovariance(
+                pose=Pose(
+                    position=Point(x=self.x, y=self.y, z=0.0),
+                    orientation=yaw_quaternion(self.yaw),
+                ),
+                covariance=self._pose_cov.copy(),
+            ),
+            twist=TwistWithCovariance(
+                twist=Twist(
+                    linear=Vector3(x=self.v, y=0.0, z=0.0),
+                    angular=Vector3(x=0.0, y=0.0, z=self.omega),
+                ),
+                covariance=self._twist_cov.copy(),
+            ),
+        )

@@ -17,6 +17,12 @@ Python messages are mutable dataclasses, and rclpy code freely reuses and edits 
    copied again and the frozen large arrays shared. A callback can therefore change any field
    of its message without another subscriber seeing it, and a 1280x720 image costs the same
    few microseconds per subscriber as an empty one.
+3. ``publish_transfer(msg)`` (``Publisher.publish_transfer``, rclcpp's ``unique_ptr``
+   publish) is for a message the publisher built for this one publish and gives up: step 1 is
+   skipped and the last subscription receives ``msg`` itself, the others copies as in 2. The
+   isolation guarantee between subscribers is unchanged; the publisher must not touch ``msg``
+   (or any array or sub-message in it) afterwards. The simulator's nodes publish this way:
+   with one subscriber per topic a delivery then costs no copy at all.
 
 Numbers are in docs/perf_runtime.md (``benchmarks/runtime.py``).
 
@@ -281,6 +287,32 @@ class _BusPublisher(PublisherEndpoint):
         history.append((next(self._bus._seq), snap))
         for sub in subs:
             sub.sink(snapshot(snap))
+
+    def publish_transfer(self, msg: Any) -> None:
+        """Deliver ``msg`` itself to the last matched subscription (copies to the others);
+        the caller gave it up, so the publish snapshot is not needed."""
+        if not self.alive:
+            raise RuntimeError(f"publisher on '{self.info.topic}' has been destroyed")
+        if type(msg) is not self._type and not isinstance(msg, self._type):
+            raise TypeError(
+                f"publisher on '{self.info.topic}' expects {self._type.__name__}, "
+                f"got {type(msg).__name__}"
+            )
+        subs = self.matched
+        history = self.history
+        if history is None:
+            if len(subs) == 1:
+                subs[0].sink(msg)
+                return
+            last = len(subs) - 1
+            for i, sub in enumerate(subs):
+                sub.sink(msg if i == last else snapshot(msg))
+            return
+        # The history keeps the handed-over object as its snapshot; subscribers get copies
+        # (which freeze its large arrays, as publish() does, before anyone shares them).
+        history.append((next(self._bus._seq), msg))
+        for sub in subs:
+            sub.sink(snapshot(msg))
 
     def destroy(self) -> None:
         if self.alive:

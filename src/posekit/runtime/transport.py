@@ -9,7 +9,9 @@ Contract for implementations:
 
 * ``advertise(info)`` returns a :class:`PublisherEndpoint`; ``publish(msg)`` must not keep a
   reference the caller could later mutate (the in-process bus snapshots, a network transport
-  serializes).
+  serializes). ``publish_transfer(msg)`` is the same for a message the caller gives up
+  (rclcpp's ``publish(std::unique_ptr)``): a transport may keep and deliver that object;
+  the default implementation calls ``publish``.
 * ``subscribe(info, sink)`` returns a :class:`SubscriptionEndpoint`; the transport calls
   ``sink(msg)`` once per delivered message with an object this subscription owns, possibly
   from another thread and possibly before ``subscribe`` returns (TRANSIENT_LOCAL history).
@@ -94,6 +96,11 @@ class PublisherEndpoint(ABC):
     @abstractmethod
     def publish(self, msg: Any) -> None:
         """Send ``msg`` to every matched subscription."""
+
+    def publish_transfer(self, msg: Any) -> None:
+        """Send ``msg``, which the caller hands over and never touches again, so a
+        transport may deliver this very object instead of a copy. Default: :meth:`publish`."""
+        self.publish(msg)
 
     @abstractmethod
     def destroy(self) -> None:

@@ -81,7 +81,7 @@ class EkfNode(Node):
         if not self._have_measurement:
             return
         self.filter.step(self._now_ns() / 1e9)
-        self._pub.publish(self.filter.to_msg())
+        self._pub.publish_transfer(self.filter.to_msg())  # a fresh message: no copy
         # Building the TF is skipped while nobody listens (the bus would drop it anyway).
         if self._tf is not None and self._tf.pub_tf.get_subscription_count():
             self._tf.sendTransform(self.filter.to_transform())

@@ -105,7 +105,7 @@ class PControllerNode(Node):
         cmd.header.frame_id = "base_link"
         cmd.twist.linear.x = out.v
         cmd.twist.angular.z = out.omega
-        self._cmd_pub.publish(cmd)
+        self._cmd_pub.publish_transfer(cmd)  # built for this publish: no copy
         if out.phase != self._phase:
             if out.phase == Phase.ORIENTATION:
                 self.get_logger().info(
@@ -114,5 +114,5 @@ class PControllerNode(Node):
             self._phase = out.phase
         if out.just_reached:
             self.goal_reached_ns = now_ns
-            self._reached_pub.publish(Bool(data=True))
+            self._reached_pub.publish_transfer(Bool(data=True))
             self.get_logger().info(f"Goal reached: x={x:.2f}, y={y:.2f}, yaw={yaw:.2f}")

@@ -46,7 +46,7 @@ class RandomMoverNode(Node):
         cmd.header.frame_id = "base_link"
         cmd.twist.linear.x = v
         cmd.twist.angular.z = w
-        self._pub.publish(cmd)
+        self._pub.publish_transfer(cmd)  # built for this publish: no copy
 
     def _on_odom(self, msg: Odometry) -> None:
         p, q = msg.pose.pose.position, msg.pose.pose.orientation

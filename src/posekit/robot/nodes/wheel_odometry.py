@@ -144,7 +144,7 @@ class WheelOdometryNode(Node):
     def _publish(self, t_ns: int) -> None:
         msg = self.odometry.to_msg()
         msg.header.stamp = stamp_msg(t_ns)
-        self._pub.publish(msg)
+        self._pub.publish_transfer(msg)  # a fresh message: no copy
         if self._tf is not None:
             p = self.odometry.params
             tf = TransformStamped()

@@ -246,14 +246,14 @@ class WorldSimulation(Node):
         v, w, ax = self.base.body_velocity
         yaw = self.base.pose[2]
         reading = self._imu.sample(now_ns / NS, yaw, w, ax, v * w)
-        self._imu_pub.publish(self._imu.to_msg(reading))
+        self._imu_pub.publish_transfer(self._imu.to_msg(reading))  # fresh: no copy
 
     def _publish_joints(self, now_ns: int) -> None:
         left, right = self.base.wheel_angles
         positions = (left, right, left, right)
         msg = self._encoders.joint_state(positions, self.base.wheel_velocities, now_ns / NS)
         msg.header.stamp = stamp_msg(now_ns)
-        self._joint_pub.publish(msg)
+        self._joint_pub.publish_transfer(msg)  # fresh: no copy
         if self._tf.pub_tf.get_subscription_count():
             self._tf.sendTransform(wheel_transforms(positions, now_ns / NS))
 
