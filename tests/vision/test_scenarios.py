@@ -35,7 +35,7 @@ def test_static_detector_box_in_odom_within_3_cm() -> None:
     R_odom_cam = R.from_euler("xyz", [0, 1.5708, 0]) * R.from_euler("xyz",
                                                                      [-1.5708, 0, -1.5708])
     p = t.transform.translation
-    box_in_odom = [*R_odom_cam.apply([p.x, p.y, p.z]), 2.0, 2.0, 2.0]
+    box_in_odom = R_odom_cam.apply([p.x, p.y, p.z]) + np.array([2.0, 2.0, 2.0])
     assert np.linalg.norm(box_in_odom - BOX_TOP_MARKER) < 0.03
     # the marker's z axis (out of the top face) points up, its x axis along -x (spec table)
     q = t.transform.rotation
