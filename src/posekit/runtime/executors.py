@@ -605,7 +605,20 @@ class SimulatedTimeExecutor(Executor):
                 return (_TASK, self._tasks.popleft(), None)
             if self._schedule_dirty:
                 self._rebuild_schedule()
-            top = self._heap_top()
+            heap = self._heap
+            top: Timer | None = None
+            if heap:
+                # Fast path of _heap_top: a valid entry on an active clock that did not jump.
+                due, _, top = heap[0]
+                clock = top.clock
+                if (
+                    top._canceled
+                    or top.destroyed
+                    or top._next_ns != due
+                    or not clock._ros_time_active  # type: ignore[attr-defined]
+                    or clock._override_ns < top._last_ns  # type: ignore[attr-defined]
+                ):
+                    top = self._heap_top()
             best: Timer | None = None
             if top is not None and top._next_ns <= top.clock.now_ns():
                 if top.callback_group.can_execute():

@@ -26,6 +26,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import JointState
@@ -119,8 +121,9 @@ class WheelOdometryNode(Node):
                 throttle_duration_sec=5.0,
             )
             return
-        left = sum(float(position[i]) for i in left_idx) / len(left_idx)
-        right = sum(float(position[i]) for i in right_idx) / len(right_idx)
+        values = position.tolist() if isinstance(position, np.ndarray) else position
+        left = sum(float(values[i]) for i in left_idx) / len(left_idx)
+        right = sum(float(values[i]) for i in right_idx) / len(right_idx)
         t_ns = stamp_ns(msg.header.stamp)
         if not (math.isfinite(left) and math.isfinite(right)):
             self.get_logger().warning("Ignoring joint state: non-finite wheel position")
