@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import heapq
 import math
+import operator
 from dataclasses import dataclass
 from typing import Any
 
@@ -299,16 +300,8 @@ class Ekf2D:
                 innovation = wrap_angle(innovation)
             (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
              p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = p  # fmt: skip
-            # Row i of P (= column i, P is symmetric).
-            r0, r1, r2, r3, r4, r5 = (
-                (p00, p01, p02, p03, p04, p05),
-                (p01, p11, p12, p13, p14, p15),
-                (p02, p12, p22, p23, p24, p25),
-                (p03, p13, p23, p33, p34, p35),
-                (p04, p14, p24, p34, p44, p45),
-                (p05, p15, p25, p35, p45, p55),
-            )[i]
-            denominator = (r0, r1, r2, r3, r4, r5)[i] + max(r, floor)
+            r0, r1, r2, r3, r4, r5 = _ROW_OF[i](p)  # row i of P (= column i, symmetric)
+            denominator = p[_DIAGONAL[i]] + max(r, floor)
             g0, g1, g2 = r0 / denominator, r1 / denominator, r2 / denominator
             g3, g4, g5 = r3 / denominator, r4 / denominator, r5 / denominator
             s0, s1, s2, s3, s4, s5 = s
@@ -372,6 +365,12 @@ class Ekf2D:
 
 # Packed symmetric 6x6: the upper triangle row-major (00 01 .. 05 11 12 .. 55).
 _PACKED = [(r, c) for r in range(6) for c in range(r, 6)]
+_DIAGONAL = [_PACKED.index((i, i)) for i in range(6)]
+#: ``_ROW_OF[i](packed)`` -> the six entries P[i][0..5].
+_ROW_OF = [
+    operator.itemgetter(*(_PACKED.index((min(i, j), max(i, j))) for j in range(6)))
+    for i in range(6)
+]
 _UPPER_FLAT = np.array([6 * r + c for r, c in _PACKED])
 _LOWER_FLAT = np.array([6 * c + r for r, c in _PACKED])
 _UPPER_ROWS, _UPPER_COLS = np.triu_indices(6)
@@ -393,13 +392,12 @@ def _embed_planar(
 ) -> _FloatArray:
     """Symmetric 3x3 covariance over (x, y, yaw), given by its upper triangle -> 36-element
     row-major 6x6 over (x, y, z, roll, pitch, yaw) with 1e-9 for z, roll and pitch."""
-    return np.array(
-        [
-            a00, a01, 0.0, 0.0, 0.0, a02,
-            a01, a11, 0.0, 0.0, 0.0, a12,
-            0.0, 0.0, 1e-9, 0.0, 0.0, 0.0,
-            0.0, 0.0, 0.0, 1e-9, 0.0, 0.0,
-            0.0, 0.0, 0.0, 0.0, 1e-9, 0.0,
-            a02, a12, 0.0, 0.0, 0.0, a22,
-        ]
-    )  # fmt: skip
+    full = _PLANAR_BASE.copy()  # item writes beat building an array from a list here
+    full[0], full[1], full[5] = a00, a01, a02
+    full[6], full[7], full[11] = a01, a11, a12
+    full[30], full[31], full[35] = a02, a12, a22
+    return full
+
+
+_PLANAR_BASE = np.zeros(36)
+_PLANAR_BASE[[14, 21, 28]] = 1e-9  # z, roll, pitch variances
