@@ -88,3 +88,26 @@ def test_scenario_parameters_reach_the_nodes() -> None:
     assert result.node("dynamic_detector").get_parameter("marker_size").value == 0.194
     with pytest.raises(ScenarioError, match="unknown parameter"):
         run_scenario("static_aruco_detector", {"no_such_parameter": 1}, until_sim_time=0.1)
+
+
+def test_image_saver_hook_and_camera_noise(tmp_path) -> None:
+    from posekit.vision.nodes import attach_image_saver
+
+    hooks = [lambda run: attach_image_saver(run, tmp_path, period=0.05)]
+    result = run_scenario("dynamic_detector", {"oak_camera.noise_sigma": 3.0},
+                          until_sim_time=0.2, record=False, on_start=hooks)
+    saver = result.node("image_saver")
+    names = sorted(p.name for p in saver.saved)
+    # frames at 1/30 s steps, at least 0.05 s apart, then the last one at shutdown
+    assert names[:3] == ["aruco_detection_image_0_033333333.png",
+                         "aruco_detection_image_0_099999999.png",  # 3 x 33333333 ns
+                         "aruco_detection_image_0_166666665.png"]  # 5 x 33333333 ns
+    assert names[-1] == "aruco_detection_image_last.png"
+    import cv2
+
+    image = cv2.imread(str(tmp_path / names[0]))
+    assert image.shape == (720, 1280, 3)
+    # noise: the sky (top rows, uniform without noise) now varies around its grey level
+    sky = image[:40, 200:1000, 1].astype(float)
+    assert 2.0 < sky.std() < 4.0
+    assert set(result.node("dynamic_detector").detection_counts) == {2, 4, 5}
