@@ -123,3 +123,91 @@ def test_messages_round_trip_into_filter() -> None:
     assert (tf.header.frame_id, tf.child_frame_id) == ("odom", "base_link")
     assert tf.transform.translation.x == out.pose.pose.position.x
     assert (tf.header.stamp.sec, tf.header.stamp.nanosec) == (0, 50_000_000)
+
+
+def _dense_reference_step(
+    s: np.ndarray, P: np.ndarray, t_filter: float, t: float, measurements: list, q: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """The module docstring's filter in textbook matrix form (numpy, 6x6 products): fuse
+    ``measurements`` in stamp order, each after a prediction to its stamp, then predict to
+    ``t``. Returns the new state, covariance and filter time."""
+
+    def predict(s: np.ndarray, P: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        x, y, yaw, vx, vy, vyaw = s
+        c, sn = math.cos(yaw), math.sin(yaw)
+        s2 = s.copy()
+        s2[0] = x + (vx * c - vy * sn) * dt
+        s2[1] = y + (vx * sn + vy * c) * dt
+        s2[2] = math.remainder(yaw + vyaw * dt, 2 * math.pi)
+        F = np.eye(6)
+        F[0, 2], F[0, 3], F[0, 4] = (-vx * sn - vy * c) * dt, c * dt, -sn * dt
+        F[1, 2], F[1, 3], F[1, 4] = (vx * c - vy * sn) * dt, sn * dt, c * dt
+        F[2, 5] = dt
+        return s2, F @ P @ F.T + np.diag(q) * dt
+
+    for m in sorted(measurements, key=lambda m: m.t):
+        if m.t > t_filter:
+            s, P = predict(s, P, m.t - t_filter)
+            t_filter = m.t
+        for i, z, r in zip(m.indices, m.values, m.variances, strict=True):
+            H = np.zeros((1, 6))
+            H[0, i] = 1.0
+            innovation = z - s[i]
+            if i == YAW:
+                innovation = math.remainder(innovation, 2 * math.pi)
+            K = P @ H.T / (P[i, i] + r)
+            s = s + K[:, 0] * innovation
+            P = (np.eye(6) - K @ H) @ P
+        s[YAW] = math.remainder(s[YAW], 2 * math.pi)
+    if t > t_filter:
+        s, P = predict(s, P, t - t_filter)
+        t_filter = t
+    return s, P, t_filter
+
+
+def test_steps_match_dense_matrix_reference() -> None:
+    """Random state/covariance and a 25 Hz IMU + 20 Hz odometry stream over 2 s: the
+    Python-float filter equals the matrix-form filter to round-off."""
+    rng = np.random.default_rng(3)
+    ekf = Ekf2D(t0=0.0)
+    a = rng.normal(size=(6, 6)) * 0.1
+    ekf.covariance = a @ a.T + 0.01 * np.eye(6)
+    ekf.state[:] = [0.2, -0.1, 0.3, 0.4, 0.01, 0.2]
+    s_ref, P_ref, t_ref = ekf.state.copy(), ekf.covariance.copy(), 0.0
+    q = np.asarray(ekf.params.process_noise_diagonal)
+    imu_stamps = [0.04 * n for n in range(1, 51)]
+    for k in range(1, 41):
+        t = 0.05 * k
+        due = [
+            Measurement(ti, (YAW, VYAW), (float(rng.normal(0.3, 0.1)), 0.2), (1.9e-3, 2.0e-3))
+            for ti in imu_stamps
+            if t - 0.05 < ti <= t
+        ]
+        due.append(
+            Measurement(t, (VX, VY, VYAW), (0.4 + float(rng.normal(0, 0.01)), 0.0, 0.2),
+                        (3.3e-5, 3.3e-5, 2.8e-3))
+        )
+        for m in due:
+            ekf.enqueue(m)
+        ekf.step(t)
+        s_ref, P_ref, t_ref = _dense_reference_step(s_ref, P_ref, t_ref, t, due, q)
+        assert ekf.t == t_ref
+        assert np.allclose(ekf.state, s_ref, rtol=0, atol=1e-12)
+        assert np.allclose(ekf.covariance, P_ref, rtol=0, atol=1e-12)
+        assert np.array_equal(ekf.covariance, ekf.covariance.T)  # exactly symmetric
+
+
+def test_covariance_can_be_replaced_or_edited_in_place() -> None:
+    ekf = Ekf2D(t0=0.0)
+    ekf.covariance[VX, VX] = 1.0  # in-place edit of the array the property returned
+    ekf.add_wheel_twist(0.0, 2.0, 0.0, 0.0, (1.0, 1.0, 1.0))
+    ekf.step(0.0)
+    assert ekf.state[VX] == pytest.approx(1.0)  # gain 1 / (1 + 1)
+    asymmetric = np.eye(6)
+    asymmetric[0, 1] = 0.2  # [1, 0] stays 0: used as the symmetric part, 0.1
+    ekf.covariance = asymmetric
+    ekf.predict_to(0.0)  # no time passes: the covariance is only re-read
+    ekf.update(Measurement(0.0, (0,), (1.0,), (1.0,)))
+    assert ekf.covariance[0, 1] == pytest.approx(0.1 - 1.0 * 0.1 / 2.0)
+    with pytest.raises(ValueError, match="6x6"):
+        ekf.covariance = np.eye(3)

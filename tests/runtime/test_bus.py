@@ -181,3 +181,58 @@ def test_destroyed_subscription_stops_receiving(ctx) -> None:
     drain(ex)
     assert got == []
     assert pub.get_subscription_count() == 0
+
+
+def test_publish_transfer_hands_the_object_over_and_keeps_subscribers_apart(ctx) -> None:
+    node = Node("n", context=ctx)
+    single = node.create_publisher(Odometry, "single", 10)
+    multi = node.create_publisher(Odometry, "multi", 10)
+    got_single: list[Odometry] = []
+    got_multi: list[list[Odometry]] = [[], [], []]
+    node.create_subscription(Odometry, "single", got_single.append, 10)
+
+    def rude(msg: Odometry) -> None:  # first subscriber edits everything it received
+        msg.header.frame_id = "corrupted"
+        msg.pose.covariance[0] = 99.0
+        got_multi[0].append(msg)
+
+    node.create_subscription(Odometry, "multi", rude, 10)
+    node.create_subscription(Odometry, "multi", got_multi[1].append, 10)
+    node.create_subscription(Odometry, "multi", got_multi[2].append, 10)
+    one = Odometry()
+    one.header.frame_id = "odom"
+    single.publish_transfer(one)
+    many = Odometry()
+    many.header.frame_id = "odom"
+    many.pose.covariance[0] = 0.5
+    multi.publish_transfer(many)
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(node)
+    drain(ex)
+    assert got_single[0] is one  # a single subscriber gets the handed-over object: no copy
+    assert got_multi[2][0] is many  # the last one does; the others get their own copies
+    assert got_multi[0][0] is not many
+    assert got_multi[1][0] is not many
+    for received in got_multi[1:]:
+        assert received[0].header.frame_id == "odom"
+        assert received[0].pose.covariance[0] == 0.5
+
+
+def test_publish_transfer_keeps_transient_local_history_and_checks_input(ctx) -> None:
+    talker = Node("talker", context=ctx)
+    pub = talker.create_publisher(String, "latched", QoSProfile(depth=1, durability=TL))
+    first = String(data="a")
+    pub.publish_transfer(first)
+    late = Node("late", context=ctx)
+    got: list[String] = []
+    late.create_subscription(String, "latched", got.append, QoSProfile(depth=10, durability=TL))
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(late)
+    drain(ex)
+    assert [m.data for m in got] == ["a"]
+    assert got[0] is not first  # the history's object is never handed to a subscriber
+    with pytest.raises(TypeError, match="expects String"):
+        pub.publish_transfer(Float64(data=1.0))
+    talker.destroy_publisher(pub)
+    with pytest.raises(RuntimeError, match="destroyed"):
+        pub.publish_transfer(String(data="b"))

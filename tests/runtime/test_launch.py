@@ -17,6 +17,7 @@ from posekit.launch import (
     run_launch_file,
     start,
 )
+from posekit.msgs.rosgraph_msgs import Clock
 from posekit.msgs.std_msgs import Float64
 from posekit.runtime.node import Node as RosNode
 
@@ -93,3 +94,26 @@ def test_bad_descriptions_are_clear_errors(tmp_path) -> None:
     bad.write_text("x = 1\n")
     with pytest.raises(LaunchDescriptionError, match="generate_launch_description"):
         run_launch_file(bad)
+
+
+def test_start_publish_clock_switch() -> None:
+    description = LaunchDescription([Node(Talker)])
+    quiet = start(description, publish_clock=False)
+    loud = start(description)
+    try:
+        stamps: list[int] = []
+        for run in (quiet, loud):
+            observer = RosNode("observer", context=run.context)
+            observer.create_subscription(
+                Clock, "/clock",
+                lambda m: stamps.append(m.clock.sec * 10**9 + m.clock.nanosec), 10
+            )
+            run.executor.add_node(observer)
+            run.executor.run_until(2.0)  # type: ignore[attr-defined]
+            run.nodes.append(observer)
+        assert quiet.executor.publish_clock is False  # type: ignore[attr-defined]
+        # Only the run that publishes (the default): one /clock per step of the 0.5 s timer.
+        assert stamps == [500_000_000, 1_000_000_000, 1_500_000_000, 2_000_000_000]
+    finally:
+        quiet.shutdown()
+        loud.shutdown()

@@ -167,3 +167,88 @@ def test_zero_period_timer_runs_once_per_step(ctx) -> None:
     ex.run_until(1.0)
     # Ready at creation (t = 0), then once at each time the executor stops at.
     assert calls == [0, 500_000_000, 1_000_000_000]
+
+
+def test_many_timers_fire_in_due_time_then_creation_order(ctx) -> None:
+    """Reference: every timer i fires at k * period_i; equal times in creation order. One
+    timer runs on another node's clock (scanned, not in the executor's timer heap)."""
+    rng = random.Random(7)
+    periods_ms = [rng.choice([10, 20, 25, 30, 40, 50, 100]) for _ in range(25)]
+    nodes = [Node(f"n{i}", context=ctx) for i in range(4)]
+    fired: list[tuple[int, int]] = []
+    for i, per in enumerate(periods_ms):
+        node = nodes[i % 4]
+        clock = nodes[(i + 1) % 4].get_clock() if i == 5 else None
+        node.create_timer(
+            per / 1000,
+            lambda i=i, node=node: fired.append((node.get_clock().now().nanoseconds, i)),
+            clock=clock,
+        )
+    ex = SimulatedTimeExecutor(context=ctx, publish_clock=False)
+    for node in nodes:
+        ex.add_node(node)
+    ex.run_until(1.0)
+    expected = sorted(
+        (k * per * 1_000_000, i)
+        for i, per in enumerate(periods_ms)
+        for k in range(1, 1000 // per + 1)
+    )
+    assert fired == expected
+
+
+def test_cancel_reset_period_change_and_destroy_from_callbacks(ctx) -> None:
+    node = Node("n", context=ctx)
+    fired: list[tuple[int, str]] = []
+
+    def log(name: str) -> None:
+        fired.append((node.get_clock().now().nanoseconds // 1_000_000, name))
+
+    def on_a() -> None:
+        log("a")
+        now_ms = node.get_clock().now().nanoseconds // 1_000_000
+        if now_ms == 300:
+            timer_b.cancel()
+        elif now_ms == 700:
+            timer_b.timer_period_ns = 300_000_000  # restarts the period from now
+        elif now_ms == 800:
+            node.destroy_timer(timer_c)
+
+    def on_c() -> None:
+        log("c")
+        if node.get_clock().now().nanoseconds == 500_000_000:
+            timer_b.reset()
+
+    node.create_timer(0.1, on_a)
+    timer_b = node.create_timer(0.1, lambda: log("b"))
+    timer_c = node.create_timer(0.25, on_c)
+    ex = SimulatedTimeExecutor(context=ctx, publish_clock=False)
+    ex.add_node(node)
+    ex.run_until(1.2)
+    # a runs before b at equal times (created first), so its cancel/period change at 300 and
+    # 700 ms pre-empt b there; c's reset at 500 ms puts b on 600, 700, then the 300 ms period.
+    expected = [
+        (100, "a"), (100, "b"), (200, "a"), (200, "b"), (250, "c"), (300, "a"), (400, "a"),
+        (500, "a"), (500, "c"), (600, "a"), (600, "b"), (700, "a"), (750, "c"),
+        (800, "a"), (900, "a"), (1000, "a"), (1000, "b"), (1100, "a"), (1200, "a"),
+    ]  # fmt: skip
+    assert fired == expected
+
+
+def test_publish_clock_switch(ctx) -> None:
+    observer = Node("observer", context=ctx)
+    stamps: list[int] = []
+    observer.create_subscription(
+        ClockMsg, "/clock", lambda m: stamps.append(m.clock.sec), QoSProfile(depth=10)
+    )
+    ticker = Node("ticker", context=ctx)
+    ticker.create_timer(1.0, lambda: None)
+    ex = SimulatedTimeExecutor(context=ctx, publish_clock=False)
+    ex.add_node(ticker)
+    ex.add_node(observer)
+    assert ex.publish_clock is False
+    ex.run_until(2.0)
+    assert stamps == []
+    assert observer.get_clock().now().nanoseconds == 2 * 10**9  # set directly, not via /clock
+    ex.publish_clock = True
+    ex.run_until(4.0)
+    assert stamps == [3, 4]
