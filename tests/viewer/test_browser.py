@@ -219,3 +219,40 @@ def test_2d_fallback_draws(browser: Any, viewer: Any) -> None:
         assert "2D" in page.inner_text("#renderer-note")
     finally:
         page.close()
+
+
+def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
+    browser: Any,
+) -> None:
+    import threading
+
+    from posekit.cli.view_cmd import attach_to_run
+    from posekit.robot.scenarios import start_scenario
+
+    pytest.importorskip("posekit.vision.scenarios")  # registers the ArUco scenarios
+    run = start_scenario("dynamic_detector", realtime=True, record=False)
+    server = attach_to_run(run, port=0)
+    spinner = threading.Thread(target=run.executor.spin, daemon=True)
+    spinner.start()
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    try:
+        page.goto(server.url)
+        wait_for(lambda: debug(page, "world") == "aruco_box_world", what="the world")
+        updates = wait_for(
+            lambda: (debug(page, "imageUpdates") or {}).get("/aruco_detection_image", 0) >= 2
+            and debug(page, "imageUpdates"),
+            timeout=20.0, what="aruco_detection_image frames",
+        )
+        assert updates.get("/oak/rgb/color", 0) >= 1
+        markers = wait_for(
+            lambda: {f for f in debug(page, "frames") if f.startswith("aruco_marker_")},
+            timeout=10.0, what="aruco_marker frames",
+        )
+        assert markers <= {f"aruco_marker_{i}" for i in (2, 4, 5)}
+        width = page.eval_on_selector("#aruco-image", "img => img.naturalWidth")
+        assert width == 1280
+    finally:
+        page.close()
+        server.stop()
+        run.shutdown()
+        spinner.join(timeout=5.0)
