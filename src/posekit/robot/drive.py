@@ -199,19 +199,21 @@ class RosbotBase:
             tv, tw = 0.0, 0.0
         else:
             tv, tw = self._target_v, self._target_w
-        # SpeedLimiter: acceleration first, then velocity.
-        v = _clamp(
-            tv,
+        # SpeedLimiter: acceleration first, then velocity (clamps inlined: 100 Hz hot path).
+        low, high = (
             self._v_cmd - p.max_linear_acceleration * dt,
             self._v_cmd + p.max_linear_acceleration * dt,
         )
-        w = _clamp(
-            tw,
+        v = low if tv < low else high if tv > high else tv
+        low, high = (
             self._w_cmd - p.max_angular_acceleration * dt,
             self._w_cmd + p.max_angular_acceleration * dt,
         )
-        v = _clamp(v, -p.max_linear_velocity, p.max_linear_velocity)
-        w = _clamp(w, -p.max_angular_velocity, p.max_angular_velocity)
+        w = low if tw < low else high if tw > high else tw
+        high = p.max_linear_velocity
+        v = -high if v < -high else high if v > high else v
+        high = p.max_angular_velocity
+        w = -high if w < -high else high if w > high else w
         self._v_cmd, self._w_cmd = v, w
         # Controller: body command -> wheel angular velocities with the effective geometry.
         half_w_l = 0.5 * w * self._l_eff

@@ -650,6 +650,8 @@ class SimulatedTimeExecutor(Executor):
                 self._rebuild_schedule()
             top = self._heap_top()
             best = None if top is None else max(top._next_ns, self._now_ns)
+            if not self._other_timers:
+                return best
             for timer in self._other_timers:
                 if timer.is_canceled() or timer.destroyed:
                     continue

@@ -20,9 +20,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from posekit.msgs.geometry_msgs import PoseStamped, TwistStamped
+from posekit.msgs.geometry_msgs import PoseStamped, Twist, TwistStamped, Vector3
 from posekit.msgs.nav_msgs import Odometry
-from posekit.msgs.std_msgs import Bool
+from posekit.msgs.std_msgs import Bool, Header
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.nodes._util import declare, stamp_msg
 from posekit.robot.p_controller import PController, PControllerParams, Phase
@@ -100,11 +100,12 @@ class PControllerNode(Node):
         if not out.publish:
             return
         now_ns = self._now_ns()
-        cmd = TwistStamped()
-        cmd.header.stamp = stamp_msg(now_ns)
-        cmd.header.frame_id = "base_link"
-        cmd.twist.linear.x = out.v
-        cmd.twist.angular.z = out.omega
+        cmd = TwistStamped(
+            header=Header(stamp=stamp_msg(now_ns), frame_id="base_link"),
+            twist=Twist(
+                linear=Vector3(x=out.v, y=0.0, z=0.0), angular=Vector3(x=0.0, y=0.0, z=out.omega)
+            ),
+        )
         self._cmd_pub.publish_transfer(cmd)  # built for this publish: no copy
         if out.phase != self._phase:
             if out.phase == Phase.ORIENTATION:
