@@ -49,16 +49,22 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _hooks(ns: argparse.Namespace) -> list[Callable[[Any], Any]]:
+def _hooks(ns: argparse.Namespace, servers: list[Any]) -> list[Callable[[Any], Any]]:
     hooks: list[Callable[[Any], Any]] = []
     if ns.record:
         from posekit.bag.recorder import attach_recorder
 
         hooks.append(lambda run: attach_recorder(run, ns.record))
     if ns.viewer:
-        from posekit.cli.view_cmd import attach_viewer
+        from posekit.cli.view_cmd import attach_to_run
 
-        hooks.append(lambda run: attach_viewer(run, host=ns.host, port=ns.port))
+        def start_viewer(run: Any) -> None:
+            server = attach_to_run(run, host=ns.host, port=ns.port)
+            servers.append(server)
+            sys.stdout.write(f"viewer: http://{ns.host}:{ns.port}/\n")
+            sys.stdout.flush()
+
+        hooks.append(start_viewer)
     return hooks
 
 
@@ -91,14 +97,19 @@ def main(argv: Sequence[str]) -> int:
     from posekit.demos.scenarios import run_scenario
     from posekit.robot.scenarios import ScenarioError
 
+    servers: list[Any] = []
     try:
+        # A viewer is for watching: pace the run to the wall clock.
         result = run_scenario(
             ns.target, params, seed=ns.seed, until_sim_time=ns.until_sim_time,
-            realtime=ns.realtime, plot_path=ns.plot, on_start=_hooks(ns),
+            realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
         )
     except ScenarioError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
         return 2
+    finally:
+        for server in servers:
+            server.stop()
     lines = [f"{result.name}: {result.sim_time:.2f} s simulated in {result.wall_time:.2f} s "
              f"wall ({result.speedup:.0f}x real time), seed {result.seed}"]
     if result.goal_reached_time is not None:
