@@ -18,6 +18,7 @@ need_apt=()
 [ -x /usr/bin/chromium ] || need_apt+=(chromium)
 [ -e /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || need_apt+=(fonts-dejavu-core)
 command -v npm >/dev/null 2>&1 || need_apt+=(npm)
+command -v dot >/dev/null 2>&1 || need_apt+=(graphviz)  # view_frames writes its PDF with dot
 if [ "${#need_apt[@]}" -gt 0 ]; then
     echo "install_browser_deps: apt-get install ${need_apt[*]}"
     as_root apt-get update -q
