@@ -13,9 +13,12 @@ in the same process, alternately:
   adds the odometry recorder that ``--plot`` uses.
 
 ``--profile`` prints where the node path spends its time (cProfile self time grouped by
-package).
+package). ``--ekf`` times one 20 Hz EKF tick (25 Hz IMU + 20 Hz odometry fused, then
+``to_msg``) of posekit's filter (Python floats over the packed covariance) against the same
+filter written with 6x6 numpy products (the previous implementation) and with preallocated
+numpy buffers (``out=``), all fed the same measurements.
 
-Run:  .venv/bin/python benchmarks/sim.py [--duration 60] [--repeats 5] [--profile]
+Run:  .venv/bin/python benchmarks/sim.py [--duration 60] [--repeats 5] [--profile] [--ekf]
 """
 
 from __future__ import annotations
@@ -23,14 +26,21 @@ from __future__ import annotations
 import argparse
 import collections
 import cProfile
+import heapq
 import math
 import os
 import platform
 import pstats
 import statistics
 import time
+from typing import Any
 
+import numpy as np
+
+from posekit.msgs.nav_msgs import Odometry
+from posekit.robot.ekf import Ekf2D
 from posekit.robot.headless import run_headless
+from posekit.robot.kinematics import wrap_angle
 from posekit.robot.scenarios import run_scenario
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 
@@ -54,6 +64,121 @@ def _nodes(duration: float, seed: int, record: bool) -> tuple[float, float, floa
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     reached_ns = res.node("p_controller").goal_reached_ns
     return duration / wall, duration / cpu, None if reached_ns is None else reached_ns / 1e9
+
+
+class _NumpyEkf:
+    """The planar EKF with 6x6 numpy arrays: ``prealloc`` False is the previous posekit
+    implementation (``F @ P @ F.T``, row updates); True reuses buffers through ``out=``."""
+
+    def __init__(self, prealloc: bool) -> None:
+        from posekit.robot.params import DEFAULT_EKF
+
+        self.prealloc = prealloc
+        self.s = np.zeros(6)
+        self.P = np.diag(np.asarray(DEFAULT_EKF.initial_covariance_diagonal))
+        self.q = np.asarray(DEFAULT_EKF.process_noise_diagonal)
+        self.f = np.eye(6)
+        self.tmp, self.out, self.gain = np.empty((6, 6)), np.empty((6, 6)), np.empty(6)
+        self.outer = np.empty((6, 6))
+        self.t = 0.0
+        self.queue: list[tuple[float, int, tuple[tuple[int, ...], tuple[float, ...]]]] = []
+        self.seq = 0
+
+    def add(self, t: float, idx: tuple[int, ...], z: tuple[float, ...]) -> None:
+        heapq.heappush(self.queue, (t, self.seq, (idx, z)))
+        self.seq += 1
+
+    def predict(self, t: float) -> None:
+        dt = t - self.t
+        if dt <= 0.0:
+            return
+        s, f = self.s, self.f
+        yaw, vx, vy = s[2], s[3], s[4]
+        c, sn = math.cos(yaw), math.sin(yaw)
+        s[0] += (vx * c - vy * sn) * dt
+        s[1] += (vx * sn + vy * c) * dt
+        s[2] = wrap_angle(yaw + s[5] * dt)
+        f[0, 2], f[0, 3], f[0, 4] = (-vx * sn - vy * c) * dt, c * dt, -sn * dt
+        f[1, 2], f[1, 3], f[1, 4] = (vx * c - vy * sn) * dt, sn * dt, c * dt
+        f[2, 5] = dt
+        if self.prealloc:
+            np.matmul(f, self.P, out=self.tmp)
+            np.matmul(self.tmp, f.T, out=self.P)
+        else:
+            self.P = f @ self.P @ f.T
+        self.P.flat[::7] += self.q * dt
+        self.t = t
+
+    def update(self, idx: tuple[int, ...], z: tuple[float, ...], r: float) -> None:
+        s, p = self.s, self.P
+        for i, zi in zip(idx, z, strict=True):
+            innovation = zi - s[i]
+            if i == 2:
+                innovation = wrap_angle(innovation)
+            row = p[i]
+            if self.prealloc:
+                np.divide(row, row[i] + r, out=self.gain)
+                s += self.gain * innovation
+                np.multiply(self.gain[:, None], row, out=self.outer)
+                p -= self.outer
+            else:
+                gain = row / (row[i] + r)
+                s += gain * innovation
+                p -= gain[:, None] * row
+        s[2] = wrap_angle(s[2])
+
+    def step(self, t: float) -> None:
+        while self.queue and self.queue[0][0] <= t:
+            tm, _, (idx, z) = heapq.heappop(self.queue)
+            self.predict(tm)
+            self.update(idx, z, 1e-3)
+        self.predict(t)
+        self.P = 0.5 * (self.P + self.P.T)
+
+    def to_msg(self) -> None:
+        full = np.zeros(36)
+        full[[0, 1, 5, 6, 7, 11, 30, 31, 35]] = self.P[:3, :3].ravel()
+        full2 = np.zeros(36)
+        full2[[0, 1, 5, 6, 7, 11, 30, 31, 35]] = self.P[3:, 3:].ravel()
+        Odometry()
+
+
+def _ekf_tick_us(kind: str, ticks: int = 1200) -> float:
+    """Microseconds of CPU per 20 Hz tick (best of 5 runs of ``ticks`` ticks)."""
+    best = math.inf
+    for _ in range(5):
+        ekf: Any = Ekf2D() if kind == "posekit" else _NumpyEkf(prealloc=kind == "prealloc")
+        t_imu, t_odom = 0.04, 0.05
+        c0 = time.process_time()
+        for k in range(1, ticks + 1):
+            t = 0.05 * k
+            while t_imu <= t + 1e-12:
+                if kind == "posekit":
+                    ekf.add_imu(t_imu, 0.01 * t_imu, 0.01, (1.9e-3, 2.0e-3))
+                else:
+                    ekf.add(t_imu, (2, 5), (0.01 * t_imu, 0.01))
+                t_imu += 0.04
+            if kind == "posekit":
+                ekf.add_wheel_twist(t_odom, 0.3, 0.0, 0.01, (3.3e-5, 3.3e-5, 2.8e-3))
+            else:
+                ekf.add(t_odom, (3, 4, 5), (0.3, 0.0, 0.01))
+            t_odom += 0.05
+            ekf.step(t)
+            ekf.to_msg()
+        best = min(best, (time.process_time() - c0) / ticks * 1e6)
+    return best
+
+
+def _ekf_report() -> None:
+    print("\nEKF tick (fuse 1-2 IMU + 1 odometry, predict, to_msg), CPU us, best of 5:")
+    dense = _ekf_tick_us("dense")
+    for kind, label in (
+        ("dense", "numpy 6x6 products (previous posekit)"),
+        ("prealloc", "numpy with preallocated out= buffers"),
+        ("posekit", "posekit: Python floats, packed covariance"),
+    ):
+        us = dense if kind == "dense" else _ekf_tick_us(kind)
+        print(f"  {label:42s} {us:7.1f} us   x{dense / us:4.1f}")
 
 
 def _load() -> str:
@@ -103,6 +228,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--profile", action="store_true", help="profile the node path")
+    parser.add_argument("--ekf", action="store_true", help="EKF tick: posekit vs numpy forms")
     args = parser.parse_args()
 
     quiet: list[LogRecord] = []
@@ -151,6 +277,8 @@ def main() -> None:
             )
         if args.profile:
             _profile(args.duration, args.seed)
+        if args.ekf:
+            _ekf_report()
     finally:
         remove_sink(quiet.append)
         add_sink(_stderr_sink)
