@@ -130,7 +130,8 @@ def test_truncation_to_128_like_ros2_topic_echo() -> None:
     img = Image(encoding="x" * 200, data=np.arange(300, dtype=np.uint8).astype(np.uint8))
     data = yaml.safe_load(message_to_yaml(img))
     assert data["encoding"] == "x" * 128 + "..."
-    assert data["data"][:128] == list(range(128)) and data["data"][128] == "..."
+    assert data["data"][:128] == list(range(128))
+    assert data["data"][128] == "..."
     assert len(data["data"]) == 129
     full = yaml.safe_load(message_to_yaml(img, truncate_length=None))
     assert len(full["data"]) == 300
@@ -156,17 +157,20 @@ def test_set_message_fields_converts_like_ros2cli() -> None:
     t = msg.transforms[0]
     assert isinstance(t, TransformStamped)
     assert (t.header.frame_id, t.child_frame_id) == ("a", "b")
-    assert t.transform.translation.x == 1.0 and isinstance(t.transform.translation.x, float)
+    assert t.transform.translation.x == 1.0
+    assert isinstance(t.transform.translation.x, float)
     odom = Odometry()
     set_message_fields(odom, {"pose": {"covariance": list(range(36))}, "child_frame_id": 5})
-    assert odom.pose.covariance.dtype == np.float64 and odom.pose.covariance[35] == 35.0
+    assert odom.pose.covariance.dtype == np.float64
+    assert odom.pose.covariance[35] == 35.0
     assert odom.child_frame_id == "5"  # str(5), as rosidl_runtime_py does
     before = time.time()
     set_message_fields(odom, {"header": "auto"})
     assert abs(odom.header.stamp.sec + odom.header.stamp.nanosec * 1e-9 - before) < 5
     t2 = TransformStamped()
     set_message_fields(t2, {"header": {"stamp": "now", "frame_id": "m"}})
-    assert t2.header.stamp.sec >= int(before) and t2.header.frame_id == "m"
+    assert t2.header.stamp.sec >= int(before)
+    assert t2.header.frame_id == "m"
 
 
 @pytest.mark.parametrize(("values", "match"), [
@@ -235,7 +239,9 @@ def test_pub_once_reaches_a_subscriber_and_prints_like_ros2(ctx: Context) -> Non
                            "{linear: {x: 0.5}, angular: {z: -1}}", "--once"], context=ctx, out=out)
     assert code == 0
     executor.spin_some(0.1)
-    assert len(got) == 1 and got[0].linear.x == 0.5 and got[0].angular.z == -1.0
+    assert len(got) == 1
+    assert got[0].linear.x == 0.5
+    assert got[0].angular.z == -1.0
     assert out.getvalue() == (
         "publisher: beginning loop\n"
         "publishing #1: geometry_msgs.msg.Twist(linear=geometry_msgs.msg.Vector3(x=0.5, "
@@ -244,7 +250,8 @@ def test_pub_once_reaches_a_subscriber_and_prints_like_ros2(ctx: Context) -> Non
     err = io.StringIO()
     assert topic_cmd.main(["pub", "/cmd_vel", "geometry_msgs/msg/Twist", "{linear: {q: 1}}"],
                           context=ctx, out=out, err=err) == 1
-    assert "Failed to populate field" in err.getvalue() and "q" in err.getvalue()
+    assert "Failed to populate field" in err.getvalue()
+    assert "q" in err.getvalue()
     assert topic_cmd.main(["pub", "/x", "nope_msgs/msg/Nope", "{}"], context=ctx, out=out,
                           err=err) == 1
     assert "nope_msgs/msg/Nope" in err.getvalue()
@@ -267,7 +274,8 @@ def test_echo_learns_type_and_prints_messages(ctx: Context) -> None:
     thread.join(1)
     assert result == [0], "echo did not exit after --count 2"
     blocks = out.getvalue().split("---\n")
-    assert blocks[2] == "" and len(blocks) == 3
+    assert blocks[2] == ""
+    assert len(blocks) == 3
     assert [yaml.safe_load(b)["data"] for b in blocks[:2]] == [
         f"m{int(yaml.safe_load(blocks[0])['data'][1:])}",
         f"m{int(yaml.safe_load(blocks[0])['data'][1:]) + 1}",
@@ -288,8 +296,10 @@ def test_hz_reports_the_publish_rate(ctx: Context) -> None:
     thread.join(1)
     first, second = out.getvalue().splitlines()[:2]
     rate = float(first.split(": ")[1])
-    assert first.startswith("average rate: ") and 10 < rate < 150  # nominal 100 Hz, loaded CI
-    assert second.startswith("\tmin: ") and "window: " in second
+    assert first.startswith("average rate: ")
+    assert 10 < rate < 150
+    assert second.startswith("\tmin: ")
+    assert "window: " in second
     assert math.isfinite(float(second.split("std dev: ")[1].split("s")[0]))
 
 

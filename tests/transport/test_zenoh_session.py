@@ -401,3 +401,30 @@ def test_two_processes_find_each_other(options: SessionOptions) -> None:
         assert proc.stdin is not None
         proc.stdin.close()
         proc.wait(timeout=10)
+
+
+FORGETFUL_SCRIPT = """
+import sys
+from posekit.msgs.std_msgs import String
+from posekit.transport.zenoh_session import SessionOptions, open_session
+from posekit.transport.zenoh_wire import WireQoS
+s = open_session(SessionOptions(router_endpoint=sys.argv[1]))
+s.create_subscription(s.create_node("forgetful"), "/chatter", String, WireQoS(), print)
+print("subscribed", flush=True)
+"""  # never closes its session, like a script without rclpy.shutdown()
+
+
+def test_process_exits_without_closing_its_session(options: SessionOptions) -> None:
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("ZENOH_", "ROS_DOMAIN"))}
+    proc = subprocess.Popen(
+        [sys.executable, "-c", FORGETFUL_SCRIPT, options.router_endpoint],
+        stdout=subprocess.PIPE, text=True, env=env,
+    )
+    try:
+        out, _ = proc.communicate(timeout=20)  # hung forever before the shutdown hook
+        assert proc.returncode == 0
+        assert out == "subscribed\n"
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait(5)

@@ -24,6 +24,7 @@ never propagated into zenoh's threads.
 
 from __future__ import annotations
 
+import atexit
 import collections
 import itertools
 import json
@@ -32,6 +33,7 @@ import os
 import socket
 import threading
 import time
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -266,6 +268,7 @@ class ZenohSession:
         self._entities: list[WirePublisher | WireSubscription] = []
         self._graph: ZenohGraph | None = None
         self._closed = False
+        _open_sessions.add(self)
 
     @property
     def hosts_router(self) -> bool:
@@ -373,6 +376,22 @@ class ZenohSession:
         _quiet(self.session.close)
         if self.router is not None:
             _quiet(self.router.close)
+
+
+# zenoh-python runs Python callbacks on a non-daemon thread that lives as long as the
+# session, and the interpreter joins non-daemon threads before atexit handlers run: a process
+# ending without closing its session (no rclpy.shutdown()) would hang forever. Close them
+# from threading's own shutdown hook, which runs before that join.
+_open_sessions: weakref.WeakSet[ZenohSession] = weakref.WeakSet()
+
+
+def _close_open_sessions() -> None:
+    for session in list(_open_sessions):
+        session.close()
+
+
+_register_shutdown = getattr(threading, "_register_atexit", atexit.register)
+_register_shutdown(_close_open_sessions)
 
 
 def _quiet(fn: Callable[[], Any]) -> None:
