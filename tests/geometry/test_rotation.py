@@ -370,3 +370,26 @@ def test_gimbal_lock_warning_is_a_user_warning_and_batch_warns_once():
     assert ang[0, 2] == 0.0
     assert ang[2, 2] == 0.0
     assert Rotation.from_euler("xyz", ang).approx_equal(rs, atol=1e-12).all()
+
+
+@pytest.mark.parametrize("seq", ["x", "Y", "z", "xy", "ZX", "yz", "XY"])
+def test_short_euler_sequences_match_scipy(seq: str) -> None:
+    from scipy.spatial.transform import Rotation as SciRotation
+
+    rng = np.random.default_rng(7)
+    k = len(seq)
+    batch = rng.uniform(-np.pi, np.pi, size=(50, k))
+    ours = Rotation.from_euler(seq, batch).as_matrix()
+    ref = SciRotation.from_euler(seq, batch).as_matrix()
+    np.testing.assert_allclose(ours, ref, atol=1e-12)
+    single = batch[0, 0] if k == 1 else batch[0]
+    np.testing.assert_allclose(
+        Rotation.from_euler(seq, single).as_matrix(),
+        SciRotation.from_euler(seq, single).as_matrix(), atol=1e-12,
+    )
+
+
+def test_lecture_exercise_with_a_single_axis_sequence() -> None:
+    # The lecture's exercise: pi/2 about x is (w, x, y, z) = (0.707, 0.707, 0, 0).
+    q = Rotation.from_euler("x", 90, degrees=True).as_quat(scalar_first=True)
+    np.testing.assert_allclose(q, [np.sqrt(0.5), np.sqrt(0.5), 0.0, 0.0], atol=1e-15)

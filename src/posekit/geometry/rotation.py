@@ -243,16 +243,20 @@ class Rotation:
         """From Euler angles.
 
         Args:
-            seq: 3 axis letters; lowercase = extrinsic (rotations about the fixed frame's
+            seq: 1 to 3 axis letters; lowercase = extrinsic (rotations about the fixed frame's
                 axes, applied left to right), uppercase = intrinsic (about the moving body's
                 axes). ``'xyz'`` is ROS roll-pitch-yaw; ``'ZYX'`` is the same rotation with
                 the angles listed yaw, pitch, roll.
             angles: shape ``(3,)`` or ``(N, 3)``, in the order the sequence names the axes.
+                As scipy, shorter sequences take fewer angles: ``'x'`` a number (one
+                rotation), ``(N,)`` or ``(N, 1)`` (a batch); ``'xy'`` ``(2,)`` or ``(N, 2)``.
             degrees: angles in degrees instead of radians.
 
         Raises:
             UnknownSequenceError, ShapeError, NonFiniteError.
         """
+        if isinstance(seq, str) and len(seq) in (1, 2):
+            seq, angles = _pad_euler_sequence(seq, angles)
         try:  # one item: three numbers (list, tuple or (3,) array); anything else is a batch
             items: Any = angles
             a, b, c = items
@@ -615,3 +619,27 @@ def compose_world(O_rot: Rotation, O_init: Rotation) -> Rotation:
 def compose_body(O_init: Rotation, O_rot: Rotation) -> Rotation:
     """Rotate orientation ``O_init`` about its own body axis: ``O_init ⊗ O_rot``."""
     return O_init * O_rot
+
+
+def _pad_euler_sequence(seq: str, angles: npt.ArrayLike) -> tuple[str, npt.ArrayLike]:
+    """Extend a 1- or 2-axis sequence to 3 axes with zero angles (the same rotation)."""
+    axes = "xyz" if seq.islower() else "XYZ"
+    if any(ch not in axes for ch in seq) or (len(seq) == 2 and seq[0] == seq[1]):
+        sk.euler_params(seq)  # raises UnknownSequenceError with the full explanation
+    padded = seq
+    while len(padded) < 3:
+        padded += next(ch for ch in axes if ch != padded[-1])
+    arr = np.asarray(angles, dtype=np.float64)
+    k = len(seq)
+    if k == 1 and arr.ndim == 0:
+        return padded, (float(arr), 0.0, 0.0)
+    if k == 2 and arr.shape == (2,):
+        return padded, (float(arr[0]), float(arr[1]), 0.0)
+    if k == 1 and arr.ndim == 1:
+        arr = arr[:, None]
+    if arr.ndim != 2 or arr.shape[1] != k:
+        raise ShapeError(
+            f"Euler sequence {seq!r} takes angles of shape {'() or (N,)' if k == 1 else '(2,)'}"
+            f" or (N, {k}), got {arr.shape}"
+        )
+    return padded, np.concatenate([arr, np.zeros((len(arr), 3 - k))], axis=1)
