@@ -28,7 +28,7 @@ I64 = npt.NDArray[np.int64]
 B = npt.NDArray[np.bool_]
 
 
-_CHUNK = 8192
+_CHUNK = 16384
 
 
 class _Fallback(Exception):  # noqa: N818 - internal control flow, never escapes
@@ -76,7 +76,12 @@ def _rotate(q: tuple[Any, Any, Any, Any], v: tuple[Any, Any, Any]) -> tuple[Any,
 
 def canonical_quats(q: F64) -> F64:
     """tf2's setRotation/getRotation round trip on (N,4) xyzw: unit norm, canonical sign."""
-    x, y, z, w = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    return _canonical_rows(np.ascontiguousarray(q.T)).T.copy()
+
+
+def _canonical_rows(q: F64) -> F64:
+    """canonical_quats on a (4, N) array of rows x, y, z, w (contiguous rows); returns (4, N)."""
+    x, y, z, w = q[0], q[1], q[2], q[3]
     out = np.empty_like(q)
     with np.errstate(invalid="ignore", divide="ignore"):
         s = 2.0 / (x * x + y * y + z * z + w * w)
@@ -93,10 +98,10 @@ def canonical_quats(q: F64) -> F64:
         pos = trace > 0.0
         sq = np.sqrt(trace + 1.0)
         sc = 0.5 / sq
-        out[:, 3] = sq * 0.5
-        out[:, 0] = (m[2][1] - m[1][2]) * sc
-        out[:, 1] = (m[0][2] - m[2][0]) * sc
-        out[:, 2] = (m[1][0] - m[0][1]) * sc
+        out[3] = sq * 0.5
+        out[0] = (m[2][1] - m[1][2]) * sc
+        out[1] = (m[0][2] - m[2][0]) * sc
+        out[2] = (m[1][0] - m[0][1]) * sc
         if not pos.all():
             d0, d1, d2 = m[0][0], m[1][1], m[2][2]
             big = np.where(d0 < d1, np.where(d1 < d2, 2, 1), np.where(d0 < d2, 2, 0))
@@ -107,10 +112,10 @@ def canonical_quats(q: F64) -> F64:
                 j, k = (i + 1) % 3, (i + 2) % 3
                 sq = np.sqrt(m[i][i][sel] - m[j][j][sel] - m[k][k][sel] + 1.0)
                 sc = 0.5 / sq
-                out[sel, i] = sq * 0.5
-                out[sel, 3] = (m[k][j][sel] - m[j][k][sel]) * sc
-                out[sel, j] = (m[j][i][sel] + m[i][j][sel]) * sc
-                out[sel, k] = (m[k][i][sel] + m[i][k][sel]) * sc
+                out[i, sel] = sq * 0.5
+                out[3, sel] = (m[k][j][sel] - m[j][k][sel]) * sc
+                out[j, sel] = (m[j][i][sel] + m[i][j][sel]) * sc
+                out[k, sel] = (m[k][i][sel] + m[i][k][sel]) * sc
     return out
 
 
@@ -123,7 +128,7 @@ def _edge(cache: Any, t: I64) -> tuple[int, Cols, B | None] | None:
     n = len(cache)
     if n == 0:
         return None
-    stamps, parents, data = cache.arrays()
+    stamps, parents, data, theta_iv, inv_sin_iv, flip_iv = cache.arrays()
     newest = int(stamps[-1])
     oldest = int(stamps[0])
     latest = t == 0
@@ -147,34 +152,47 @@ def _edge(cache: Any, t: I64) -> tuple[int, Cols, B | None] | None:
     if at_oldest.any():
         older[at_oldest] = 0  # exact hit on the oldest stamp: its first-inserted sample
     newer = np.minimum(older + 1, n - 1)
-    p_old = parents[older]
+    # Gathers dominate the cost. Sorted stamps (the usual case: a trajectory) give
+    # non-decreasing indices, where np.repeat with per-sample counts is a run of memcpy's.
+    if older.shape[0] > 1 and bool((older[1:] >= older[:-1]).all()):
+        c_old = np.bincount(older, minlength=n)
+        c_new = np.bincount(newer, minlength=n)
+
+        def g_old(row: Any) -> Any:
+            return np.repeat(row, c_old)
+
+        def g_new(row: Any) -> Any:
+            return np.repeat(row, c_new)
+
+    else:
+
+        def g_old(row: Any) -> Any:
+            return row.take(older)
+
+        def g_new(row: Any) -> Any:
+            return row.take(newer)
+
+    p_old = g_old(parents)
     p_ok = p_old if ok is None else p_old[ok]
     parent = int(p_ok[0])
     if (p_ok != parent).any():
         raise _Fallback
     # interpolate unless an exact hit on newest/oldest or re-parented between the brackets
-    keep = (tt == newest) | at_oldest | (parents[newer] != p_old)
-    s0 = stamps[older]
-    span = stamps[newer] - s0
+    keep = (tt == newest) | at_oldest | (g_new(parents) != p_old)
+    s0 = g_old(stamps)
+    span = g_new(stamps) - s0
     span[keep] = 1
     r = (tt - s0).astype(np.float64) / span.astype(np.float64)
     r[keep] = 0.0
     u = 1.0 - r
-    a = data[:, older]
-    b = data[:, newer]
-    x1, y1, z1, w1 = a[0], a[1], a[2], a[3]
-    x2, y2, z2, w2 = b[0], b[1], b[2], b[3]
-    dot = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
-    n1 = x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1
-    n2 = x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2
-    c = np.abs(dot) / np.sqrt(n1 * n2)
-    theta = np.arccos(np.minimum(c, 1.0))
+    a = [g_old(row) for row in data]
+    b = [g_new(row) for row in data]
+    theta = g_old(theta_iv)
     use_a = keep | (theta == 0.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        d = 1.0 / np.sin(theta)
-        w0 = np.sin(u * theta)
-        w1s = np.sin(r * theta)
-    np.negative(w1s, out=w1s, where=dot < 0.0)
+    d = g_old(inv_sin_iv)
+    w0 = np.sin(u * theta)
+    w1s = np.sin(r * theta)
+    np.negative(w1s, out=w1s, where=g_old(flip_iv))
     cols = []
     any_a = use_a.any()
     with np.errstate(invalid="ignore"):  # d = inf where theta == 0; those rows take a
@@ -217,9 +235,9 @@ def lookup_transforms_locked(
             suspect[lo:hi] = True
             continue
         if cs.any():
-            cq[cs] = (0.0, 0.0, 0.0, 1.0)
+            cq[:, cs] = np.array([[0.0], [0.0], [0.0], [1.0]])
         v[lo:hi] = cv
-        q[lo:hi] = canonical_quats(cq)
+        q[lo:hi] = _canonical_rows(cq).T
         suspect[lo:hi] = cs
     for i in np.flatnonzero(suspect):
         try:
@@ -242,13 +260,13 @@ def _named(exc: TransformException, index: int, stamp: int, used: int) -> Transf
 
 
 def _walk(core: BufferCore, tid: int, sid: int, t: I64) -> tuple[F64, F64, B]:
-    """Vectorised walkToTopParent; returns (translations, raw quaternions, suspect mask)."""
+    """Vectorised walkToTopParent; returns (translations, raw quaternions (4, N), suspect mask)."""
     from posekit.tf2.buffer_core import MAX_GRAPH_DEPTH
 
     n = t.shape[0]
     caches = core._caches
     suspect = np.zeros(n, dtype=bool)
-    fail = (np.zeros((n, 3)), np.zeros((n, 4)), np.ones(n, dtype=bool))
+    fail = (np.zeros((n, 3)), np.zeros((4, n)), np.ones(n, dtype=bool))
     src: Cols | None = None
     frame, top, depth = sid, sid, 0
     while frame != 0:
@@ -317,10 +335,10 @@ def _finish(src: Cols | None, tgt: Cols | None, n: int, suspect: B) -> tuple[F64
             by + ay,
             bz + az,
         )
-    q = np.empty((n, 4))
+    q = np.empty((4, n))  # rows x, y, z, w: contiguous for the canonicalisation
     v = np.empty((n, 3))
     for k in range(4):
-        q[:, k] = res[k]
+        q[k] = res[k]
     for k in range(3):
         v[:, k] = res[4 + k]
     return v, q, suspect

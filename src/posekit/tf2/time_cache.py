@@ -222,16 +222,30 @@ class TimeCache:
         return self.stamps[-1], self.parents[-1]
 
     def arrays(self) -> Any:
-        """Cached numpy copies: stamps (n,) int64, parents (n,) int64, samples (7, n) float64."""
+        """Cached numpy copies: stamps, parents, samples (7, n), and per-interval slerp terms."""
         arrs = self._arrays
         if arrs is None:
             import numpy as np
 
-            data = np.array(self.data, dtype=np.float64).reshape(-1, 7)
+            data = np.ascontiguousarray(np.array(self.data, dtype=np.float64).reshape(-1, 7).T)
+            # tf2 slerp's angle terms per interval (i, i+1), as in get(); last entry padding
+            a, b = data[:4, :-1], data[:4, 1:]
+            dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+            n1 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3]
+            n2 = b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3]
+            theta = np.zeros(len(self.stamps))
+            theta[:-1] = np.arccos(np.minimum(np.abs(dot) / np.sqrt(n1 * n2), 1.0))
+            with np.errstate(divide="ignore"):
+                inv_sin = 1.0 / np.sin(theta)
+            flip = np.zeros(len(self.stamps), dtype=bool)
+            flip[:-1] = dot < 0.0
             arrs = (
                 np.array(self.stamps, dtype=np.int64),
                 np.array(self.parents, dtype=np.int64),
-                np.ascontiguousarray(data.T),  # (7, n): one row per component
+                data,  # (7, n): one row per component
+                theta,
+                inv_sin,
+                flip,
             )
             self._arrays = arrs
         return arrs
