@@ -30,7 +30,6 @@ from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
 
-
 # CPU time of this process: on the shared 2-core machine other processes steal the CPU, and
 # wall-clock rates then measure the load, not the code. (Single-threaded, so this is the
 # CPU time of the measured thread.)
@@ -90,6 +89,39 @@ def runtime_rate(pool: list, n_subs: int, batch: int = 100, total: int = 20_000)
         ctx.shutdown()
 
 
+def transfer_rate(n_subs: int, batch: int = 100, total: int = 20_000) -> float:
+    """Like runtime_rate with ``publish_transfer`` of freshly built TFMessages (what the
+    ROSbot nodes do); building the messages is not timed."""
+    ctx = Context()
+    ctx.init()
+    try:
+        node = Node("bench", context=ctx)
+        count = [0]
+
+        def cb(_msg: object) -> None:
+            count[0] += 1
+
+        pub = node.create_publisher(TFMessage, "topic", QoSProfile(depth=batch))
+        for _ in range(n_subs):
+            node.create_subscription(TFMessage, "topic", cb, QoSProfile(depth=batch))
+        ex = SingleThreadedExecutor(context=ctx)
+        ex.add_node(node)
+        publish = pub.publish_transfer
+        gc.collect()
+        elapsed = 0.0
+        for start in range(0, total, batch):
+            fresh = [tf_message(i) for i in range(start, start + batch)]
+            t0 = _clock()
+            for m in fresh:
+                publish(m)
+            ex.spin_some()
+            elapsed += _clock() - t0
+        assert count[0] == total * n_subs, count
+        return count[0] / elapsed
+    finally:
+        ctx.shutdown()
+
+
 def baseline_rate(pool: list, n_subs: int, copier: Callable | None = None,
                   total: int = 20_000) -> float:
     """Plain callback list: ``for cb in callbacks: cb(msg)`` (optionally copying per cb)."""
@@ -134,6 +166,9 @@ def main() -> None:
           f"= {rt / deep:.1f}x")
     rt4 = best_of(lambda: runtime_rate(tf_msgs, 4), 5)
     print(f"  posekit runtime, 4 subscribers     : {rt4:12,.0f} deliveries/s")
+    tr = best_of(lambda: transfer_rate(1), 5)
+    print(f"  posekit runtime, publish_transfer  : {tr:12,.0f} msg/s   (fresh messages, "
+          f"no publish snapshot) vs publish {tr / rt:.2f}x")
 
     print("Image rgb8, 3 subscribers (publish -> 3 callbacks)")
     results = {}
