@@ -154,3 +154,19 @@ def test_stale_edge_above_meeting_point_and_failing_target_edge() -> None:
     # target = a is on the source path and its own edge (to root) has no data at 5 s: fine
     v, _ = b.lookup_transforms("a", "s", arr)
     np.testing.assert_allclose(v[:, 0], [4, 5, 6], atol=1e-12)
+
+
+def test_duplicates_at_oldest_and_middle_stamps_sorted_and_shuffled() -> None:
+    b = BufferCore()
+    for ns, x, yaw in [(S, 1, 0.1), (S, 2, 0.2), (S + S // 2, 7, 0.7), (S + S // 2, 8, 0.8),
+                       (2 * S, 5, 0.5)]:  # fmt: skip
+        b.set_transform(ts("p", "c", ns, (x, 0, 0), yaw), "n")
+    arr = np.array([S, S, S + S // 4, S + S // 2, S + 3 * S // 4, 2 * S, 2 * S], dtype=np.int64)
+    rng = np.random.default_rng(3)
+    for times in (arr, rng.permutation(arr)):
+        v, q = b.lookup_transforms("p", "c", times)
+        ev, eq = singles(b, "p", "c", times)
+        np.testing.assert_allclose(v, ev, atol=1e-12, rtol=0)
+        np.testing.assert_allclose(q, eq, atol=1e-12, rtol=0)
+    v, _ = b.lookup_transforms("p", "c", arr)
+    np.testing.assert_allclose(v[:4, 0], [1, 1, 4.5, 8])  # spec 3.1 duplicate model
