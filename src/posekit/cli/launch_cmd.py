@@ -4,7 +4,8 @@ Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:
 reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds),
 ``--realtime`` (pace to the wall clock; default is as fast as possible), ``--zenoh`` (nodes on
 the Zenoh transport so other processes and ``posekit`` tools see them), ``--record DIR`` (a
-ROS 2 bag), ``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot).
+ROS 2 bag), ``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot),
+``--save-images DIR`` (debug images as PNG, rqt_image_view's role).
 """
 
 from __future__ import annotations
@@ -45,6 +46,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=8765)
     parser.add_argument("--plot", default=None, metavar="PNG")
+    parser.add_argument("--save-images", default=None, metavar="DIR",
+                        help="write the debug and camera images as PNG files into DIR")
     parser.add_argument("--list", action="store_true", help="list the scenarios and exit")
     return parser
 
@@ -55,6 +58,10 @@ def _hooks(ns: argparse.Namespace, servers: list[Any]) -> list[Callable[[Any], A
         from posekit.bag.recorder import attach_recorder
 
         hooks.append(lambda run: attach_recorder(run, ns.record))
+    if ns.save_images:
+        from posekit.vision.nodes.image_saver import attach_image_saver
+
+        hooks.append(lambda run: attach_image_saver(run, ns.save_images))
     if ns.viewer:
         from posekit.cli.view_cmd import attach_to_run
 
@@ -120,5 +127,7 @@ def main(argv: Sequence[str]) -> int:
         lines.append(f"odometry plot: {result.plot_path}")
     if ns.record:
         lines.append(f"bag: {ns.record}")
+    if ns.save_images:
+        lines.append(f"images: {ns.save_images}")
     sys.stdout.write("\n".join(lines) + "\n")
     return 0
