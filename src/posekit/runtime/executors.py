@@ -559,130 +559,149 @@ class SimulatedTimeExecutor(Executor):
         self.wake()
 
     def _rebuild_schedule(self) -> None:
-        heap: list[tuple[int, int, Timer]] = []
-        zero: list[Timer] = []
-        other: list[Timer] = []
-        for timer in self._timers:
-            if timer._canceled or timer.destroyed:
-                continue  # reset() marks the schedule dirty again
-            clock = timer.clock
-            node = timer._node
-            if clock is node._clock and node._executor is self and node._clock._ros_time_active:
-                if timer._period_ns == 0:
-                    zero.append(timer)
+        with self._lock:  # against a concurrent _rebuild_timers
+            self._schedule_dirty = False  # first: a change during the rebuild marks it again
+            heap: list[tuple[int, int, Timer]] = []
+            zero: list[Timer] = []
+            other: list[Timer] = []
+            for timer in self._timers:
+                if timer._canceled or timer.destroyed:
+                    continue  # reset() marks the schedule dirty again
+                clock = timer.clock
+                node = timer._node
+                if clock is node._clock and node._executor is self and clock._ros_time_active:
+                    if timer._period_ns == 0:
+                        zero.append(timer)
+                    else:
+                        timer.is_ready()  # applies backward-jump rescheduling first
+                        heap.append((timer._next_ns, timer.seq, timer))
                 else:
-                    timer.is_ready()  # applies backward-jump rescheduling first
-                    heap.append((timer._next_ns, timer.seq, timer))
-            else:
-                other.append(timer)
-        heapq.heapify(heap)
-        self._heap, self._zero_timers, self._other_timers = heap, zero, other
-        self._schedule_dirty = False
+                    other.append(timer)
+            heapq.heapify(heap)
+            self._heap, self._zero_timers, self._other_timers = heap, zero, other
 
     def _heap_top(self) -> Timer | None:
-        """The heap timer due first after dropping stale entries (caller holds the lock)."""
+        """The heap timer due first after dropping stale entries."""
         heap = self._heap
         while heap:
             due, seq, timer = heap[0]
+            clock = timer.clock
+            if (
+                not timer._canceled
+                and not timer.destroyed
+                and timer._next_ns == due
+                and clock._ros_time_active  # type: ignore[attr-defined]
+                and clock._override_ns >= timer._last_ns  # type: ignore[attr-defined]
+            ):
+                return timer  # the common case: a valid entry, no backward jump
             if timer._canceled or timer.destroyed:
                 heapq.heappop(heap)
-                continue
-            if not timer.clock._ros_time_active:  # type: ignore[attr-defined]
+            elif not clock._ros_time_active:  # type: ignore[attr-defined]
                 # use_sim_time switched off behind the executor's back: reclassify.
                 self._rebuild_schedule()
                 heap = self._heap
-                continue
-            timer._check_jump(timer.clock.now_ns())
-            if timer._next_ns != due:
+            else:
+                timer._check_jump(clock.now_ns())
                 heapq.heapreplace(heap, (timer._next_ns, seq, timer))
-                continue
-            return timer
         return None
 
+    def _claim_due_timer(self) -> Timer | None:
+        """Claim the timer to run next at the current time (due first, then creation order;
+        its group claimed and the call marked), or None. Only the stepping thread calls
+        this, so the heap needs no lock (node and timer changes from other threads only
+        mark the schedule dirty)."""
+        if self._schedule_dirty:
+            self._rebuild_schedule()
+        top = self._heap_top()
+        best: Timer | None = None
+        if top is not None and top._next_ns <= top.clock.now_ns():
+            if top.callback_group.can_execute():
+                best = top
+            else:  # its group is busy (a re-entrant spin): the base executor's scan
+                best = self._scan_timers(self._timers)
+                # Whatever it picks may sit deeper in the heap: re-sort afterwards.
+                self._schedule_dirty = True
+        if self._zero_timers or self._other_timers:
+            extra = self._scan_timers(self._zero_timers + self._other_timers)
+            if extra is not None and (
+                best is None or (extra._next_ns, extra.seq) < (best._next_ns, best.seq)
+            ):
+                best = extra
+        if best is None or not best.callback_group.beginning_execution():
+            return None
+        best._mark_called()
+        if best is top and not self._schedule_dirty:
+            heapq.heapreplace(self._heap, (best._next_ns, best.seq, best))
+        return best
+
     def _take_ready(self) -> tuple[int, Any, Any] | None:
+        if self._tasks:
+            return (_TASK, self._tasks.popleft(), None)
+        timer = self._claim_due_timer()
+        if timer is not None:
+            return (_TIMER, timer, None)
+        if not self._fifo:
+            return None
         with self._lock:
-            if self._tasks:
-                return (_TASK, self._tasks.popleft(), None)
-            if self._schedule_dirty:
-                self._rebuild_schedule()
-            heap = self._heap
-            top: Timer | None = None
-            if heap:
-                # Fast path of _heap_top: a valid entry on an active clock that did not jump.
-                due, _, top = heap[0]
-                clock = top.clock
-                if (
-                    top._canceled
-                    or top.destroyed
-                    or top._next_ns != due
-                    or not clock._ros_time_active  # type: ignore[attr-defined]
-                    or clock._override_ns < top._last_ns  # type: ignore[attr-defined]
-                ):
-                    top = self._heap_top()
-            best: Timer | None = None
-            if top is not None and top._next_ns <= top.clock.now_ns():
-                if top.callback_group.can_execute():
-                    best = top
-                else:  # its group is busy (a re-entrant spin): the base executor's scan
-                    best = self._scan_timers(self._timers)
-                    # Whatever it picks may sit deeper in the heap: re-sort afterwards.
-                    self._schedule_dirty = True
-            if self._zero_timers or self._other_timers:
-                extra = self._scan_timers(self._zero_timers + self._other_timers)
-                if extra is not None and (
-                    best is None
-                    or (extra._next_ns, extra.seq) < (best._next_ns, best.seq)
-                ):
-                    best = extra
-            if best is not None and best.callback_group.beginning_execution():
-                best._mark_called()
-                if best is top and not self._schedule_dirty:
-                    heapq.heapreplace(self._heap, (best._next_ns, best.seq, best))
-                return (_TIMER, best, None)
-            if not self._fifo:
-                return None
             return self._take_message()
 
     def _next_timer_ns(self) -> int | None:
         """Sim time (ns) of the next timer call that moves time (None: no such timer)."""
-        with self._lock:
-            if self._schedule_dirty:
-                self._rebuild_schedule()
-            top = self._heap_top()
-            best = None if top is None else max(top._next_ns, self._now_ns)
-            if not self._other_timers:
-                return best
-            for timer in self._other_timers:
-                if timer.is_canceled() or timer.destroyed:
-                    continue
-                clock = timer.clock
-                if not (isinstance(clock, ROSClock) and clock.ros_time_is_active):
-                    continue
-                if timer.timer_period_ns == 0:
-                    continue  # runs once per step; it does not drive time
-                timer.is_ready()  # applies backward-jump rescheduling
-                due = max(timer.next_call_ns, self._now_ns)
-                if best is None or due < best:
-                    best = due
+        if self._schedule_dirty:
+            self._rebuild_schedule()
+        top = self._heap_top()
+        best = None if top is None else max(top._next_ns, self._now_ns)
+        if not self._other_timers:
             return best
+        for timer in self._other_timers:
+            if timer.is_canceled() or timer.destroyed:
+                continue
+            clock = timer.clock
+            if not (isinstance(clock, ROSClock) and clock.ros_time_is_active):
+                continue
+            if timer.timer_period_ns == 0:
+                continue  # runs once per step; it does not drive time
+            timer.is_ready()  # applies backward-jump rescheduling
+            due = max(timer.next_call_ns, self._now_ns)
+            if best is None or due < best:
+                best = due
+        return best
 
     # -- running ----------------------------------------------------------------------
     def _run_ready(self) -> int:
+        """Run every callback ready at the current sim time (the order of the module
+        docstring: tasks, due timers, then messages in arrival order)."""
         count = 0
         context = self._context
-        take_ready = self._take_ready
-        execute = self._execute
-        drain = self._drain_messages
+        claim_timer = self._claim_due_timer
         while context._ok and not self._is_shutdown:
-            work = take_ready()
+            if self._tasks:
+                self._execute((_TASK, self._tasks.popleft(), None))
+                count += 1
+                continue
+            timer = claim_timer()
+            if timer is not None:
+                # Executor._execute for a timer, inlined (the hot path of a stepped run).
+                try:
+                    result = timer.callback()
+                    if result is not None and inspect.iscoroutine(result):
+                        self._spawn_callback_task(result, _TIMER, timer)
+                except Exception:
+                    self._report(timer._node, "timer callback", traceback.format_exc())
+                finally:
+                    timer.callback_group.ending_execution()
+                count += 1
+                continue
+            if not self._fifo:
+                break
+            with self._lock:
+                work = self._take_message()
             if work is None:
                 break
-            execute(work)
-            count += 1
-            if work[0] == _MESSAGE:
-                # Sim time is frozen during a step, so no timer can become due while the
-                # queued messages are delivered: drain them in arrival order.
-                count += drain(1 << 62)
+            self._execute(work)
+            # Sim time is frozen during a step, so no timer can become due while the queued
+            # messages are delivered: drain them in arrival order.
+            count += 1 + self._drain_messages(1 << 62)
         self.callbacks_run += count
         return count
 
