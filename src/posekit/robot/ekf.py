@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import heapq
 import math
-import operator
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -185,139 +185,142 @@ class Ekf2D:
 
     # ------------------------------------------------------------------ filter
     # ``state`` and ``covariance`` stay numpy arrays between calls (users read and set
-    # them), but the arithmetic runs on Python floats over the 21 distinct entries of the
-    # symmetric P (packed row-major upper triangle, see _PACKED): for a 6-state filter every
-    # numpy call costs more than the few flops it does (measured in docs/perf_sim.md). P is
-    # kept exactly symmetric, which also makes the symmetrisation of the array form moot.
+    # them), but the arithmetic runs on Python floats: the state and the 21 distinct entries
+    # of the symmetric P (packed row-major upper triangle, see _PACKED) live in local
+    # variables for a whole step. For a 6-state filter every numpy call costs more than the
+    # few flops it does (measured in docs/perf_sim.md). P is kept exactly symmetric, which
+    # also makes the symmetrisation of the array form moot.
     def predict_to(self, t: float) -> None:
         """Propagate state and covariance to time ``t`` (s); no-op for ``t`` <= filter time."""
-        if self.t is None:
-            self.t = t
-            return
-        if t - self.t <= 0.0:
-            return
-        s = self.state.tolist()
-        p = self._predict(s, self._packed_covariance(), t - self.t)
-        self.state[:] = s
-        self._set_packed_covariance(p)
-        self.t = t
+        self._run((), t, predict=True)
 
     def update(self, m: Measurement) -> None:
         """Fuse one measurement now (sequential scalar updates, see module doc)."""
-        s = self.state.tolist()
-        p = list(self._packed_covariance())
-        self._update(s, p, m)
-        self.state[:] = s
-        self._set_packed_covariance(p)
+        self._run((m,), None, predict=False)
 
     def step(self, t: float) -> None:
         """Process queued measurements up to ``t`` in stamp order, then predict to ``t``."""
-        s = self.state.tolist()
-        p = list(self._packed_covariance())  # _update edits in place
         queue = self._queue
+        due = []
         while queue and queue[0][0] <= t:
-            _, _, m = heapq.heappop(queue)
-            p = self._predict_packed_to(s, p, m.t)
-            self._update(s, p, m)
-        p = self._predict_packed_to(s, p, t)
-        self.state[:] = s
-        self._set_packed_covariance(p)
+            due.append(heapq.heappop(queue)[2])
+        self._run(due, t, predict=True)
 
-    def _predict_packed_to(self, s: list[float], p: list[float], t: float) -> list[float]:
-        if self.t is None:
-            self.t = t
-            return p
-        dt = t - self.t
-        if dt <= 0.0:
-            return p
-        self.t = t
-        return self._predict(s, p, dt)
-
-    def _predict(self, s: list[float], p: list[float], dt: float) -> list[float]:
-        """Predict ``s`` in place by ``dt`` > 0 s; returns packed ``F P F^T + Q dt``."""
-        x, y, yaw, vx, vy, vyaw = s
-        c, sn = math.cos(yaw), math.sin(yaw)
-        s[X] = x + (vx * c - vy * sn) * dt
-        s[Y] = y + (vx * sn + vy * c) * dt
-        s[YAW] = wrap_angle(yaw + vyaw * dt)
-        # F = I except rows x: (yaw a, vx b, vy e), y: (yaw d, vx g, vy b), yaw: (vyaw dt).
-        a = (-vx * sn - vy * c) * dt
-        d = (vx * c - vy * sn) * dt
-        b, g = c * dt, sn * dt
-        e = -g
+    def _run(
+        self, due: Sequence[Measurement], t_end: float | None, *, predict: bool
+    ) -> None:
+        """Fuse ``due`` in order (each after a prediction to its stamp when ``predict``),
+        then predict to ``t_end`` (None: no final prediction)."""
+        x, y, yaw, vx, vy, vyaw = self.state.tolist()
         (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
-         p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = p  # fmt: skip
-        # M = P F^T, columns x, y, yaw (the rows the upper triangle of F M needs).
-        m00 = p00 + a * p02 + b * p03 + e * p04
-        m20 = p02 + a * p22 + b * p23 + e * p24
-        m30 = p03 + a * p23 + b * p33 + e * p34
-        m40 = p04 + a * p24 + b * p34 + e * p44
-        m01 = p01 + d * p02 + g * p03 + b * p04
-        m11 = p11 + d * p12 + g * p13 + b * p14
-        m21 = p12 + d * p22 + g * p23 + b * p24
-        m31 = p13 + d * p23 + g * p33 + b * p34
-        m41 = p14 + d * p24 + g * p34 + b * p44
-        m02 = p02 + dt * p05
-        m12 = p12 + dt * p15
-        m22 = p22 + dt * p25
-        m32 = p23 + dt * p35
-        m42 = p24 + dt * p45
-        m52 = p25 + dt * p55
+         p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = self._packed_covariance()  # fmt: skip
         q0, q1, q2, q3, q4, q5 = self._q_list
-        # P' = F M, upper triangle; columns vx, vy, vyaw of M equal those of P.
-        return [
-            m00 + a * m20 + b * m30 + e * m40 + q0 * dt,
-            m01 + a * m21 + b * m31 + e * m41,
-            m02 + a * m22 + b * m32 + e * m42,
-            p03 + a * p23 + b * p33 + e * p34,
-            p04 + a * p24 + b * p34 + e * p44,
-            p05 + a * p25 + b * p35 + e * p45,
-            m11 + d * m21 + g * m31 + b * m41 + q1 * dt,
-            m12 + d * m22 + g * m32 + b * m42,
-            p13 + d * p23 + g * p33 + b * p34,
-            p14 + d * p24 + g * p34 + b * p44,
-            p15 + d * p25 + g * p35 + b * p45,
-            m22 + dt * m52 + q2 * dt,
-            p23 + dt * p35,
-            p24 + dt * p45,
-            p25 + dt * p55,
-            p33 + q3 * dt,
-            p34,
-            p35,
-            p44 + q4 * dt,
-            p45,
-            p55 + q5 * dt,
-        ]
-
-    def _update(self, s: list[float], p: list[float], m: Measurement) -> None:
-        """:meth:`update` on a state list and packed covariance, in place."""
         floor = self.params.min_measurement_variance
-        for i, z, r in zip(m.indices, m.values, m.variances, strict=True):
-            if not (math.isfinite(z) and math.isfinite(r)):
+        cos, sin, isfinite = math.cos, math.sin, math.isfinite
+        t_filter = self.t
+        targets: list[tuple[float | None, Measurement | None]] = [(m.t, m) for m in due]
+        if t_end is not None:
+            targets.append((t_end, None))
+        for t_target, m in targets:
+            if predict and t_target is not None:
+                dt = 0.0 if t_filter is None else t_target - t_filter
+                if t_filter is None:
+                    t_filter = t_target
+                elif dt > 0.0:
+                    t_filter = t_target
+                    # State: constant body velocity over dt.
+                    c, sn = cos(yaw), sin(yaw)
+                    x = x + (vx * c - vy * sn) * dt
+                    y = y + (vx * sn + vy * c) * dt
+                    yaw = wrap_angle(yaw + vyaw * dt)
+                    # F = I except rows x: (yaw a, vx b, vy e), y: (yaw d, vx g, vy b),
+                    # yaw: (vyaw dt). M = P F^T (the x, y, yaw columns the upper triangle
+                    # of F M needs), then P' = F M + Q dt.
+                    a = (-vx * sn - vy * c) * dt
+                    d = (vx * c - vy * sn) * dt
+                    b, g = c * dt, sn * dt
+                    e = -g
+                    m00 = p00 + a * p02 + b * p03 + e * p04
+                    m20 = p02 + a * p22 + b * p23 + e * p24
+                    m30 = p03 + a * p23 + b * p33 + e * p34
+                    m40 = p04 + a * p24 + b * p34 + e * p44
+                    m01 = p01 + d * p02 + g * p03 + b * p04
+                    m11 = p11 + d * p12 + g * p13 + b * p14
+                    m21 = p12 + d * p22 + g * p23 + b * p24
+                    m31 = p13 + d * p23 + g * p33 + b * p34
+                    m41 = p14 + d * p24 + g * p34 + b * p44
+                    m02 = p02 + dt * p05
+                    m12 = p12 + dt * p15
+                    m22 = p22 + dt * p25
+                    m32 = p23 + dt * p35
+                    m42 = p24 + dt * p45
+                    m52 = p25 + dt * p55
+                    (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
+                     p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = (
+                        m00 + a * m20 + b * m30 + e * m40 + q0 * dt,
+                        m01 + a * m21 + b * m31 + e * m41,
+                        m02 + a * m22 + b * m32 + e * m42,
+                        p03 + a * p23 + b * p33 + e * p34,
+                        p04 + a * p24 + b * p34 + e * p44,
+                        p05 + a * p25 + b * p35 + e * p45,
+                        m11 + d * m21 + g * m31 + b * m41 + q1 * dt,
+                        m12 + d * m22 + g * m32 + b * m42,
+                        p13 + d * p23 + g * p33 + b * p34,
+                        p14 + d * p24 + g * p34 + b * p44,
+                        p15 + d * p25 + g * p35 + b * p45,
+                        m22 + dt * m52 + q2 * dt,
+                        p23 + dt * p35,
+                        p24 + dt * p45,
+                        p25 + dt * p55,
+                        p33 + q3 * dt,
+                        p34,
+                        p35,
+                        p44 + q4 * dt,
+                        p45,
+                        p55 + q5 * dt,
+                    )  # fmt: skip
+            if m is None:
                 continue
-            innovation = z - s[i]
-            if i == YAW:
-                innovation = wrap_angle(innovation)
-            (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
-             p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = p  # fmt: skip
-            r0, r1, r2, r3, r4, r5 = _ROW_OF[i](p)  # row i of P (= column i, symmetric)
-            denominator = p[_DIAGONAL[i]] + max(r, floor)
-            g0, g1, g2 = r0 / denominator, r1 / denominator, r2 / denominator
-            g3, g4, g5 = r3 / denominator, r4 / denominator, r5 / denominator
-            s0, s1, s2, s3, s4, s5 = s
-            s[:] = (
-                s0 + g0 * innovation, s1 + g1 * innovation, s2 + g2 * innovation,
-                s3 + g3 * innovation, s4 + g4 * innovation, s5 + g5 * innovation,
-            )  # fmt: skip
-            # P -= gain row^T, upper triangle (P stays exactly symmetric).
-            p[:] = (
-                p00 - g0 * r0, p01 - g0 * r1, p02 - g0 * r2, p03 - g0 * r3, p04 - g0 * r4,
-                p05 - g0 * r5, p11 - g1 * r1, p12 - g1 * r2, p13 - g1 * r3, p14 - g1 * r4,
-                p15 - g1 * r5, p22 - g2 * r2, p23 - g2 * r3, p24 - g2 * r4, p25 - g2 * r5,
-                p33 - g3 * r3, p34 - g3 * r4, p35 - g3 * r5, p44 - g4 * r4, p45 - g4 * r5,
-                p55 - g5 * r5,
-            )  # fmt: skip
-        s[YAW] = wrap_angle(s[YAW])
+            for i, z, r in zip(m.indices, m.values, m.variances, strict=True):
+                if not (isfinite(z) and isfinite(r)):
+                    continue
+                # Row i of P (= column i, P is symmetric) and the state component.
+                if i == VX:
+                    r0, r1, r2, r3, r4, r5, innovation = p03, p13, p23, p33, p34, p35, z - vx
+                elif i == YAW:
+                    r0, r1, r2, r3, r4, r5 = p02, p12, p22, p23, p24, p25
+                    innovation = wrap_angle(z - yaw)
+                elif i == VYAW:
+                    r0, r1, r2, r3, r4, r5, innovation = p05, p15, p25, p35, p45, p55, z - vyaw
+                elif i == VY:
+                    r0, r1, r2, r3, r4, r5, innovation = p04, p14, p24, p34, p44, p45, z - vy
+                elif i == X:
+                    r0, r1, r2, r3, r4, r5, innovation = p00, p01, p02, p03, p04, p05, z - x
+                elif i == Y:
+                    r0, r1, r2, r3, r4, r5, innovation = p01, p11, p12, p13, p14, p15, z - y
+                else:
+                    raise IndexError(f"measurement index {i} is not a state index 0..5")
+                denominator = (r0, r1, r2, r3, r4, r5)[i] + max(r, floor)
+                g0, g1, g2 = r0 / denominator, r1 / denominator, r2 / denominator
+                g3, g4, g5 = r3 / denominator, r4 / denominator, r5 / denominator
+                x, y, yaw = x + g0 * innovation, y + g1 * innovation, yaw + g2 * innovation
+                vx, vy, vyaw = vx + g3 * innovation, vy + g4 * innovation, vyaw + g5 * innovation
+                # P -= gain row^T, upper triangle (P stays exactly symmetric).
+                (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
+                 p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = (
+                    p00 - g0 * r0, p01 - g0 * r1, p02 - g0 * r2, p03 - g0 * r3, p04 - g0 * r4,
+                    p05 - g0 * r5, p11 - g1 * r1, p12 - g1 * r2, p13 - g1 * r3, p14 - g1 * r4,
+                    p15 - g1 * r5, p22 - g2 * r2, p23 - g2 * r3, p24 - g2 * r4, p25 - g2 * r5,
+                    p33 - g3 * r3, p34 - g3 * r4, p35 - g3 * r5, p44 - g4 * r4, p45 - g4 * r5,
+                    p55 - g5 * r5,
+                )  # fmt: skip
+            yaw = wrap_angle(yaw)
+        self.state[:] = (x, y, yaw, vx, vy, vyaw)
+        self._set_packed_covariance(
+            [p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
+             p22, p23, p24, p25, p33, p34, p35, p44, p45, p55]
+        )  # fmt: skip
+        self.t = t_filter
 
     # ------------------------------------------------------------------ output
     @property
@@ -365,12 +368,6 @@ class Ekf2D:
 
 # Packed symmetric 6x6: the upper triangle row-major (00 01 .. 05 11 12 .. 55).
 _PACKED = [(r, c) for r in range(6) for c in range(r, 6)]
-_DIAGONAL = [_PACKED.index((i, i)) for i in range(6)]
-#: ``_ROW_OF[i](packed)`` -> the six entries P[i][0..5].
-_ROW_OF = [
-    operator.itemgetter(*(_PACKED.index((min(i, j), max(i, j))) for j in range(6)))
-    for i in range(6)
-]
 _UPPER_FLAT = np.array([6 * r + c for r, c in _PACKED])
 _LOWER_FLAT = np.array([6 * c + r for r, c in _PACKED])
 _UPPER_ROWS, _UPPER_COLS = np.triu_indices(6)
