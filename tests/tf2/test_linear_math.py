@@ -128,3 +128,10 @@ def test_get_rpy_gimbal_lock_branch() -> None:
     r, p, y = matrix_get_rpy(tuple(m.ravel()))  # type: ignore[arg-type]
     assert (p, y) == (math.pi / 2, 0.0)
     assert r == pytest.approx(math.atan2(m[2, 1], m[2, 2]))
+
+
+@given(quats)
+def test_core_unrolled_canonical_equals_linear_math(q: tuple[float, float, float, float]) -> None:
+    from posekit.tf2.buffer_core import _canonical
+
+    assert _canonical(q) == canonical_quat(q)  # bit-identical, every getRotation branch

@@ -180,7 +180,7 @@ class BufferCore:
                 qy = ((xz + wy) - (xz - wy)) * s
                 qz = ((xy + wz) - (xy - wz)) * s
             else:
-                qx, qy, qz, qw = quat_from_matrix(matrix_from_quat((x, y, z, w)))
+                qx, qy, qz, qw = _canonical((x, y, z, w))
         else:  # zero, infinite, NaN or overflowing |q|^2: tf2's arithmetic decides (mostly NaN)
             qx, qy, qz, qw = quat_from_matrix(matrix_from_quat((x, y, z, w)))
         header = msg.header
@@ -546,12 +546,11 @@ class BufferCore:
             ids = self._ids
             tid = ids.get(target_frame)
             sid = ids.get(source_frame)
-            if t and tid and sid and target_frame[0] != "/" and source_frame[0] != "/":
-                # fast path (known names, explicit time, not identical): straight to the walk
-                if tid == sid:
-                    q, v = _IDENTITY
-                else:
-                    q, v = self._walk(tid, sid, t)
+            if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
+                # fast path (known, distinct, valid names): straight to the walk
+                if not t:
+                    t = self._latest_common_time(tid, sid)
+                q, v = self._walk(tid, sid, t)
                 used = t
             else:
                 (q, v), used = self._lookup_raw(target_frame, source_frame, t)
@@ -781,7 +780,28 @@ def _canonical(q: tuple[float, float, float, float]) -> tuple[float, float, floa
             ((xy + wz) - (xy - wz)) * s,
             qw,
         )
-    return quat_from_matrix(matrix_from_quat(q))
+    # getRotation's other branch, unrolled for the index of the largest diagonal element
+    m00 = 1.0 - (yy + zz)
+    m11 = 1.0 - (xx + zz)
+    m22 = 1.0 - (xx + yy)
+    m01, m10 = xy - wz, xy + wz
+    m02, m20 = xz + wy, xz - wy
+    m12, m21 = yz - wx, yz + wx
+    i = (2 if m11 < m22 else 1) if m00 < m11 else (2 if m00 < m22 else 0)
+    if i == 0:
+        s = _sqrt(m00 - m11 - m22 + 1.0)
+        h = s * 0.5
+        s = 0.5 / s
+        return h, (m10 + m01) * s, (m20 + m02) * s, (m21 - m12) * s
+    if i == 1:
+        s = _sqrt(m11 - m22 - m00 + 1.0)
+        h = s * 0.5
+        s = 0.5 / s
+        return (m01 + m10) * s, h, (m21 + m12) * s, (m02 - m20) * s
+    s = _sqrt(m22 - m00 - m11 + 1.0)
+    h = s * 0.5
+    s = 0.5 / s
+    return (m02 + m20) * s, (m12 + m21) * s, h, (m10 - m01) * s
 
 
 def _transform_mul(
