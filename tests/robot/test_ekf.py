@@ -211,3 +211,16 @@ def test_covariance_can_be_replaced_or_edited_in_place() -> None:
     assert ekf.covariance[0, 1] == pytest.approx(0.1 - 1.0 * 0.1 / 2.0)
     with pytest.raises(ValueError, match="6x6"):
         ekf.covariance = np.eye(3)
+
+
+def test_state_array_is_updated_in_place_and_edits_are_picked_up() -> None:
+    ekf = Ekf2D(t0=0.0, initial_pose=(1.0, 2.0, 0.0))
+    state = ekf.state
+    assert state.tolist() == [1.0, 2.0, 0.0, 0.0, 0.0, 0.0]
+    state[VX] = 0.5  # edit in place, then predict 2 s at 0.5 m/s along x
+    ekf.predict_to(2.0)
+    assert ekf.state is state  # the same array, updated in place
+    assert state[0] == pytest.approx(2.0)
+    assert ekf.pose == pytest.approx((2.0, 2.0, 0.0))
+    with pytest.raises(ValueError, match="6 entries"):
+        ekf.state = np.zeros(3)

@@ -87,8 +87,12 @@ class Ekf2D:
         ``initial_pose``: starting ``(x, y, yaw)`` in odom; a relative IMU yaw is reported
         as this yaw plus the change since the first IMU reading."""
         self.params = params
-        self.state: _FloatArray = np.zeros(6)
-        self.state[:3] = initial_pose
+        # Like the covariance, the state lives as Python floats; the ``state`` array is only
+        # built when read (and from then on kept up to date in place, as it always was).
+        x0, y0, yaw0 = (float(v) for v in initial_pose)
+        self._state_list: list[float] | None = [x0, y0, yaw0, 0.0, 0.0, 0.0]
+        self._state_array: _FloatArray | None = None
+        self._state_bytes = b""
         self._yaw0 = float(initial_pose[2])
         # The covariance lives as a packed list (see the filter section) and is materialised
         # as a 6x6 array when read through the ``covariance`` property.
@@ -147,7 +151,35 @@ class Ekf2D:
             (float(msg.orientation_covariance[8]), float(msg.angular_velocity_covariance[8])),
         )
 
-    # ------------------------------------------------------------------ covariance
+    # ------------------------------------------------------------------ state, covariance
+    @property
+    def state(self) -> _FloatArray:
+        """The state ``[x, y, yaw, vx, vy, vyaw]`` (float64 array, updated in place by the
+        filter). It may be replaced or edited in place; the filter picks the change up at its
+        next call."""
+        arr = self._state_array
+        if arr is None:
+            arr = np.array(self._state_list, dtype=np.float64)
+            self._state_array, self._state_bytes = arr, arr.tobytes()
+        return arr
+
+    @state.setter
+    def state(self, value: _FloatArray) -> None:
+        arr = np.asarray(value, dtype=np.float64)
+        if arr.shape != (6,):
+            raise ValueError(f"the state must have 6 entries, got shape {arr.shape}")
+        self._state_array, self._state_list = arr, None
+
+    def _state_values(self) -> list[float]:
+        """The state as floats, re-read from the array if that was set or edited."""
+        arr = self._state_array
+        values = self._state_list
+        if values is None or (arr is not None and arr.tobytes() != self._state_bytes):
+            assert arr is not None
+            values = arr.tolist()
+            self._state_list, self._state_bytes = values, arr.tobytes()
+        return values
+
     @property
     def covariance(self) -> _FloatArray:
         """The 6x6 state covariance (float64 array over x, y, yaw, vx, vy, vyaw). It may be
@@ -211,7 +243,7 @@ class Ekf2D:
     ) -> None:
         """Fuse ``due`` in order (each after a prediction to its stamp when ``predict``),
         then predict to ``t_end`` (None: no final prediction)."""
-        x, y, yaw, vx, vy, vyaw = self.state.tolist()
+        x, y, yaw, vx, vy, vyaw = self._state_values()
         (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
          p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = self._packed_covariance()  # fmt: skip
         q0, q1, q2, q3, q4, q5 = self._q_list
@@ -315,7 +347,12 @@ class Ekf2D:
                     p55 - g5 * r5,
                 )  # fmt: skip
             yaw = wrap_angle(yaw)
-        self.state[:] = (x, y, yaw, vx, vy, vyaw)
+        values = [x, y, yaw, vx, vy, vyaw]
+        self._state_list = values
+        arr = self._state_array
+        if arr is not None:  # someone holds the array: update it in place
+            arr[:] = values
+            self._state_bytes = arr.tobytes()
         self._set_packed_covariance(
             [p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
              p22, p23, p24, p25, p33, p34, p35, p44, p45, p55]
@@ -326,7 +363,8 @@ class Ekf2D:
     @property
     def pose(self) -> tuple[float, float, float]:
         """Filtered ``(x, y, yaw)`` in odom (m, m, rad)."""
-        return float(self.state[X]), float(self.state[Y]), float(self.state[YAW])
+        x, y, yaw = self._state_values()[:3]
+        return x, y, yaw
 
     def to_msg(self) -> Odometry:
         """nav_msgs/Odometry for ``odometry/filtered`` (pose in odom, twist in base_link).
@@ -334,7 +372,7 @@ class Ekf2D:
         The 6x6 covariances hold the filter's x, y, yaw (and vx, vy, vyaw) blocks; z, roll
         and pitch (and their rates) get 1e-9, the value robot_localization reports in 2D."""
         params = self.params
-        x, y, yaw, vx, vy, vyaw = self.state.tolist()
+        x, y, yaw, vx, vy, vyaw = self._state_values()
         (p00, p01, p02, _, _, _, p11, p12, _, _, _,
          p22, _, _, _, p33, p34, p35, p44, p45, p55) = self._packed_covariance()  # fmt: skip
         # Every field is given, so no default sub-message or covariance is built and dropped.
@@ -360,9 +398,10 @@ class Ekf2D:
         tf.header.stamp = stamp_from_seconds(self.t or 0.0)
         tf.header.frame_id = p.world_frame
         tf.child_frame_id = p.base_link_frame
-        tf.transform.translation.x = float(self.state[X])
-        tf.transform.translation.y = float(self.state[Y])
-        tf.transform.rotation = yaw_quaternion(float(self.state[YAW]))
+        x, y, yaw = self._state_values()[:3]
+        tf.transform.translation.x = x
+        tf.transform.translation.y = y
+        tf.transform.rotation = yaw_quaternion(yaw)
         return tf
 
 
