@@ -99,9 +99,14 @@ def _make_stamped(
     header.stamp = stamp
     header.frame_id = target
     vec = _new(Vector3)
-    vec.x, vec.y, vec.z = v
+    vec.x = v[0]
+    vec.y = v[1]
+    vec.z = v[2]
     rot = _new(Quaternion)
-    rot.x, rot.y, rot.z, rot.w = q
+    rot.x = q[0]
+    rot.y = q[1]
+    rot.z = q[2]
+    rot.w = q[3]
     tr = _new(Transform)
     tr.translation = vec
     tr.rotation = rot
@@ -185,9 +190,7 @@ class BufferCore:
             qx, qy, qz, qw = quat_from_matrix(matrix_from_quat((x, y, z, w)))
         header = msg.header
         stamp = header.stamp
-        stamp_ns = (
-            stamp.sec * _NS + stamp.nanosec if type(stamp) is TimeMsg else time_to_ns(stamp)
-        )
+        stamp_ns = stamp.sec * _NS + stamp.nanosec if type(stamp) is TimeMsg else time_to_ns(stamp)
         parent = header.frame_id
         child = msg.child_frame_id
         if parent[:1] == "/":
