@@ -8,7 +8,6 @@ is enough (``1.5abc`` reads as 1.5).
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass
 
@@ -150,16 +149,3 @@ def parse_static_args(argv: list[str]) -> StaticTransformArgs:
         raise StaticArgsError("Child frame id must not be empty")
     return parsed
 
-
-def quaternion_from_rpy(roll: float, pitch: float, yaw: float) -> tuple[float, float, float, float]:
-    """tf2 ``Quaternion::setRPY``: fixed-axis x (roll), y (pitch), z (yaw); returns (x, y, z, w)."""
-    hr, hp, hy = roll * 0.5, pitch * 0.5, yaw * 0.5
-    cr, sr = math.cos(hr), math.sin(hr)
-    cp, sp = math.cos(hp), math.sin(hp)
-    cy, sy = math.cos(hy), math.sin(hy)
-    return (
-        sr * cp * cy - cr * sp * sy,
-        cr * sp * cy + sr * cp * sy,
-        cr * cp * sy - sr * sp * cy,
-        cr * cp * cy + sr * sp * sy,
-    )
