@@ -375,19 +375,20 @@ class Ekf2D:
         x, y, yaw, vx, vy, vyaw = self._state_values()
         (p00, p01, p02, _, _, _, p11, p12, _, _, _,
          p22, _, _, _, p33, p34, p35, p44, p45, p55) = self._packed_covariance()  # fmt: skip
-        # Every field is given, so no default sub-message or covariance is built and dropped.
+        # Every field given (no default sub-message or covariance built and dropped), and
+        # positionally in the messages' ROS field order (header, child_frame_id, pose, twist;
+        # pose = (position, orientation), twist = (linear, angular)): about twice as fast as
+        # keyword arguments for these dataclasses.
         return Odometry(
-            header=Header(stamp=stamp_from_seconds(self.t or 0.0), frame_id=params.world_frame),
-            child_frame_id=params.base_link_frame,
-            pose=PoseWithCovariance(
-                pose=Pose(position=Point(x=x, y=y, z=0.0), orientation=yaw_quaternion(yaw)),
-                covariance=_embed_planar(p00, p01, p02, p11, p12, p22),
+            Header(stamp_from_seconds(self.t or 0.0), params.world_frame),
+            params.base_link_frame,
+            PoseWithCovariance(
+                Pose(Point(x, y, 0.0), yaw_quaternion(yaw)),
+                _embed_planar(p00, p01, p02, p11, p12, p22),
             ),
-            twist=TwistWithCovariance(
-                twist=Twist(
-                    linear=Vector3(x=vx, y=vy, z=0.0), angular=Vector3(x=0.0, y=0.0, z=vyaw)
-                ),
-                covariance=_embed_planar(p33, p34, p35, p44, p45, p55),
+            TwistWithCovariance(
+                Twist(Vector3(vx, vy, 0.0), Vector3(0.0, 0.0, vyaw)),
+                _embed_planar(p33, p34, p35, p44, p45, p55),
             ),
         )
 

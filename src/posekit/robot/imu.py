@@ -87,13 +87,15 @@ class ImuModel:
         Angular velocity x and y are reported as 0 (planar motion: their truth is 0 and only
         z is used downstream)."""
         ax, ay, az = reading.linear_acceleration
-        # Every field given: no default sub-message or covariance is built and replaced.
+        # Every field given (no default sub-message or covariance built and replaced), and
+        # positionally in the message's ROS field order: header, orientation (+ covariance),
+        # angular_velocity (+ covariance), linear_acceleration (+ covariance).
         return Imu(
-            header=Header(stamp=stamp_from_seconds(reading.t), frame_id=self.params.frame_id),
-            orientation=yaw_quaternion(reading.yaw),
-            orientation_covariance=self._orientation_cov.copy(),
-            angular_velocity=Vector3(x=0.0, y=0.0, z=reading.angular_velocity_z),
-            angular_velocity_covariance=self._gyro_cov.copy(),
-            linear_acceleration=Vector3(x=ax, y=ay, z=az),
-            linear_acceleration_covariance=self._accel_cov.copy(),
+            Header(stamp_from_seconds(reading.t), self.params.frame_id),
+            yaw_quaternion(reading.yaw),
+            self._orientation_cov.copy(),
+            Vector3(0.0, 0.0, reading.angular_velocity_z),
+            self._gyro_cov.copy(),
+            Vector3(ax, ay, az),
+            self._accel_cov.copy(),
         )

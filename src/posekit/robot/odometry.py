@@ -85,22 +85,23 @@ class WheelOdometry:
         """nav_msgs/Odometry: pose in odom, twist in base_link, course covariances."""
         p = self.params
         stamp_t = t if t is not None else (self.t if self.t is not None else 0.0)
-        # Every field given: no default sub-message or covariance is built and replaced.
+        # Every field given (no default sub-message or covariance built and replaced), and
+        # positionally in the messages' ROS field order (see Ekf2D.to_msg).
         return Odometry(
-            header=Header(stamp=stamp_from_seconds(stamp_t), frame_id=p.odom_frame_id),
-            child_frame_id=p.base_frame_id,
-            pose=PoseWithCovariance(
-                pose=Pose(
-                    position=Point(x=self.x, y=self.y, z=0.0),
-                    orientation=yaw_quaternion(self.yaw),
+            Header(stamp_from_seconds(stamp_t), p.odom_frame_id),
+            p.base_frame_id,
+            PoseWithCovariance(
+                Pose(
+                    Point(self.x, self.y, 0.0),
+                    yaw_quaternion(self.yaw),
                 ),
-                covariance=self._pose_cov.copy(),
+                self._pose_cov.copy(),
             ),
-            twist=TwistWithCovariance(
-                twist=Twist(
-                    linear=Vector3(x=self.v, y=0.0, z=0.0),
-                    angular=Vector3(x=0.0, y=0.0, z=self.omega),
+            TwistWithCovariance(
+                Twist(
+                    Vector3(self.v, 0.0, 0.0),
+                    Vector3(0.0, 0.0, self.omega),
                 ),
-                covariance=self._twist_cov.copy(),
+                self._twist_cov.copy(),
             ),
         )

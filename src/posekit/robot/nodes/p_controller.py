@@ -100,11 +100,10 @@ class PControllerNode(Node):
         if not out.publish:
             return
         now_ns = self._now_ns()
+        # Positional fields in ROS order (header, twist = (linear, angular)): fastest.
         cmd = TwistStamped(
-            header=Header(stamp=stamp_msg(now_ns), frame_id="base_link"),
-            twist=Twist(
-                linear=Vector3(x=out.v, y=0.0, z=0.0), angular=Vector3(x=0.0, y=0.0, z=out.omega)
-            ),
+            Header(stamp_msg(now_ns), "base_link"),
+            Twist(Vector3(out.v, 0.0, 0.0), Vector3(0.0, 0.0, out.omega)),
         )
         self._cmd_pub.publish_transfer(cmd)  # built for this publish: no copy
         if out.phase != self._phase:
