@@ -82,6 +82,7 @@ __all__ = [
 ]
 
 _log = logging.getLogger("posekit.transport.zenoh")
+_PUT = zenoh.SampleKind.PUT
 
 DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"
 ENV_CONFIG_URI = "ZENOH_SESSION_CONFIG_URI"
@@ -576,18 +577,19 @@ class WireSubscription:
             self._drop("internal", "?", f"unexpected {type(exc).__name__}: {exc}")
 
     def _handle(self, sample: zenoh.Sample) -> None:
-        if sample.kind != zenoh.SampleKind.PUT:
+        if sample.kind != _PUT:
             return
         key = str(sample.key_expr)
-        received_hash = key.rpartition("/")[2]
-        if received_hash != self.type_hash:
-            self._drop(
-                "type_hash",
-                key,
-                f"type hash {received_hash} differs from ours ({self.type_hash}) for "
-                f"{self.ros_type}: the publisher uses another definition",
-            )
-            return
+        if key != self.key:  # the wildcard hash chunk matched another definition of the type
+            received_hash = key.rpartition("/")[2]
+            if received_hash != self.type_hash:
+                self._drop(
+                    "type_hash",
+                    key,
+                    f"type hash {received_hash} differs from ours ({self.type_hash}) for "
+                    f"{self.ros_type}: the publisher uses another definition",
+                )
+                return
         raw_att = sample.attachment
         if raw_att is None:
             self._drop("attachment", key, "no attachment (rmw_zenoh requires one)")
@@ -597,17 +599,17 @@ class WireSubscription:
         except WireFormatError as exc:
             self._drop("attachment", key, str(exc))
             return
-        source = att.gid.hex()
         try:
             msg = from_cdr(sample.payload.to_bytes(), self.msg_type)
         except CdrError as exc:
-            self._drop("cdr", source, str(exc))
+            self._drop("cdr", att.gid.hex(), str(exc))
             return
-        last = self._last_seq.get(att.gid)
-        if last is not None and att.sequence_number > last + 1:
-            self.lost[att.gid] += att.sequence_number - last - 1
-        if last is None or att.sequence_number > last:
-            self._last_seq[att.gid] = att.sequence_number
+        gid, seq = att.gid, att.sequence_number
+        last = self._last_seq.get(gid)
+        if last is None or seq > last:
+            if last is not None and seq > last + 1:
+                self.lost[gid] += seq - last - 1
+            self._last_seq[gid] = seq
         self.received += 1
         try:
             self._callback(msg, att)

@@ -27,6 +27,7 @@ import hashlib
 import struct
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import NamedTuple
 
 from posekit.msgs.cdr import type_hash_rihs01
 
@@ -389,9 +390,11 @@ def entity_gid(token_keyexpr: str) -> bytes:
     return digest.to_bytes(16, "little")
 
 
-@dataclass(frozen=True, slots=True)
-class Attachment:
-    """Per-sample metadata: publisher sequence number (from 1), source time (ns), GID."""
+class Attachment(NamedTuple):
+    """Per-sample metadata: publisher sequence number (from 1), source time (ns), GID.
+
+    A named tuple (immutable, cheap to build: one per received sample).
+    """
 
     sequence_number: int
     source_timestamp: int
@@ -436,7 +439,7 @@ def decode_attachment(data: bytes) -> Attachment:
     seq, ts, gid_len = _COMPACT.unpack_from(data, 0)
     if gid_len != 16:
         raise WireFormatError(f"attachment GID length byte is {gid_len:#04x}, expected 0x10")
-    return Attachment(seq, ts, bytes(data[17:33]))
+    return Attachment(seq, ts, data[17:33] if type(data) is bytes else bytes(data[17:33]))
 
 
 # ---------------------------------------------------------------------------------------
