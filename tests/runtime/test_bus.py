@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -236,3 +238,40 @@ def test_publish_transfer_keeps_transient_local_history_and_checks_input(ctx) ->
     talker.destroy_publisher(pub)
     with pytest.raises(RuntimeError, match="destroyed"):
         pub.publish_transfer(String(data="b"))
+
+
+@dataclasses.dataclass(frozen=True)
+class _FrozenReading:
+    stamp_ns: int = 0
+    value: float = 0.0
+    frame_id: str = ""
+
+
+@dataclasses.dataclass(frozen=True)
+class _FrozenWithList:
+    values: list = dataclasses.field(default_factory=list)
+
+
+def test_immutable_frozen_messages_are_shared_mutable_ones_copied(ctx) -> None:
+    node = Node("n", context=ctx)
+    got: dict[str, list[list[object]]] = {"reading": [[], []], "listed": [[], []]}
+    for topic, msg_type in (("reading", _FrozenReading), ("listed", _FrozenWithList)):
+        for sink in got[topic]:
+            node.create_subscription(msg_type, topic, sink.append, 10)
+    reading = _FrozenReading(5, 1.5, "imu")
+    listed = _FrozenWithList([1.0, 2.0])
+    node.create_publisher(_FrozenReading, "reading", 10).publish(reading)
+    node.create_publisher(_FrozenWithList, "listed", 10).publish(listed)
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(node)
+    drain(ex)
+    assert [g[0] for g in got["reading"]] == [reading, reading]
+    assert all(g[0] is reading for g in got["reading"])  # nothing to protect: shared
+    first, second = (g[0] for g in got["listed"])
+    assert first == listed
+    assert second == listed
+    assert first is not listed
+    assert second is not listed
+    first.values.append(3.0)  # type: ignore[attr-defined]  # its list is its own
+    assert second.values == [1.0, 2.0]  # type: ignore[attr-defined]
+    assert listed.values == [1.0, 2.0]

@@ -17,7 +17,9 @@ Python messages are mutable dataclasses, and rclpy code freely reuses and edits 
    copied again and the frozen large arrays shared. A callback can therefore change any field
    of its message without another subscriber seeing it, and a 1280x720 image costs the same
    few microseconds per subscriber as an empty one.
-3. ``publish_transfer(msg)`` (``Publisher.publish_transfer``, rclcpp's ``unique_ptr``
+3. Immutable messages are shared, never copied: frozen dataclass messages whose fields all
+   hold numbers, strings or bytes (nobody can change them, so isolation holds for free).
+4. ``publish_transfer(msg)`` (``Publisher.publish_transfer``, rclcpp's ``unique_ptr``
    publish) is for a message the publisher built for this one publish and gives up: step 1 is
    skipped and the last subscription receives ``msg`` itself, the others copies as in 2. The
    isolation guarantee between subscribers is unchanged; the publisher must not touch ``msg``
@@ -156,6 +158,23 @@ def _list_element_types(cls: type) -> dict[str, type]:
     return out
 
 
+def _frozen_copier(cls: type) -> Callable[[Any], Any]:
+    """Copier of a frozen dataclass: an instance whose fields all hold immutable scalars
+    (numbers, strings, bytes) cannot be changed, so it is shared, not copied; anything
+    holding a mutable field is deep-copied (frozen classes cannot be rebuilt field by
+    field)."""
+    names = tuple(f.name for f in dataclasses.fields(cls))
+    atomic = _ATOMIC
+
+    def copy_frozen(o: Any) -> Any:
+        for name in names:
+            if type(getattr(o, name)) not in atomic:
+                return copy.deepcopy(o)
+        return o
+
+    return copy_frozen
+
+
 def _dataclass_copier(cls: type) -> Callable[[Any], Any]:
     """Generate ``copy_msg(o)`` for a dataclass message.
 
@@ -164,7 +183,7 @@ def _dataclass_copier(cls: type) -> Callable[[Any], Any]:
     a TransformStamped is copied by one flat function instead of a call per sub-message.
     """
     if getattr(cls, "__dataclass_params__").frozen:  # noqa: B009
-        return copy.deepcopy  # frozen dataclasses cannot be assigned field by field
+        return _frozen_copier(cls)
     env: dict[str, Any] = {"new": object.__new__, "atomic": _ATOMIC, "snap": snapshot}
     lines = ["def copy_msg(o0):"]
     counter = itertools.count(1)
