@@ -74,8 +74,9 @@ def main() -> None:
         enc_ours, enc_ref = rates(
             lambda m=msg: to_cdr(m), lambda m=ref_msg, n=name: ref.serialize_cdr(m, n)
         )
+        msg_type = type(msg)
         dec_ours, dec_ref = rates(
-            lambda d=data, t=type(msg): from_cdr(d, t),
+            lambda d=data, t=msg_type: from_cdr(d, t),
             lambda d=data, n=name: ref.deserialize_cdr(d, n),
         )
         for op, ours, theirs in (("to_cdr", enc_ours, enc_ref), ("from_cdr", dec_ours, dec_ref)):

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from posekit.vision._se3 import make_transform, rpy_to_matrix
+from posekit.geometry import Rotation, Transform
 from posekit.vision.errors import CameraModelError
 
 __all__ = [
@@ -66,7 +66,7 @@ def marker_corners_local(side: float) -> F64Array:
 def box_pose_matrix(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0.0,
                     yaw: float = 0.0) -> F64Array:
     """``T_world_box`` from an SDF ``<pose>`` (metres; rpy radians, fixed-axis x-y-z)."""
-    return make_transform(rpy_to_matrix(roll, pitch, yaw), (x, y, z))
+    return Transform(Rotation.from_rpy(roll, pitch, yaw), (x, y, z)).as_matrix()
 
 
 @dataclass(frozen=True)
@@ -107,7 +107,8 @@ class ArucoBoxModel:
     def T_box_marker(self, face: BoxFace) -> F64Array:
         """Pose of ``face``'s marker frame in the box frame (4x4)."""
         R = np.column_stack([face.x_axis, face.y_axis, face.normal])
-        return make_transform(R, np.asarray(face.normal) * (self.size / 2.0))
+        t_box_marker = np.asarray(face.normal) * (self.size / 2.0)
+        return Transform(Rotation.from_matrix(R), t_box_marker).as_matrix()
 
     def face_by_id(self, marker_id: int) -> BoxFace:
         """The face carrying ``marker_id`` (KeyError if the box has none)."""

@@ -21,10 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from posekit.geometry import Rotation, Transform
 from posekit.msgs.builtin_interfaces import Time
 from posekit.msgs.sensor_msgs import CameraInfo
 from posekit.msgs.std_msgs import Header
-from posekit.vision._se3 import make_transform, rx, rz
 from posekit.vision.errors import CameraModelError
 
 __all__ = [
@@ -39,10 +39,11 @@ F64Array = npt.NDArray[np.float64]
 
 #: Rotation taking optical-frame coordinates (x right, y down, z forward) into the REP 103
 #: camera body frame (x forward, y left, z up): columns are the optical axes in body axes.
-R_CAMERA_FRAME_OPTICAL: F64Array = rz(-math.pi / 2.0) @ rx(-math.pi / 2.0)
+_ROT_CAMERA_FRAME_OPTICAL = Rotation.from_euler("ZX", (-math.pi / 2.0, -math.pi / 2.0))
+R_CAMERA_FRAME_OPTICAL: F64Array = _ROT_CAMERA_FRAME_OPTICAL.as_matrix()
 R_CAMERA_FRAME_OPTICAL.setflags(write=False)
 #: The same as a 4x4 transform with zero translation (``T_camera_frame_optical``).
-T_CAMERA_FRAME_OPTICAL: F64Array = make_transform(R_CAMERA_FRAME_OPTICAL, np.zeros(3))
+T_CAMERA_FRAME_OPTICAL: F64Array = Transform(_ROT_CAMERA_FRAME_OPTICAL).as_matrix()
 T_CAMERA_FRAME_OPTICAL.setflags(write=False)
 
 

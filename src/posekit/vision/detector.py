@@ -32,9 +32,8 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation
+from posekit.geometry import Rotation, Transform
 from posekit.msgs.sensor_msgs import CameraInfo
-from posekit.vision._se3 import make_transform
 from posekit.vision.box_model import marker_corners_local
 from posekit.vision.errors import CameraModelError, InvalidImageError
 
@@ -77,7 +76,7 @@ class PoseCandidate:
     @property
     def T_camera_marker(self) -> F64Array:
         """4x4 homogeneous ``T_camera_marker``."""
-        return make_transform(self.rotation_matrix, self.translation)
+        return Transform(Rotation.from_quat(self.quaternion_xyzw), self.translation).as_matrix()
 
 
 @dataclass(frozen=True, slots=True)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from posekit.vision._se3 import make_transform, rotation_angle_between
+from posekit.geometry import Rotation, Transform
 from posekit.vision.box_model import ARUCO_BOX, ArucoBoxModel, box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, PinholeCamera
 
@@ -38,7 +38,7 @@ def look_at(eye: npt.ArrayLike, target: npt.ArrayLike,
         raise ValueError("look_at: viewing direction is parallel to 'up'")
     x /= np.linalg.norm(x)
     y = np.cross(z, x)
-    return make_transform(np.column_stack([x, y, z]), e)
+    return Transform(Rotation.from_matrix(np.column_stack([x, y, z])), e).as_matrix()
 
 
 def marker_view_pose(distance: float, angle: float) -> tuple[F64Array, F64Array]:
@@ -120,12 +120,13 @@ def accuracy_grid(
                     continue
                 det = found[0]
                 pos_err.append(float(np.linalg.norm(det.translation - T_true[:3, 3])))
-                e0 = rotation_angle_between(det.pose.rotation_matrix, T_true[:3, :3])
+                R_true_inv = Rotation.from_matrix(T_true[:3, :3]).inv()
+                e0 = float((R_true_inv * Rotation.from_quat(det.pose.quaternion_xyzw)).magnitude())
                 rot_err.append(math.degrees(e0))
                 e1 = e0
                 if det.alternative is not None:
-                    e1 = min(e0, rotation_angle_between(det.alternative.rotation_matrix,
-                                                        T_true[:3, :3]))
+                    R_alt = Rotation.from_quat(det.alternative.quaternion_xyzw)
+                    e1 = min(e0, float((R_true_inv * R_alt).magnitude()))
                 rot_best.append(math.degrees(e1))
                 ratios.append(det.ambiguity_ratio)
             n = len(pos_err)

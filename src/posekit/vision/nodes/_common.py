@@ -11,6 +11,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from posekit.geometry import Rotation, Transform
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.geometry_msgs import TransformStamped
@@ -153,15 +154,12 @@ def transform_msg(parent: str, child: str, stamp: Any, translation: Iterable[flo
 
 def rpy_pose_matrix(xyz: Sequence[float], rpy: Sequence[float]) -> F64Array:
     """4x4 ``T_parent_child`` of a URDF/SDF joint: ``xyz`` m, fixed-axis ``rpy`` rad."""
-    r, p, y = (float(v) for v in rpy)
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), \
-        math.sin(y)
-    T = np.eye(4)
-    T[:3, :3] = [[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                 [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                 [-sp, cp * sr, cp * cr]]
-    T[:3, 3] = [float(v) for v in xyz]
-    return T
+    return _rpy_transform(xyz, rpy).as_matrix()
+
+
+def _rpy_transform(xyz: Sequence[float], rpy: Sequence[float]) -> Transform:
+    roll, pitch, yaw = (float(v) for v in rpy)
+    return Transform(Rotation.from_rpy(roll, pitch, yaw), [float(v) for v in xyz])
 
 
 def pose_from_chain(
@@ -173,7 +171,7 @@ def pose_from_chain(
         KeyError: ``frame`` is not below ``root`` in the joint tree.
     """
     parent_of = {child: (parent, xyz, rpy) for parent, child, xyz, rpy in joints}
-    T = np.eye(4)
+    T = Transform.identity()
     current = frame
     seen = set()
     while current != root:
@@ -181,9 +179,9 @@ def pose_from_chain(
             raise KeyError(f"frame {frame!r} is not below {root!r} in the robot description")
         seen.add(current)
         parent, xyz, rpy = parent_of[current]
-        T = rpy_pose_matrix(xyz, rpy) @ T
+        T = _rpy_transform(xyz, rpy) * T
         current = parent
-    return T
+    return T.as_matrix()
 
 
 def unicycle_extrapolate(x: float, y: float, yaw: float, v: float, w: float, dt: float
