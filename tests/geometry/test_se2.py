@@ -14,6 +14,7 @@ from posekit.geometry import (
     pose2d_from_transform,
     pose2d_to_transform,
 )
+from posekit.geometry.se2 import integrate_arc
 
 coord = st.floats(-5, 5, allow_nan=False)
 heading = st.floats(-math.pi, math.pi, allow_nan=False)
@@ -99,3 +100,26 @@ def test_value_semantics_and_errors():
         Pose2D.exp(1.0, 0.0, math.inf)
     with pytest.raises(NonOrthonormalMatrixError):
         Pose2D.from_matrix(np.diag([2.0, 1.0, 1.0]))
+
+
+@given(coord, coord, st.floats(-20, 20), coord, coord, st.floats(-3.1, 3.1))
+def test_integrate_arc_is_pose_times_exp_against_matrix_exponential(x, y, th, dx, dy, dth):
+    from scipy.linalg import expm
+
+    out = integrate_arc(x, y, th, dx, dy, dth)
+    assert out[2] == th + dth  # the heading is accumulated, not wrapped
+    start = Pose2D(x, y, th).as_matrix()
+    twist = np.array([[0.0, -dth, dx], [dth, 0.0, dy], [0.0, 0.0, 0.0]])
+    end = start @ expm(twist)  # independent oracle: the matrix exponential of se(2)
+    np.testing.assert_allclose(out[:2], end[:2, 2], atol=1e-9)
+    assert Pose2D(*out).approx_equal(Pose2D(x, y, th) * Pose2D.exp(dx, dy, dth), atol=1e-12)
+
+
+@pytest.mark.parametrize("dth", [0.0, 1e-9, -3e-7, 2e-6])
+def test_integrate_arc_near_zero_turn_is_continuous(dth):
+    x, y, _ = integrate_arc(0.0, 0.0, 0.0, 1.0, 0.5, dth)
+    # sin(d)/d and (1 - cos d)/d by their series to 4th order (error < d^6 / 5040)
+    a = 1.0 - dth**2 / 6.0 + dth**4 / 120.0
+    b = dth / 2.0 - dth**3 / 24.0
+    assert x == pytest.approx(a * 1.0 - b * 0.5, abs=1e-15)
+    assert y == pytest.approx(b * 1.0 + a * 0.5, abs=1e-15)

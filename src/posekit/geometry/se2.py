@@ -29,19 +29,40 @@ from posekit.geometry._parse import check_finite, parse_rows
 from posekit.geometry._quat import wrap_angle
 from posekit.geometry.errors import NonOrthonormalMatrixError, ShapeError
 
-__all__ = ["Pose2D"]
+__all__ = ["Pose2D", "integrate_arc"]
 
 _SMALL = 1e-6
 
 
-def _sinc_terms(theta: float) -> tuple[float, float]:
-    """``(sin θ / θ, (1 - cos θ) / θ)`` with Taylor series near 0."""
-    if abs(theta) < _SMALL:
-        t2 = theta * theta
-        return 1.0 - t2 / 6.0, theta / 2.0 - theta * t2 / 24.0
-    s_half = math.sin(0.5 * theta)
-    # 1 - cos θ = 2 sin²(θ/2) avoids cancellation for small θ
-    return math.sin(theta) / theta, 2.0 * s_half * s_half / theta
+def integrate_arc(
+    x: float, y: float, theta: float, dx: float, dy: float, dtheta: float
+) -> tuple[float, float, float]:
+    """``Pose2D(x, y, theta) * Pose2D.exp(dx, dy, dtheta)`` on plain floats, for hot loops.
+
+    The one implementation of the SE(2) exponential: :meth:`Pose2D.exp` calls it from the
+    origin.
+
+    Args:
+        x, y, theta: start pose ``T_fixed_body`` (m, m, rad).
+        dx, dy: displacement along body x and y over the step (``vx * dt``, ``vy * dt``, m).
+        dtheta: heading change over the step (``ω * dt``, rad).
+
+    Returns:
+        The end pose ``(x, y, theta + dtheta)``. Unlike :class:`Pose2D` the heading is *not*
+        wrapped (so it can be accumulated) and inputs are not checked for NaN/inf: about ten
+        times faster than building the two poses, which matters at simulator rates.
+    """
+    # a = sin θ / θ, b = (1 - cos θ) / θ, with their Taylor series near 0
+    if abs(dtheta) < _SMALL:
+        t2 = dtheta * dtheta
+        a, b = 1.0 - t2 / 6.0, dtheta / 2.0 - dtheta * t2 / 24.0
+    else:
+        s_half = math.sin(0.5 * dtheta)
+        # 1 - cos θ = 2 sin²(θ/2) avoids cancellation for small θ
+        a, b = math.sin(dtheta) / dtheta, 2.0 * s_half * s_half / dtheta
+    ex, ey = a * dx - b * dy, b * dx + a * dy  # end point in the start body frame
+    c, s = math.cos(theta), math.sin(theta)
+    return x + c * ex - s * ey, y + s * ex + c * ey, theta + dtheta
 
 
 class Pose2D:
@@ -102,8 +123,8 @@ class Pose2D:
             The relative motion ``T_start_end`` along the constant-twist arc.
         """
         check_finite((float(dx), float(dy), float(dtheta)), "twist")
-        a, b = _sinc_terms(dtheta)
-        return cls(a * dx - b * dy, b * dx + a * dy, dtheta)
+        ex, ey, _ = integrate_arc(0.0, 0.0, 0.0, dx, dy, dtheta)
+        return cls(ex, ey, dtheta)
 
     def log(self) -> tuple[float, float, float]:
         """Inverse of :meth:`exp`: the twist ``(dx, dy, dtheta)`` (dtheta in [-π, π]) whose

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import math
 
+from posekit.geometry.se2 import integrate_arc
+
 __all__ = [
     "body_to_wheel_speeds",
     "integrate_exact_arc",
@@ -71,21 +73,11 @@ def integrate_exact_arc(
 
     This is exact for a constant body twist over the step: the robot follows a circle of
     radius ``ds / dyaw``. The lecture's Euler update ``x += ds cos(yaw)`` is its first-order
-    approximation. For ``|dyaw| < 1e-6`` a Taylor series avoids the 0/0 in ``sin(dyaw)/dyaw``.
+    approximation. The maths is :func:`posekit.geometry.se2.integrate_arc` (the kernel of
+    ``Pose2D.exp``, with a Taylor series near ``dyaw = 0``), kept as plain floats because the
+    simulator calls it at 100 Hz per robot.
     """
-    if abs(dyaw) < 1e-6:
-        # sin(d)/d and (1 - cos d)/d to third order; error ~ d^4 / 120.
-        d2 = dyaw * dyaw
-        a = 1.0 - d2 / 6.0
-        b = dyaw / 2.0 - dyaw * d2 / 24.0
-    else:
-        a = math.sin(dyaw) / dyaw
-        b = (1.0 - math.cos(dyaw)) / dyaw
-    # Displacement in the start body frame, then rotated into the fixed frame.
-    dx_body = a * ds - b * lateral
-    dy_body = b * ds + a * lateral
-    c, s = math.cos(yaw), math.sin(yaw)
-    return x + c * dx_body - s * dy_body, y + s * dx_body + c * dy_body, yaw + dyaw
+    return integrate_arc(x, y, yaw, ds, lateral, dyaw)
 
 
 def quaternion_xyzw_from_yaw(yaw: float) -> tuple[float, float, float, float]:

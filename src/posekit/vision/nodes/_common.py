@@ -32,7 +32,6 @@ __all__ = [
     "stamp_msg",
     "stamp_ns",
     "transform_msg",
-    "unicycle_extrapolate",
 ]
 
 NS = 1_000_000_000
@@ -182,14 +181,3 @@ def pose_from_chain(
         T = _rpy_transform(xyz, rpy) * T
         current = parent
     return T.as_matrix()
-
-
-def unicycle_extrapolate(x: float, y: float, yaw: float, v: float, w: float, dt: float
-                         ) -> tuple[float, float, float]:
-    """Pose after ``dt`` s at constant forward speed ``v`` (m/s) and yaw rate ``w`` (rad/s),
-    exact arc (straight line when ``w`` is ~0)."""
-    if abs(w) < 1e-9:
-        return x + v * dt * math.cos(yaw), y + v * dt * math.sin(yaw), yaw
-    yaw1 = yaw + w * dt
-    r = v / w
-    return x + r * (math.sin(yaw1) - math.sin(yaw)), y - r * (math.cos(yaw1) - math.cos(yaw)), yaw1

@@ -32,19 +32,14 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-
+from posekit.geometry import Rotation, Transform
+from posekit.geometry.se2 import integrate_arc
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.description import FIXED_JOINTS
+from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
-from posekit.vision.nodes._common import (
-    NS,
-    declare,
-    pose_from_chain,
-    stamp_ns,
-    unicycle_extrapolate,
-)
+from posekit.vision.nodes._common import NS, declare, pose_from_chain, stamp_ns
 
 __all__ = ["OakCameraNode"]
 
@@ -75,7 +70,7 @@ class OakCameraNode(SimulatedCamera):
     def _on_truth(self, msg: Odometry) -> None:
         p = msg.pose.pose.position
         q = msg.pose.pose.orientation
-        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        yaw = yaw_from_quaternion_xyzw(q.x, q.y, q.z, q.w)
         tw = msg.twist.twist
         self._truth = (stamp_ns(msg.header.stamp), float(p.x), float(p.y), yaw,
                        float(tw.linear.x), float(tw.angular.z))
@@ -84,12 +79,8 @@ class OakCameraNode(SimulatedCamera):
         """Planar pose (4x4) of base_link in odom at ``t_ns``, from the latest ground truth."""
         t0, x, y, yaw, v, w = self._truth
         dt = max(0, t_ns - t0) / NS
-        x, y, yaw = unicycle_extrapolate(x, y, yaw, v, w, dt)
-        c, s = math.cos(yaw), math.sin(yaw)
-        T = np.eye(4)
-        T[:2, :2] = [[c, -s], [s, c]]
-        T[0, 3], T[1, 3] = x, y
-        return T
+        x, y, yaw = integrate_arc(x, y, yaw, v * dt, 0.0, w * dt)
+        return Transform(Rotation.from_rpy(0.0, 0.0, yaw), (x, y, 0.0)).as_matrix()
 
     def T_world_optical_at(self, t_ns: int) -> F64Array:
         """Optical-frame pose in odom at ``t_ns`` (``T_odom_base @ T_base_optical``)."""
