@@ -1,6 +1,27 @@
-"""Suite-wide test settings: deterministic hypothesis profile sized for a 2-core CI machine."""
+"""Suite-wide test settings and fixtures.
 
+* A deterministic hypothesis profile sized for a 2-core CI machine.
+* ``ctx``: a fresh, initialised runtime :class:`~posekit.runtime.context.Context` per test
+  (transport from $POSEKIT_TRANSPORT, default in-process), shut down afterwards.
+* ``executor``: a :class:`~posekit.runtime.executors.SimulatedTimeExecutor` on ``ctx``
+  without a /clock publisher (stepped sim time).
+* ``logs``: every :class:`~posekit.runtime.logging.LogRecord` emitted during the test.
+
+The runtime is imported inside the fixtures, so the geometry/msgs/tf2 tests do not load it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+import pytest
 from hypothesis import HealthCheck, settings
+
+if TYPE_CHECKING:
+    from posekit.runtime.context import Context
+    from posekit.runtime.executors import SimulatedTimeExecutor
+    from posekit.runtime.logging import LogRecord
 
 settings.register_profile(
     "posekit",
@@ -10,3 +31,32 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile("posekit")
+
+
+@pytest.fixture
+def ctx() -> Iterator[Context]:
+    from posekit.runtime.context import Context
+
+    context = Context()
+    context.init()
+    yield context
+    context.try_shutdown()
+
+
+@pytest.fixture
+def executor(ctx: Context) -> Iterator[SimulatedTimeExecutor]:
+    from posekit.runtime.executors import SimulatedTimeExecutor
+
+    ex = SimulatedTimeExecutor(context=ctx, publish_clock=False)
+    yield ex
+    ex.shutdown()
+
+
+@pytest.fixture
+def logs() -> Iterator[list[LogRecord]]:
+    from posekit.runtime.logging import add_sink, remove_sink
+
+    records: list[LogRecord] = []
+    add_sink(records.append)
+    yield records
+    remove_sink(records.append)

@@ -1,6 +1,7 @@
 """Fixtures for bag tests: an isolated in-process context, small publisher nodes whose every
 published message is kept (the expected content of a recording), a recorded bag, and a
-field-by-field message comparison that works across posekit, rosbags and mcap_ros2 objects."""
+field-by-field message comparison that works across posekit, rosbags and mcap_ros2 objects.
+``logs`` comes from tests/conftest.py."""
 
 from __future__ import annotations
 
@@ -22,7 +23,6 @@ from posekit.msgs.sensor_msgs import Image, Imu
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
 from posekit.runtime.executors import SimulatedTimeExecutor
-from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.node import Node
 from posekit.runtime.qos import qos_profile_sensor_data
 from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
@@ -34,18 +34,12 @@ START_NS = 1_000_250_000_000
 
 @pytest.fixture
 def ctx() -> Iterator[Context]:
+    """As tests/conftest.py's ``ctx`` but pinned to the in-process transport whatever
+    $POSEKIT_TRANSPORT says: the recordings are compared message for message."""
     context = Context()
     context.init(transport="inprocess")
     yield context
     context.try_shutdown()
-
-
-@pytest.fixture
-def logs() -> Iterator[list[LogRecord]]:
-    records: list[LogRecord] = []
-    add_sink(records.append)
-    yield records
-    remove_sink(records.append)
 
 
 class Talkers(Node):

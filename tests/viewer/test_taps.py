@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -24,14 +23,6 @@ from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadca
 from posekit.viewer.taps import TRAIL_POSITION_TOLERANCE_M, ViewerTap
 
 NS = 1_000_000_000
-
-
-@pytest.fixture
-def ctx() -> Iterator[Context]:
-    c = Context()
-    c.init()
-    yield c
-    c.try_shutdown()
 
 
 @pytest.fixture
