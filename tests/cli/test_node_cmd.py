@@ -141,3 +141,51 @@ def test_nodes_without_endpoints_are_announced_and_withdrawn(zenoh_context: Cont
     transport.undeclare_node("idle", "/robot2")  # last reference: the NN token goes
     wait_listed(zenoh_context, "/robot2/idle", False)
     transport.undeclare_node("never", "/")  # unknown: no-op
+
+
+def test_echo_decodes_a_ros2_publisher_of_a_type_posekit_has_no_class_for(
+    zenoh_context: Context, endpoint: str
+) -> None:
+    import struct
+    import threading
+
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_JAZZY)
+    name = "std_msgs/msg/Int32"
+    type_hash = store.hash_rihs01(name)
+    ros = plain_ros_peer(endpoint)
+    zid = str(ros.info.zid())
+    key = f"0/counter/std_msgs::msg::dds_::Int32_/{type_hash}"
+    tokens = [
+        ros.liveliness().declare_token(f"@ros2_lv/0/{zid}/0/0/NN/%/%/counter_node"),
+        ros.liveliness().declare_token(
+            f"@ros2_lv/0/{zid}/0/1/MP/%/%/counter_node/%counter/std_msgs::msg::dds_::Int32_/"
+            f"{type_hash}/::,10:,:,:,,"),
+    ]
+    pub = ros.declare_publisher(key)
+    out = io.StringIO()
+    result: list[int] = []
+    thread = threading.Thread(target=lambda: result.append(topic_cmd.main_echo(
+        ["/counter", "--once"], context=zenoh_context, out=out, err=io.StringIO(),
+        timeout_s=15)))
+    thread.start()
+    try:
+        seq = 0
+        while thread.is_alive() and seq < 1000:
+            seq += 1
+            payload = bytes(store.serialize_cdr(store.types[name](data=-42), name))
+            attachment = struct.pack("<qqB", seq, time.time_ns(), 16) + bytes(range(16))
+            pub.put(payload, attachment=attachment)
+            time.sleep(0.02)
+        thread.join(5)
+    finally:
+        for token in tokens:
+            token.undeclare()
+        pub.undeclare()
+        ros.close()
+    assert result == [0]
+    assert out.getvalue() == "data: -42\n---\n"
+    err = io.StringIO()
+    assert topic_cmd.main_pub(["/counter", name, "{data: 1}"], context=zenoh_context, err=err) == 1
+    assert "posekit has no message class" in err.getvalue()

@@ -801,7 +801,13 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
     try:
         msg_cls = message_class(ns.message_type)
         values = parse_values(ns.values)
-        msg = msg_cls()
+        try:
+            msg = msg_cls()
+        except TypeError:
+            raise MessageFieldError(
+                f"{ns.message_type}: posekit has no message class with defaults for this type "
+                "(echo and hz decode any ROS 2 type; pub needs one of posekit.msgs)"
+            ) from None
         set_message_fields(msg, values)
     except ValueError as exc:  # MessageFieldError, UnknownMessageTypeError
         err.write(f"Failed to populate field: {exc}\n" if isinstance(exc, MessageFieldError)
