@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, TypedDict
 
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
+from posekit.robot.params import DEFAULT_DRIVE
 from posekit.runtime.node import Node
 
-__all__ = ["NS", "declare", "period_ns", "stamp_msg", "stamp_ns"]
+__all__ = [
+    "NS",
+    "WheelGeometry",
+    "declare",
+    "declare_wheel_geometry",
+    "period_ns",
+    "stamp_msg",
+    "stamp_ns",
+]
 
 NS = 1_000_000_000
 
@@ -26,6 +35,35 @@ def stamp_ns(stamp: Any) -> int:
 def declare(node: Node, name: str, default: Any) -> Any:
     """Declare ``name`` with ``default`` on ``node`` and return its (possibly overridden) value."""
     return node.declare_parameter(name, default).value
+
+
+class WheelGeometry(TypedDict):
+    """The ``DriveParams`` wheel fields (m, and dimensionless multipliers)."""
+
+    wheel_separation: float
+    wheel_radius: float
+    wheel_separation_multiplier: float
+    left_wheel_radius_multiplier: float
+    right_wheel_radius_multiplier: float
+
+
+def declare_wheel_geometry(node: Node) -> WheelGeometry:
+    """Declare the diff_drive_controller wheel parameters that both the simulated drive and
+    the wheel odometry read, defaults from :data:`DEFAULT_DRIVE`; ``DriveParams`` keywords."""
+    d = DEFAULT_DRIVE
+    return WheelGeometry(
+        wheel_separation=float(declare(node, "wheel_separation", d.wheel_separation)),
+        wheel_radius=float(declare(node, "wheel_radius", d.wheel_radius)),
+        wheel_separation_multiplier=float(
+            declare(node, "wheel_separation_multiplier", d.wheel_separation_multiplier)
+        ),
+        left_wheel_radius_multiplier=float(
+            declare(node, "left_wheel_radius_multiplier", d.left_wheel_radius_multiplier)
+        ),
+        right_wheel_radius_multiplier=float(
+            declare(node, "right_wheel_radius_multiplier", d.right_wheel_radius_multiplier)
+        ),
+    )
 
 
 def period_ns(rate_hz: float, what: str) -> int:

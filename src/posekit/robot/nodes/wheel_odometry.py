@@ -32,7 +32,13 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import JointState
 from posekit.robot._msgutil import yaw_quaternion
-from posekit.robot.nodes._util import declare, period_ns, stamp_msg, stamp_ns
+from posekit.robot.nodes._util import (
+    declare,
+    declare_wheel_geometry,
+    period_ns,
+    stamp_msg,
+    stamp_ns,
+)
 from posekit.robot.odometry import WheelOdometry
 from posekit.robot.params import DEFAULT_DRIVE, WHEEL_JOINT_NAMES, DriveParams
 from posekit.runtime.node import Node
@@ -51,17 +57,7 @@ class WheelOdometryNode(Node):
         super().__init__(node_name, **kwargs)
         d = DEFAULT_DRIVE
         params = DriveParams(
-            wheel_separation=float(declare(self, "wheel_separation", d.wheel_separation)),
-            wheel_radius=float(declare(self, "wheel_radius", d.wheel_radius)),
-            wheel_separation_multiplier=float(
-                declare(self, "wheel_separation_multiplier", d.wheel_separation_multiplier)
-            ),
-            left_wheel_radius_multiplier=float(
-                declare(self, "left_wheel_radius_multiplier", d.left_wheel_radius_multiplier)
-            ),
-            right_wheel_radius_multiplier=float(
-                declare(self, "right_wheel_radius_multiplier", d.right_wheel_radius_multiplier)
-            ),
+            **declare_wheel_geometry(self),
             publish_rate_hz=float(declare(self, "publish_rate", d.publish_rate_hz)),
             odom_frame_id=str(declare(self, "odom_frame_id", d.odom_frame_id)),
             base_frame_id=str(declare(self, "base_frame_id", d.base_frame_id)),

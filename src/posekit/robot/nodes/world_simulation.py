@@ -60,7 +60,7 @@ from posekit.robot.encoders import WheelEncoders
 from posekit.robot.headless import sub_seeds
 from posekit.robot.imu import ImuModel
 from posekit.robot.kinematics import wrap_angle
-from posekit.robot.nodes._util import NS, declare, period_ns, stamp_msg
+from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns, stamp_msg
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -100,17 +100,7 @@ class WorldSimulation(Node):
         seed = int(declare(self, "seed", 0))
         update_rate = float(declare(self, "update_rate", d.control_rate_hz))
         drive = DriveParams(
-            wheel_separation=float(declare(self, "wheel_separation", d.wheel_separation)),
-            wheel_radius=float(declare(self, "wheel_radius", d.wheel_radius)),
-            wheel_separation_multiplier=float(
-                declare(self, "wheel_separation_multiplier", d.wheel_separation_multiplier)
-            ),
-            left_wheel_radius_multiplier=float(
-                declare(self, "left_wheel_radius_multiplier", d.left_wheel_radius_multiplier)
-            ),
-            right_wheel_radius_multiplier=float(
-                declare(self, "right_wheel_radius_multiplier", d.right_wheel_radius_multiplier)
-            ),
+            **declare_wheel_geometry(self),
             cmd_vel_timeout=float(declare(self, "cmd_vel_timeout", d.cmd_vel_timeout)),
             max_linear_velocity=float(
                 declare(self, "linear.x.max_velocity", d.max_linear_velocity)
