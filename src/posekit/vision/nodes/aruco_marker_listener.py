@@ -21,19 +21,17 @@ from typing import Any
 
 import yaml
 
-from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformListener
-from posekit.tf2 import Buffer
 from posekit.tf2.exceptions import TransformException
-from posekit.time import Duration, Time
+from posekit.time import Time
 from posekit.vision.nodes._common import declare
+from posekit.vision.nodes._tf_lookup import PeriodicTfLookupNode
 
 __all__ = ["ArucoMarkerListener"]
 
 _SAFE_LOADER: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
-class ArucoMarkerListener(Node):
+class ArucoMarkerListener(PeriodicTfLookupNode):
     """Logs every discovered marker frame's position in the target frame (module doc).
 
     Attributes: ``positions`` (``{frame: (x, y, z)}`` from the latest successful lookup, in
@@ -45,23 +43,9 @@ class ArucoMarkerListener(Node):
         super().__init__(node_name, **kwargs)
         self._target_frame = str(declare(self, "target_frame", "odom"))
         self._marker_prefix = str(declare(self, "marker_prefix", "aruco_marker_"))
-        period = float(declare(self, "period", 1.0))
-        timeout = float(declare(self, "lookup_timeout", 0.1))
-        if not period > 0.0:
-            raise ValueError(f"period must be > 0 s, got {period}")
-        self._timeout = Duration(seconds=max(timeout, 0.0))
-        # The Buffer before the listener: the listener writes into it.
-        self._tf_buffer = Buffer()
-        self._tf_listener = TransformListener(self._tf_buffer, self)
         self.positions: dict[str, tuple[float, float, float]] = {}
         self.lookups: list[tuple[int, str, tuple[float, float, float]]] = []
         self.failures: list[tuple[int, str, str]] = []
-        self._timer = self.create_timer(period, self._timer_callback)
-
-    @property
-    def buffer(self) -> Buffer:
-        """The node's tf2 buffer."""
-        return self._tf_buffer
 
     def _discover_marker_frames(self) -> list[str]:
         # yaml.safe_load's parser, in C when PyYAML has it (the dump of ~25 frames costs

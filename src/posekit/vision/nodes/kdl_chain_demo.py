@@ -27,12 +27,10 @@ from typing import Any
 
 import posekit.kdl as PyKDL  # noqa: N812 - the lecture's spelling
 from posekit.msgs.geometry_msgs import Pose, TransformStamped
-from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformListener
-from posekit.tf2 import Buffer
 from posekit.tf2.exceptions import TransformException
-from posekit.time import Duration, Time
+from posekit.time import Time
 from posekit.vision.nodes._common import declare
+from posekit.vision.nodes._tf_lookup import PeriodicTfLookupNode
 
 __all__ = ["KdlChainDemo", "kdl_to_pose", "transform_to_kdl"]
 
@@ -54,7 +52,7 @@ def kdl_to_pose(frame: PyKDL.Frame) -> Pose:
     return pose
 
 
-class KdlChainDemo(Node):
+class KdlChainDemo(PeriodicTfLookupNode):
     """Composes two TF hops with KDL and logs the result (module docstring).
 
     Attributes: ``last_frame`` (the composed ``PyKDL.Frame``), ``last_pose`` (as a Pose),
@@ -66,26 +64,13 @@ class KdlChainDemo(Node):
         self._target = str(declare(self, "target_frame", "odom"))
         self._middle = str(declare(self, "intermediate_frame", "overhead_camera_optical_frame"))
         self._source = str(declare(self, "source_frame", "static_aruco_box"))
-        period = float(declare(self, "period", 1.0))
-        timeout = float(declare(self, "lookup_timeout", 0.1))
-        if not period > 0.0:
-            raise ValueError(f"period must be > 0 s, got {period}")
-        self._timeout = Duration(seconds=max(timeout, 0.0))
-        self._tf_buffer = Buffer()
-        self._tf_listener = TransformListener(self._tf_buffer, self)
         self.last_frame: PyKDL.Frame | None = None
         self.last_pose: Pose | None = None
         self.hops: tuple[TransformStamped, TransformStamped] | None = None
         self.compositions = 0
-        self._timer = self.create_timer(period, self._timer_callback)
         self.get_logger().info(
             f"KDL chain demo: {self._target} <- {self._middle} <- {self._source}"
         )
-
-    @property
-    def buffer(self) -> Buffer:
-        """The node's tf2 buffer."""
-        return self._tf_buffer
 
     def _timer_callback(self) -> None:
         try:
