@@ -157,17 +157,9 @@ class Buffer(BufferCore):
     ) -> bool | tuple[bool, str]:
         """Whether the lookup would succeed, waiting up to ``timeout``; with
         ``return_debug_tuple=True`` returns ``(bool, tf2's reason)``."""
-        timeout_ns = _duration_ns(timeout)
-        result = self.can_transform_core(target_frame, source_frame, time)
-        if not result[0] and timeout_ns > 0:
-            holder = [result]
-
-            def check() -> bool:
-                holder[0] = self.can_transform_core(target_frame, source_frame, time)
-                return holder[0][0]
-
-            self._wait_until(check, timeout_ns)
-            result = holder[0]
+        result = self._probe_waiting(
+            lambda: self.can_transform_core(target_frame, source_frame, time), timeout
+        )
         return result if return_debug_tuple else result[0]
 
     def can_transform_full(
@@ -182,18 +174,26 @@ class Buffer(BufferCore):
     ) -> bool | tuple[bool, str]:
         """can_transform for the time-travel lookup."""
         args = (target_frame, target_time, source_frame, source_time, fixed_frame)
+        result = self._probe_waiting(lambda: self.can_transform_full_core(*args), timeout)
+        return result if return_debug_tuple else result[0]
+
+    def _probe_waiting(
+        self, probe: Callable[[], tuple[bool, str]], timeout: Any
+    ) -> tuple[bool, str]:
+        """``probe()``; if it fails, re-run it on new data for up to ``timeout`` until it
+        succeeds, and return its last answer."""
         timeout_ns = _duration_ns(timeout)
-        result = self.can_transform_full_core(*args)
+        result = probe()
         if not result[0] and timeout_ns > 0:
             holder = [result]
 
             def check() -> bool:
-                holder[0] = self.can_transform_full_core(*args)
+                holder[0] = probe()
                 return holder[0][0]
 
             self._wait_until(check, timeout_ns)
             result = holder[0]
-        return result if return_debug_tuple else result[0]
+        return result
 
     # -- async ---------------------------------------------------------------------------------
     def _future_when(self, check: Callable[[], bool]) -> Future[bool]:
