@@ -50,7 +50,7 @@ import threading
 import typing
 from collections import deque
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -280,14 +280,18 @@ class _BusPublisher(PublisherEndpoint):
             self.history = deque(maxlen=info.qos.queue_limit)
         self._type = info.msg_type
 
-    def publish(self, msg: Any) -> None:
+    def _reject(self, msg: Any) -> NoReturn:
+        """Raise why ``msg`` cannot be published (kept off the inlined publish checks)."""
         if not self.alive:
             raise RuntimeError(f"publisher on '{self.info.topic}' has been destroyed")
-        if type(msg) is not self._type and not isinstance(msg, self._type):
-            raise TypeError(
-                f"publisher on '{self.info.topic}' expects {self._type.__name__}, "
-                f"got {type(msg).__name__}"
-            )
+        raise TypeError(
+            f"publisher on '{self.info.topic}' expects {self._type.__name__}, "
+            f"got {type(msg).__name__}"
+        )
+
+    def publish(self, msg: Any) -> None:
+        if not self.alive or (type(msg) is not self._type and not isinstance(msg, self._type)):
+            self._reject(msg)
         subs = self.matched
         history = self.history
         if history is None:
@@ -310,13 +314,8 @@ class _BusPublisher(PublisherEndpoint):
     def publish_transfer(self, msg: Any) -> None:
         """Deliver ``msg`` itself to the last matched subscription (copies to the others);
         the caller gave it up, so the publish snapshot is not needed."""
-        if not self.alive:
-            raise RuntimeError(f"publisher on '{self.info.topic}' has been destroyed")
-        if type(msg) is not self._type and not isinstance(msg, self._type):
-            raise TypeError(
-                f"publisher on '{self.info.topic}' expects {self._type.__name__}, "
-                f"got {type(msg).__name__}"
-            )
+        if not self.alive or (type(msg) is not self._type and not isinstance(msg, self._type)):
+            self._reject(msg)
         subs = self.matched
         history = self.history
         if history is None:
