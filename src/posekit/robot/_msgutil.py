@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import numpy.typing as npt
 
@@ -13,7 +11,6 @@ from posekit.robot.kinematics import quaternion_xyzw_from_yaw
 
 __all__ = [
     "covariance_from_diagonal",
-    "quaternion_xyzw_from_rpy",
     "stamp_from_seconds",
     "yaw_quaternion",
 ]
@@ -42,16 +39,3 @@ def covariance_from_diagonal(diagonal: tuple[float, ...] | list[float]) -> npt.N
     cov = np.zeros(n * n, dtype=np.float64)
     cov[:: n + 1] = diagonal
     return cov
-
-
-def quaternion_xyzw_from_rpy(roll: float, pitch: float, yaw: float) -> tuple[float, ...]:
-    """Quaternion (x, y, z, w) of URDF/SDF ``rpy``: fixed axes, R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    cr, sr = math.cos(0.5 * roll), math.sin(0.5 * roll)
-    cp, sp = math.cos(0.5 * pitch), math.sin(0.5 * pitch)
-    cy, sy = math.cos(0.5 * yaw), math.sin(0.5 * yaw)
-    return (
-        sr * cp * cy - cr * sp * sy,
-        cr * sp * cy + sr * cp * sy,
-        cr * cp * sy - sr * sp * cy,
-        cr * cp * cy + sr * sp * sy,
-    )

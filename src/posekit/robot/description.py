@@ -19,8 +19,9 @@ from __future__ import annotations
 
 import math
 
+from posekit.geometry.scalar import quat_from_rpy
 from posekit.msgs.geometry_msgs import Quaternion, TransformStamped, Vector3
-from posekit.robot._msgutil import quaternion_xyzw_from_rpy, stamp_from_seconds
+from posekit.robot._msgutil import stamp_from_seconds
 from posekit.robot.params import DEFAULT_DRIVE, WHEEL_JOINT_NAMES
 
 __all__ = [
@@ -95,7 +96,7 @@ def _transform(
 def static_transforms(t: float = 0.0) -> list[TransformStamped]:
     """The fixed-joint transforms for ``/tf_static``, stamped ``t`` (s)."""
     return [
-        _transform(parent, child, xyz, quaternion_xyzw_from_rpy(*rpy), t)
+        _transform(parent, child, xyz, quat_from_rpy(*rpy), t)
         for parent, child, xyz, rpy in FIXED_JOINTS
     ]
 

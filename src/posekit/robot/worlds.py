@@ -37,7 +37,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from posekit.robot._msgutil import quaternion_xyzw_from_rpy
+from posekit.geometry import Rotation, Transform
+from posekit.geometry.scalar import quat_from_rpy
 
 __all__ = [
     "ARUCO_BOX",
@@ -66,17 +67,7 @@ class WorldError(ValueError):
 def pose_matrix(pose: Sequence[float]) -> _FloatArray:
     """4x4 homogeneous matrix of ``(x, y, z, roll, pitch, yaw)`` (SDF fixed-axis rpy)."""
     x, y, z, roll, pitch, yaw = (float(v) for v in pose)
-    cr, sr = math.cos(roll), math.sin(roll)
-    cp, sp = math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    m = np.eye(4)
-    m[:3, :3] = [
-        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-        [-sp, cp * sr, cp * cr],
-    ]
-    m[:3, 3] = (x, y, z)
-    return m
+    return Transform(Rotation.from_rpy(roll, pitch, yaw), (x, y, z)).as_matrix()
 
 
 @dataclass(frozen=True, slots=True)
@@ -199,7 +190,7 @@ class StaticTransformSpec:
     @property
     def quaternion_xyzw(self) -> tuple[float, ...]:
         """The rotation as (x, y, z, w)."""
-        return quaternion_xyzw_from_rpy(*self.rpy)
+        return quat_from_rpy(*self.rpy)
 
     def to_dict(self) -> dict[str, Any]:
         """As the plain mapping the loader accepts."""
