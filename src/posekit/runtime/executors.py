@@ -254,13 +254,6 @@ class Executor:
         task.add_done_callback(lambda f: self._report_future(node, what, f))
         self._schedule_task(task)
 
-    def _has_ready(self) -> bool:
-        if self._tasks:
-            return True
-        return any(t.is_ready() for t in self._timers) or any(
-            s.queue for n in self._nodes for s in n._subscriptions
-        )
-
     # -- running ----------------------------------------------------------------------
     def _execute(self, work: tuple[int, Any, Any]) -> None:
         kind, entity, payload = work

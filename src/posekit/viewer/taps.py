@@ -403,13 +403,6 @@ class ViewerTap:
         """Increases with every transform stored (lets the server skip unchanged sends)."""
         return self._tf_version
 
-    def frame_names(self) -> list[str]:
-        """Every frame seen as a child or a parent, sorted."""
-        with self._lock:
-            names = set(self._frames)
-            names.update(f.parent for f in self._frames.values() if f.parent)
-        return sorted(names)
-
     def frames_in(self, fixed_frame: str) -> tuple[str | None, list[list[Any]]]:
         """Pose of every frame in ``fixed_frame`` at the latest common time.
 
