@@ -95,6 +95,13 @@ class Proc:
         time.sleep(0.05)
         return "".join(self.out)
 
+    def wait_stderr(self, text: str, timeout: float, what: str) -> None:
+        deadline = time.monotonic() + timeout
+        while not any(text in line for line in self.err):
+            if time.monotonic() > deadline or self.popen.poll() is not None:
+                raise AssertionError(f"no {what} after {timeout} s\n{self.describe()}")
+            time.sleep(0.05)
+
     def kill(self, sig: int = signal.SIGKILL) -> None:
         if self.popen.poll() is None:
             self.popen.send_signal(sig)
@@ -281,11 +288,7 @@ def test_late_process_gets_tf_static_and_outlives_the_publisher(world: World) ->
     # zero configuration: the static publisher starts first and hosts the router itself
     static = world.cli("tf", "static", "--x", "0.2", "--z", "0.5", "--frame-id", "world",
                        "--child-frame-id", "laser")
-    deadline = time.monotonic() + 20
-    while not any("Spinning until stopped" in line for line in static.err):
-        assert time.monotonic() < deadline, static.describe()
-        assert static.popen.poll() is None, static.describe()
-        time.sleep(0.05)
+    static.wait_stderr("Spinning until stopped", 20, "static publisher start-up")
     time.sleep(0.5)  # published well before the listener exists: only history can deliver it
     listener = world.script(TF_LISTENER)
     listener.wait_line(lambda s: s.startswith("world->laser"), 20, "the latched /tf_static")
@@ -386,7 +389,9 @@ while True:
 
 @pytest.fixture
 def tf_world(routed: World) -> World:
-    routed.cli("tf", "static", "--x", "0.5", "--frame-id", "map", "--child-frame-id", "odom")
+    static = routed.cli("tf", "static", "--x", "0.5", "--frame-id", "map",
+                        "--child-frame-id", "odom")
+    static.wait_stderr("Spinning until stopped", 20, "static publisher start-up")
     routed.script(BROADCASTER).wait_line(lambda s: s == "ready\n", 20, "the broadcaster")
     return routed
 

@@ -83,6 +83,7 @@ __all__ = [
 
 _log = logging.getLogger("posekit.transport.zenoh")
 _PUT = zenoh.SampleKind.PUT
+_CHANNEL_CAPACITY = 4096
 
 DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"
 ENV_CONFIG_URI = "ZENOH_SESSION_CONFIG_URI"
@@ -553,10 +554,31 @@ class WireSubscription:
                     subscriber_detection=True,
                 )
             else:
-                self._sub = session.declare_subscriber(self._match_key, self._on_sample)
+                # A channel drained by our own thread rather than a callback: see _drain().
+                self._sub = session.declare_subscriber(
+                    self._match_key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY)
+                )
+                threading.Thread(
+                    target=self._drain, name=f"posekit-zenoh {topic}", daemon=True
+                ).start()
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
             raise ZenohSessionError(f"cannot subscribe to {self.key}: {exc}") from exc
+
+    def _drain(self) -> None:
+        # Everything that arrived since the last wake-up is handled in one go (zenoh's
+        # callback thread takes and drops the GIL around every sample), so a consumer on
+        # another thread (the executor) wakes about once per batch rather than per sample:
+        # about 25 % less CPU per message through the runtime (benchmarks/transport.py).
+        recv, try_recv, on_sample = self._sub.recv, self._sub.try_recv, self._on_sample
+        while not self._destroyed:
+            try:
+                sample = recv()
+            except Exception:  # the channel closed: undeclared or session closed
+                return
+            while sample is not None:
+                on_sample(sample)
+                sample = try_recv()
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
