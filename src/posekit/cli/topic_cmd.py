@@ -422,7 +422,7 @@ def cli_node_name() -> str:
     return f"_posekit_cli_{os.getpid()}"
 
 
-def sync_graph(session: Any, timeout: float = 2.0) -> None:
+def sync_graph(session: Any, timeout: float = 5.0) -> None:
     """Complete the transport's graph snapshot (liveliness query on Zenoh; no-op otherwise)."""
     transport = session.node.transport
     sync = getattr(transport, "sync_graph", None)
