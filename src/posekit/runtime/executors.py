@@ -307,6 +307,11 @@ class Executor:
         deadline = None
         if timeout_sec is not None and timeout_sec >= 0:
             deadline = time.monotonic() + timeout_sec
+        if (self._fifo or self._tasks) and not self._is_shutdown and self._context.ok():
+            # hot path: work is already queued, so the wake-up event need not be armed
+            work = self._take_ready()
+            if work is not None:
+                return work
         try:
             while self._context.ok() and not self._is_shutdown:
                 # Order matters: announce waiting, clear, then look for work. A message
