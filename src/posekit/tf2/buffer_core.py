@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import math
 import threading
+from bisect import bisect_right as _bisect_right
 from typing import Any
 
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
@@ -32,7 +33,15 @@ from posekit.tf2.exceptions import (
     TransformException,
 )
 from posekit.tf2.static_cache import StaticCache
-from posekit.tf2.time_cache import DEFAULT_CACHE_TIME_NS, Sample, TimeCache, display_time
+from posekit.tf2.time_cache import (
+    DEFAULT_CACHE_TIME_NS,
+    Sample,
+    TimeCache,
+    display_time,
+)
+from posekit.tf2.time_cache import (
+    slerp_terms as _slerp_terms,
+)
 from posekit.time import Duration, Time
 
 __all__ = ["MAX_GRAPH_DEPTH", "BufferCore", "time_to_ns"]
@@ -42,12 +51,30 @@ MAX_GRAPH_DEPTH = 1000
 
 _logger = logging.getLogger("posekit.tf2")
 _sqrt = math.sqrt
+_sin = math.sin
 _NS = 1_000_000_000
 
 Cache = TimeCache | StaticCache
 # Raw result of a walk: (qx, qy, qz, qw), (tx, ty, tz), before tf2's matrix round trip.
 _Raw = tuple[tuple[float, float, float, float], tuple[float, float, float]]
 _IDENTITY: _Raw = ((0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0))
+
+# Fast-path walk shapes (see BufferCore._build_path): target is an ancestor of the source
+# (or the top), source is an ancestor of the target, or both walk to the top.
+_UP = "up"
+_DOWN = "down"
+_FULL = "full"
+# One edge of a cached path: a TimeCache's (stamps, parents, data, slerp memo) lists (mutated
+# in place, never replaced), the parent id the edge must have, and the StaticCache if static.
+_Edge = tuple[Any, Any, Any, Any, int, Any]
+# (shape, chain(s), edge that must evaluate without error or None, target id, source id)
+_Path = tuple[str, Any, "_Edge | None", int, int]
+
+
+def _edge_evaluates(edge: _Edge, t: int) -> bool:
+    """Whether TimeCache.get(t) certainly succeeds on this edge (static edges always do)."""
+    stamps = edge[0]
+    return stamps is None or bool(stamps and stamps[0] < t <= stamps[-1])
 
 
 def time_to_ns(time: Any) -> int:
@@ -134,6 +161,8 @@ class BufferCore:
         self._ids: dict[str, int] = {"NO_PARENT": 0}
         self._caches: list[Cache | None] = [None]
         self._authority: dict[int, str] = {}
+        # fast-path walks per (target, source) name pair; emptied whenever a cache is created
+        self._paths: dict[tuple[str, str], _Path] = {}
 
     @property
     def cache_time(self) -> Duration:
@@ -267,6 +296,7 @@ class BufferCore:
             if cache is None or cache.is_static is not is_static:
                 cache = StaticCache() if is_static else TimeCache(self._cache_time_ns)
                 caches[cid] = cache
+                self._paths.clear()
             pid = ids.get(parent)
             if pid is None:
                 pid = self._add_frame(parent)
@@ -521,6 +551,163 @@ class BufferCore:
         # full path: q = conj(q_t) * q_s, v = rotate(conj(q_t), v_s) + rotate(conj(q_t), -v_t)
         return _inverse_rotate(tqx, tqy, tqz, tqw, vx, vy, vz, sx, sy, sz, (sqx, sqy, sqz, sqw))
 
+    # ------------------------------------------------------------------------------------------
+    # fast path for single lookups (the general walk above is the reference)
+    # ------------------------------------------------------------------------------------------
+    # A lookup between two known, distinct frames repeats the same walk most of the time. The
+    # path (which caches the walk visits, and the parent each edge must have) is cached per
+    # (target, source) name pair, built from the newest parents. At lookup time every edge is
+    # evaluated with TimeCache.get's arithmetic inlined, checking that the sample's parent is
+    # the cached one; any surprise (re-parented sample, stamp outside the common case,
+    # extrapolation) returns None and the caller runs the general walk, which then decides
+    # results and errors. The fast path only reads (plus the same slerp memo get() fills), so
+    # falling back is always safe. Cache objects change only where set() creates or replaces
+    # one, which empties the path cache; tests/tf2/test_fast_paths.py checks bit-identity.
+
+    def _build_path(self, tid: int, sid: int) -> _Path | None:
+        """The walk's shape from the newest parents, or None if the fast path cannot serve it."""
+        caches = self._caches
+
+        def edge(frame: int) -> tuple[_Edge, int] | None:
+            cache = caches[frame]
+            if cache is None:
+                return None
+            parent = cache.latest_time_and_parent()[1]
+            if parent == 0:
+                return None
+            if isinstance(cache, TimeCache):
+                return (cache.stamps, cache.parents, cache.data, cache._iv, parent, None), parent
+            return (None, None, None, None, parent, cache), parent
+
+        src: list[_Edge] = []
+        frame = sid
+        while True:
+            if len(src) >= MAX_GRAPH_DEPTH:
+                return None
+            cache = caches[frame]
+            if cache is None:
+                top = frame
+                break
+            got = edge(frame)
+            if got is None:
+                return None
+            if frame == tid:  # target is an ancestor: its edge must only evaluate
+                return _UP, tuple(src), got[0], tid, sid
+            src.append(got[0])
+            frame = got[1]
+        if top == tid:
+            return _UP, tuple(src), None, tid, sid
+        tgt: list[_Edge] = []
+        frame = tid
+        while frame != top:
+            if len(tgt) >= MAX_GRAPH_DEPTH:
+                return None
+            got = edge(frame)
+            if got is None:
+                return None
+            if frame == sid:  # source is an ancestor of the target
+                return _DOWN, (tuple(src), tuple(tgt)), got[0], tid, sid
+            tgt.append(got[0])
+            frame = got[1]
+        return _FULL, (tuple(src), tuple(tgt)), None, tid, sid
+
+    @staticmethod
+    def _chain(chain: tuple[_Edge, ...], t: int) -> tuple[float, ...] | None:
+        """Accumulated parent_T_child along ``chain`` at ``t`` (the walk's arithmetic, fused
+        with TimeCache.get's lerp + slerp), or None to fall back to the general walk."""
+        sqx = sqy = sqz = sx = sy = sz = 0.0
+        sqw = 1.0
+        first = True
+        for stamps, parents, data, ivs, expected, static in chain:
+            if stamps is None:
+                if static.parent != expected:
+                    return None
+                qx, qy, qz, qw, ex, ey, ez = static.sample
+            elif stamps and stamps[0] < t < stamps[-1]:
+                i = _bisect_right(stamps, t) - 1
+                if parents[i] != expected:
+                    return None
+                if parents[i + 1] != expected:  # re-parented in between: no interpolation
+                    qx, qy, qz, qw, ex, ey, ez = data[i]
+                else:
+                    s0 = stamps[i]
+                    r = (t - s0) / (stamps[i + 1] - s0)
+                    u = 1.0 - r
+                    x1, y1, z1, w1, ax, ay, az = data[i]
+                    x2, y2, z2, w2, bx, by, bz = data[i + 1]
+                    iv = ivs[i]
+                    if iv is None:
+                        iv = _slerp_terms(x1, y1, z1, w1, x2, y2, z2, w2)
+                        ivs[i] = iv
+                    theta, d, flip = iv
+                    ex = u * ax + r * bx
+                    ey = u * ay + r * by
+                    ez = u * az + r * bz
+                    if theta == 0.0:
+                        qx, qy, qz, qw = x1, y1, z1, w1
+                    else:
+                        s0f = _sin(u * theta)
+                        s1f = -_sin(r * theta) if flip else _sin(r * theta)
+                        qx = (x1 * s0f + x2 * s1f) * d
+                        qy = (y1 * s0f + y2 * s1f) * d
+                        qz = (z1 * s0f + z2 * s1f) * d
+                        qw = (w1 * s0f + w2 * s1f) * d
+            elif stamps and t == stamps[-1]:
+                if parents[-1] != expected:
+                    return None
+                qx, qy, qz, qw, ex, ey, ez = data[-1]
+            else:
+                return None
+            if first:
+                sqx, sqy, sqz, sqw, sx, sy, sz = qx, qy, qz, qw, ex, ey, ez
+                first = False
+            else:
+                px = qw * sx + qy * sz - qz * sy
+                py = qw * sy + qz * sx - qx * sz
+                pz = qw * sz + qx * sy - qy * sx
+                pw = -qx * sx - qy * sy - qz * sz
+                sx = px * qw - pw * qx - py * qz + pz * qy + ex
+                sy = py * qw - pw * qy - pz * qx + px * qz + ey
+                sz = pz * qw - pw * qz - px * qy + py * qx + ez
+                sqx, sqy, sqz, sqw = (
+                    qw * sqx + qx * sqw + qy * sqz - qz * sqy,
+                    qw * sqy + qy * sqw + qz * sqx - qx * sqz,
+                    qw * sqz + qz * sqw + qx * sqy - qy * sqx,
+                    qw * sqw - qx * sqx - qy * sqy - qz * sqz,
+                )
+        return sqx, sqy, sqz, sqw, sx, sy, sz
+
+    def _walk_fast(self, path: _Path, t: int) -> _Raw | None:
+        """:meth:`_walk` over a cached path, or None (fall back) if the path does not apply."""
+        mode, chains, check, _, _ = path
+        if check is not None and not _edge_evaluates(check, t):
+            return None
+        if mode is _UP:
+            a = self._chain(chains, t)
+            if a is None:
+                return None
+            return (a[0], a[1], a[2], a[3]), (a[4], a[5], a[6])
+        if mode is _DOWN:
+            # the general walk first walks the source to the top (a loop there raises), then
+            # returns when the target walk reaches the source
+            if self._chain(chains[0], t) is None:
+                return None
+            b = self._chain(chains[1], t)
+            if b is None:
+                return None
+            return _inverse_rotate(b[0], b[1], b[2], b[3], b[4], b[5], b[6], 0.0, 0.0, 0.0)
+        a = self._chain(chains[0], t)
+        if a is None:
+            return None
+        b = self._chain(chains[1], t)
+        if b is None:
+            return None
+        if not chains[1]:  # target is the top
+            return (a[0], a[1], a[2], a[3]), (a[4], a[5], a[6])
+        return _inverse_rotate(
+            b[0], b[1], b[2], b[3], b[4], b[5], b[6], a[4], a[5], a[6], (a[0], a[1], a[2], a[3])
+        )
+
     def _lookup_raw(self, target: str, source: str, t: int) -> tuple[_Raw, int]:
         """(raw result, time used) for lookupTransform (lock held)."""
         if target == source:
@@ -546,17 +733,32 @@ class BufferCore:
         exceptions. ``header.stamp`` is the time actually used."""
         t = time.nanoseconds if type(time) is Time else time_to_ns(time)
         with self._lock:
-            ids = self._ids
-            tid = ids.get(target_frame)
-            sid = ids.get(source_frame)
-            if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
-                # fast path (known, distinct, valid names): straight to the walk
+            key = (target_frame, source_frame)
+            path = self._paths.get(key)
+            if path is not None:  # known, distinct, valid names with a cached walk
                 if not t:
-                    t = self._latest_common_time(tid, sid)
-                q, v = self._walk(tid, sid, t)
+                    t = self._latest_common_time(path[3], path[4])
+                raw = self._walk_fast(path, t)
+                if raw is None:  # the path does not apply at t: the general walk decides
+                    del self._paths[key]
+                    raw = self._walk(path[3], path[4], t)
+                q, v = raw
                 used = t
             else:
-                (q, v), used = self._lookup_raw(target_frame, source_frame, t)
+                ids = self._ids
+                tid = ids.get(target_frame)
+                sid = ids.get(source_frame)
+                if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
+                    if not t:
+                        t = self._latest_common_time(tid, sid)
+                    q, v = self._walk(tid, sid, t)
+                    used = t
+                    # only after a successful walk: a path is cached for working lookups
+                    new_path = self._build_path(tid, sid)
+                    if new_path is not None:
+                        self._paths[key] = new_path
+                else:
+                    (q, v), used = self._lookup_raw(target_frame, source_frame, t)
         return _make_stamped(target_frame, source_frame, used, _canonical(q), v)
 
     def lookup_transform_full_core(

@@ -19,7 +19,14 @@ from posekit.tf2.exceptions import (
     NoDataForExtrapolationException,
 )
 
-__all__ = ["DEFAULT_CACHE_TIME_NS", "EMPTY_CACHE_MESSAGE", "Sample", "TimeCache", "display_time"]
+__all__ = [
+    "DEFAULT_CACHE_TIME_NS",
+    "EMPTY_CACHE_MESSAGE",
+    "Sample",
+    "TimeCache",
+    "display_time",
+    "slerp_terms",
+]
 
 #: tf2's ``BUFFER_CORE_DEFAULT_CACHE_TIME`` / ``TIMECACHE_DEFAULT_MAX_STORAGE_TIME``: 10 s.
 DEFAULT_CACHE_TIME_NS = 10_000_000_000
@@ -60,6 +67,19 @@ def _backward(t: int, oldest: int) -> BackwardExtrapolationException:
         f"Lookup would require extrapolation into the past.  Requested time {display_time(t)} "
         f"but the earliest data is at time {display_time(oldest)}"
     )
+
+
+def slerp_terms(
+    x1: float, y1: float, z1: float, w1: float, x2: float, y2: float, z2: float, w2: float
+) -> tuple[float, float, bool]:
+    """tf2 slerp's terms that depend only on the two samples: (angle, 1/sin(angle) or 0 when
+    the angle is 0, whether the second quaternion is negated for the shortest path)."""
+    dot = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
+    c = (-dot if dot < 0.0 else dot) / _sqrt(
+        (x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2)
+    )
+    theta = _acos(-1.0 if c < -1.0 else (1.0 if c > 1.0 else c))
+    return theta, 1.0 / _sin(theta) if theta != 0.0 else 0.0, dot < 0.0
 
 
 class TimeCache:
@@ -178,12 +198,7 @@ class TimeCache:
         x2, y2, z2, w2, bx, by, bz = b
         iv = self._iv[i]
         if iv is None:
-            dot = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
-            c = (-dot if dot < 0.0 else dot) / _sqrt(
-                (x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2)
-            )
-            theta = _acos(-1.0 if c < -1.0 else (1.0 if c > 1.0 else c))
-            iv = self._iv[i] = (theta, 1.0 / _sin(theta) if theta != 0.0 else 0.0, dot < 0.0)
+            iv = self._iv[i] = slerp_terms(x1, y1, z1, w1, x2, y2, z2, w2)
         theta, d, flip = iv
         if theta == 0.0:
             return parent, (x1, y1, z1, w1, u * ax + r * bx, u * ay + r * by, u * az + r * bz)

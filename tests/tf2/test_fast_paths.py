@@ -1,0 +1,157 @@
+"""The single-lookup fast path (cached walk) is bit-identical to the general walk.
+
+Reference: the same buffer contents in a BufferCore whose path cache is disabled, so every
+lookup runs the general walk (``_walk``). Random trees mix dynamic and static edges, samples
+re-parented between stamps, equal and opposite rotations, and query times inside, on and
+outside the stored stamps (0 = latest); results are compared by their float bit patterns and
+errors by type and text. Lookups are repeated after further inserts (re-parenting, new
+frames) so stale cached paths are exercised too.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from hypothesis import given
+from hypothesis import strategies as st
+
+from posekit.msgs.geometry_msgs import TransformStamped
+from posekit.tf2 import BufferCore, TransformException
+
+S = 1_000_000_000
+
+
+class _GeneralOnly(BufferCore):
+    """Reference: never caches a path, so every lookup takes the general walk."""
+
+    def _build_path(self, tid: int, sid: int) -> None:
+        return None
+
+
+def _msg(parent: str, child: str, ns: int, q: tuple[float, ...], v: tuple[float, ...]) -> Any:
+    m = TransformStamped()
+    m.header.frame_id = parent
+    m.child_frame_id = child
+    m.header.stamp.sec, m.header.stamp.nanosec = divmod(ns, S)
+    r = m.transform.rotation
+    r.x, r.y, r.z, r.w = q
+    tr = m.transform.translation
+    tr.x, tr.y, tr.z = v
+    return m
+
+
+def _bits(res: Any) -> tuple[Any, ...]:
+    tr = res.transform
+    floats = (
+        tr.translation.x,
+        tr.translation.y,
+        tr.translation.z,
+        tr.rotation.x,
+        tr.rotation.y,
+        tr.rotation.z,
+        tr.rotation.w,
+    )
+    return (
+        res.header.frame_id,
+        res.child_frame_id,
+        res.header.stamp.sec,
+        res.header.stamp.nanosec,
+        tuple(float.hex(f) for f in floats),
+    )
+
+
+def _outcome(core: BufferCore, target: str, source: str, t: int) -> tuple[Any, ...]:
+    try:
+        return ("ok", _bits(core.lookup_transform_core(target, source, t)))
+    except TransformException as exc:
+        return ("error", type(exc).__name__, str(exc))
+
+
+_component = st.sampled_from([0.0, -0.0, 0.5, -0.5, 1.0, 0.3, -0.7, 2.0])
+_quat = st.tuples(_component, _component, _component, _component).filter(
+    lambda q: sum(c * c for c in q) > 0.0
+)
+_vec = st.tuples(_component, _component, _component)
+
+
+@st.composite
+def _scene(draw: st.DrawFn) -> tuple[list[tuple[Any, bool]], list[int], int]:
+    n = draw(st.integers(3, 6))
+    names = [f"f{i}" for i in range(n)]
+    inserts: list[tuple[Any, bool]] = []
+    for i in range(1, n):
+        parent = draw(st.integers(0, i - 1))
+        if draw(st.integers(0, 4)) == 0:
+            inserts.append((_msg(names[parent], names[i], 0, draw(_quat), draw(_vec)), True))
+            continue
+        for k in range(draw(st.integers(1, 4))):
+            stamp = 10 * S + draw(st.sampled_from([0, 1, 2, 3])) * S // 10 + k
+            p = parent
+            if draw(st.integers(0, 5)) == 0:  # re-parented sample
+                p = draw(st.integers(0, n - 1))
+                if p == i:
+                    p = parent
+            inserts.append((_msg(names[p], names[i], stamp, draw(_quat), draw(_vec)), False))
+    times = [0, 10 * S, 10 * S + S // 20, 10 * S + S // 10, 10 * S + 2 * S // 10 + 1]
+    times += [10 * S + S // 7, 10 * S + 4 * S // 10, 9 * S]
+    return inserts, times, n
+
+
+def _apply(cores: list[BufferCore], inserts: list[tuple[Any, bool]]) -> None:
+    for msg, static in inserts:
+        for core in cores:
+            if static:
+                core.set_transform_static(msg, "test")
+            else:
+                core.set_transform(msg, "test")
+
+
+@given(_scene(), _scene())
+def test_fast_path_bit_identical_to_general_walk(
+    scene: tuple[list[tuple[Any, bool]], list[int], int],
+    later: tuple[list[tuple[Any, bool]], list[int], int],
+) -> None:
+    inserts, times, n = scene
+    fast, general = BufferCore(), _GeneralOnly()
+    _apply([fast, general], inserts)
+    names = [f"f{i}" for i in range(n)]
+    pairs = [(a, b) for a in names for b in names if a != b]
+    for _ in range(2):  # the first round builds the paths, the second uses them
+        for target, source in pairs:
+            for t in times:
+                assert _outcome(fast, target, source, t) == _outcome(general, target, source, t)
+    # more data (re-parenting, new frames, static/dynamic switches) after paths are cached
+    _apply([fast, general], later[0])
+    names = [f"f{i}" for i in range(max(n, later[2]))]
+    for target, source in [(a, b) for a in names for b in names if a != b]:
+        for t in times:
+            assert _outcome(fast, target, source, t) == _outcome(general, target, source, t)
+
+
+def test_fast_path_is_taken_on_a_chain() -> None:
+    """The benchmark's shape (a dynamic chain) is served by a cached path, not the fallback."""
+    core = BufferCore()
+    for i in range(4):
+        for k in range(3):
+            yaw = 0.1 * k + i
+            q = (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
+            core.set_transform(
+                _msg(f"f{i}", f"f{i + 1}", 10 * S + k * S // 10, q, (1.0, 0, 0)), "t"
+            )
+    reference = _GeneralOnly()
+    for i in range(4):
+        for k in range(3):
+            yaw = 0.1 * k + i
+            q = (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
+            msg = _msg(f"f{i}", f"f{i + 1}", 10 * S + k * S // 10, q, (1.0, 0, 0))
+            reference.set_transform(msg, "t")
+    t = 10 * S + S // 7
+    for target, source in (("f0", "f4"), ("f4", "f0"), ("f2", "f4")):
+        core.lookup_transform_core(target, source, t)
+        assert (target, source) in core._paths
+        for when in (t, 0):
+            want = _outcome(reference, target, source, when)
+            assert want[0] == "ok"
+            assert _outcome(core, target, source, when) == want
+        assert (target, source) in core._paths  # still cached: the fast path served it
