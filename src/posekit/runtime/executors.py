@@ -58,7 +58,6 @@ __all__ = [
 _TIMER = 0
 _MESSAGE = 1
 _TASK = 2
-_SPIN_S = float(os.environ.get("POSEKIT_EXECUTOR_SPIN_US", "100")) * 1e-6
 
 
 class ExternalShutdownException(Exception):  # noqa: N818 - rclpy name
@@ -81,10 +80,6 @@ class Executor:
         # the event (see _wait_for_work for why no wake-up is lost).
         self._waiting = False
         self._always_wake = False  # several waiting threads (MultiThreadedExecutor)
-        # Seconds to poll for the next message before parking, right after a message ran
-        # (see _spin_window); 0 disables.
-        self._spin_s = _SPIN_S
-        self._recent_message = False
         #: Number of callbacks that raised (each was logged).
         self.callback_exceptions = 0
         self._context._register_executor(self)
@@ -327,42 +322,16 @@ class Executor:
                     if remaining <= 0:
                         return None
                     wait = remaining if wait is None else min(wait, remaining)
-                if self._spin_s > 0.0 and not self._always_wake and self._spin_window(wait):
-                    continue
                 self._wake_event.wait(wait)
             return None
         finally:
             self._waiting = self._always_wake
-
-    def _spin_window(self, wait: float | None) -> bool:
-        """Poll for a message for up to ``_spin_s`` before parking; True if one came.
-
-        Only right after a message ran (a stream is flowing): a message that arrives during
-        the window needs no event set, no futex wake and no context switch, which is most of
-        the cost of handing a message from a transport thread to this one. ``sleep(0)``
-        releases the GIL so the transport thread can decode meanwhile.
-        """
-        if not self._recent_message:
-            return False
-        self._recent_message = False
-        self._waiting = False  # a producer need not set the event while we poll
-        fifo = self._fifo
-        end = time.perf_counter() + (self._spin_s if wait is None else min(self._spin_s, wait))
-        sleep, now = time.sleep, time.perf_counter
-        while not fifo:
-            sleep(0)
-            if now() >= end:
-                break
-        self._waiting = True
-        return bool(fifo)
 
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""
         work = self._wait_for_work(timeout_sec)
         if work is not None:
             self._execute(work)
-            if work[0] == _MESSAGE:
-                self._recent_message = True
 
     def spin(self) -> None:
         """Run callbacks until the context shuts down or shutdown() is called."""
