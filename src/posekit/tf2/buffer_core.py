@@ -71,6 +71,24 @@ _Edge = tuple[Any, Any, Any, Any, int, Any]
 _Path = tuple[str, Any, "_Edge | None", int, int]
 
 
+def _latest_up(chain: tuple[_Edge, ...]) -> int:
+    """tf2's latest common time when the target is an ancestor of the source: the oldest of
+    the chain's newest non-zero stamps (0 if none), provided every edge's newest sample has
+    the cached parent, which is when getLatestCommonTime walks exactly this chain; else -1."""
+    common = -1
+    for stamps, parents, _, _, expected, static in chain:
+        if stamps is None:
+            if static.parent != expected:
+                return -1
+        elif not stamps or parents[-1] != expected:
+            return -1
+        else:
+            stamp = stamps[-1]
+            if stamp != 0 and (common < 0 or stamp < common):
+                common = stamp
+    return common if common >= 0 else 0
+
+
 def _edge_evaluates(edge: _Edge, t: int) -> bool:
     """Whether TimeCache.get(t) certainly succeeds on this edge (static edges always do)."""
     stamps = edge[0]
@@ -737,7 +755,9 @@ class BufferCore:
             path = self._paths.get(key)
             if path is not None:  # known, distinct, valid names with a cached walk
                 if not t:
-                    t = self._latest_common_time(path[3], path[4])
+                    t = _latest_up(path[1]) if path[0] is _UP else -1
+                    if t < 0:
+                        t = self._latest_common_time(path[3], path[4])
                 raw = self._walk_fast(path, t)
                 if raw is None:  # the path does not apply at t: the general walk decides
                     del self._paths[key]
