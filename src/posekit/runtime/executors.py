@@ -60,6 +60,40 @@ _MESSAGE = 1
 _TASK = 2
 
 
+class _WakeSignal:
+    """``threading.Event``'s set / clear / wait on one raw lock (held = not signalled).
+
+    A waiter woken by ``Event.set`` must then re-take the event's condition lock, which
+    the setter may still hold: a second sleep and wake-up for every hand-off. A raw lock
+    wakes the waiter once and allocates nothing per wait.
+    """
+
+    __slots__ = ("_lock",)
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._lock.acquire()
+
+    def set(self) -> None:
+        try:  # noqa: SIM105 - suppress() costs a context manager on the hot path
+            self._lock.release()
+        except RuntimeError:  # already signalled
+            pass
+
+    def clear(self) -> None:
+        self._lock.acquire(False)
+
+    def is_set(self) -> bool:
+        return not self._lock.locked()
+
+    def wait(self, timeout: float | None = None) -> bool:
+        lock = self._lock
+        if lock.acquire(True, -1 if timeout is None else max(0.0, timeout)):
+            self.set()  # stay signalled, like an Event, until clear()
+            return True
+        return False
+
+
 class ExternalShutdownException(Exception):  # noqa: N818 - rclpy name
     """The context was shut down while spinning (rclpy.executors.ExternalShutdownException)."""
 
@@ -73,7 +107,7 @@ class Executor:
         self._fifo: deque[tuple[int, Subscription]] = deque()
         self._tasks: deque[Task] = deque()
         self._timers: list[Timer] = []
-        self._wake_event = threading.Event()
+        self._wake_event = _WakeSignal()
         self._lock = threading.RLock()
         self._is_shutdown = False
         # True only while a spinning thread may block on _wake_event: publishers then set
