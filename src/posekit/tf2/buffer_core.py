@@ -176,7 +176,7 @@ def _make_stamped_canonical(
     yy, yz, zz = y * ys, y * zs, z * zs
     trace = (1.0 - (yy + zz)) + (1.0 - (xx + zz)) + (1.0 - (xx + yy))
     if not trace > 0.0:
-        return _make_stamped(target, source, stamp_ns, _canonical(q), v)
+        return _make_stamped(target, source, stamp_ns, _canonical((x, y, z, w)), v)
     s = _sqrt(trace + 1.0)
     rot = _new(Quaternion)
     rot.w = s * 0.5
