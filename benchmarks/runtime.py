@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python benchmarks/runtime.py``. Prints messages per CPU-second and ratios
 (rates use the process CPU time, so they do not depend on how busy the machine is); the
-figures are recorded in docs/perf_runtime.md.
+figures are recorded in docs/performance.md.
 
 * TFMessage (1 TransformStamped), 1 subscriber: publish in batches of 100, then
   ``executor.spin_some()``. Baseline: a plain list of callbacks called with the same object

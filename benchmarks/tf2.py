@@ -1,7 +1,7 @@
 """Benchmark posekit.tf2 against pytransform3d's TransformManager / TemporalTransformManager.
 
 Run: ``.venv/bin/python benchmarks/tf2.py`` (``--quick`` for a smoke run). Not a test: it prints
-medians and ratios measured in one run on this machine; goals are in docs/perf_tf2.md.
+medians and ratios measured in one run on this machine; goals are in docs/performance.md.
 
 Scene: a chain f0 -> f1 -> f2 -> f3 -> f4 (4 hops), every edge dynamic with 100 samples
 10 ms apart (yaw and translation changing). "1-hop" is lookup(f0 <- f1), "4-hop" is

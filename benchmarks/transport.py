@@ -1,7 +1,7 @@
 """TF messages between two processes over Zenoh on loopback: posekit vs a raw zenoh baseline.
 
 Run: ``.venv/bin/python benchmarks/transport.py`` (``--quick`` for a short run). Figures are
-recorded in docs/perf_transport.md.
+recorded in docs/performance.md.
 
 Each mode runs a publisher process and a subscriber process (plus a router in this process,
 the role ``rmw_zenohd`` plays; both children are peers with posekit's session config, so

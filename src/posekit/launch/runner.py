@@ -81,7 +81,7 @@ def start(
     Gazebo does. The run's own nodes get the time from the executor either way, so only
     outside observers (another process, a bag recorder of /clock) need it; switching it off
     saves one /clock callback per node per step (about 20 % of a ROSbot scenario, see
-    docs/perf_sim.md)."""
+    docs/performance.md)."""
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
     ctx = context or Context()

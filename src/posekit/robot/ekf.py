@@ -220,7 +220,7 @@ class Ekf2D:
     # them), but the arithmetic runs on Python floats: the state and the 21 distinct entries
     # of the symmetric P (packed row-major upper triangle, see _PACKED) live in local
     # variables for a whole step. For a 6-state filter every numpy call costs more than the
-    # few flops it does (measured in docs/perf_sim.md). P is kept exactly symmetric, which
+    # few flops it does (measured in docs/performance.md). P is kept exactly symmetric, which
     # also makes the symmetrisation of the array form moot.
     def predict_to(self, t: float) -> None:
         """Propagate state and covariance to time ``t`` (s); no-op for ``t`` <= filter time."""

@@ -26,7 +26,7 @@ Python messages are mutable dataclasses, and rclpy code freely reuses and edits 
    (or any array or sub-message in it) afterwards. The simulator's nodes publish this way:
    with one subscriber per topic a delivery then costs no copy at all.
 
-Numbers are in docs/perf_runtime.md (``benchmarks/runtime.py``).
+Numbers are in docs/performance.md (``benchmarks/runtime.py``).
 
 QoS on the bus
 --------------
