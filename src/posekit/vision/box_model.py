@@ -22,6 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from posekit.geometry import Rotation, Transform
+from posekit.robot.worlds import ARUCO_BOX as _WORLD_BOX
 from posekit.vision.errors import CameraModelError
 
 __all__ = [
@@ -63,6 +64,17 @@ def marker_corners_local(side: float) -> F64Array:
     return np.array([[-h, h, 0.0], [h, h, 0.0], [h, -h, 0.0], [-h, -h, 0.0]])
 
 
+def _faces_of_world_model() -> tuple[BoxFace, ...]:
+    """The spec's face table, kept once in :data:`posekit.robot.worlds.ARUCO_BOX`."""
+    def as_float(v: Sequence[float]) -> tuple[float, float, float]:
+        return (float(v[0]), float(v[1]), float(v[2]))
+
+    return tuple(
+        BoxFace(as_float(normal), marker_id, as_float(x_axis), as_float(y_axis))
+        for marker_id, (normal, x_axis, y_axis) in _WORLD_BOX.faces.items()
+    )
+
+
 def box_pose_matrix(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0.0,
                     yaw: float = 0.0) -> F64Array:
     """``T_world_box`` from an SDF ``<pose>`` (metres; rpy radians, fixed-axis x-y-z)."""
@@ -80,19 +92,10 @@ class ArucoBoxModel:
         faces: the six faces (normal, marker id, marker axes) in the box frame.
     """
 
-    size: float = 0.5
-    marker_size: float = 0.2
-    dictionary: str = "DICT_5X5_250"
-    faces: tuple[BoxFace, ...] = field(
-        default=(
-            BoxFace((0.0, 0.0, 1.0), 3, (-1.0, 0.0, 0.0), (0.0, -1.0, 0.0)),
-            BoxFace((0.0, -1.0, 0.0), 2, (0.0, 0.0, 1.0), (-1.0, 0.0, 0.0)),
-            BoxFace((-1.0, 0.0, 0.0), 4, (0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
-            BoxFace((0.0, 0.0, -1.0), 1, (1.0, 0.0, 0.0), (0.0, -1.0, 0.0)),
-            BoxFace((1.0, 0.0, 0.0), 6, (0.0, 0.0, 1.0), (0.0, -1.0, 0.0)),
-            BoxFace((0.0, 1.0, 0.0), 5, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0)),
-        )
-    )
+    size: float = _WORLD_BOX.size
+    marker_size: float = _WORLD_BOX.marker_size
+    dictionary: str = _WORLD_BOX.dictionary
+    faces: tuple[BoxFace, ...] = field(default_factory=lambda: _faces_of_world_model())
 
     def __post_init__(self) -> None:
         if not 0.0 < self.marker_size <= self.size:
