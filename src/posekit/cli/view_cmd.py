@@ -2,10 +2,13 @@
 
     posekit view [--host 127.0.0.1] [--port 8765] [--zenoh] [--world NAME]
                  [--fixed-frame odom] [--tf-rate 30] [--scenario NAME [--seed N]]
+                 [--foxglove [--foxglove-port 8766]]
 
 Alone (or with ``--zenoh``) it views other processes over the Zenoh transport.
 ``--scenario NAME`` runs a named scenario in this process, paced to the wall clock, and views
 it. :func:`attach_to_run` is what ``posekit launch SCENARIO --viewer`` calls.
+``--foxglove`` also serves the same system to the Foxglove app over its WebSocket protocol
+(optional package foxglove-sdk; :mod:`posekit.viewer.foxglove_bridge`), on the same host.
 """
 
 from __future__ import annotations
@@ -14,11 +17,13 @@ import argparse
 import sys
 import threading
 import webbrowser
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from posekit.launch import LaunchRun
+    from posekit.runtime.transport import Transport
+    from posekit.viewer.foxglove_bridge import FoxgloveBridge
     from posekit.viewer.server import ViewerServer
 
 __all__ = ["attach_to_run", "find_world", "main"]
@@ -95,6 +100,11 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--tf-rate", type=float, default=30.0,
                         help="TF updates per second sent to the page (max 100)")
     parser.add_argument("--open", action="store_true", help="open the page in a browser")
+    parser.add_argument("--foxglove", action="store_true",
+                        help="also serve the Foxglove app over its WebSocket protocol "
+                             "(needs foxglove-sdk: pip install 'posekit[foxglove]')")
+    parser.add_argument("--foxglove-port", type=int, default=8766,
+                        help="TCP port of the Foxglove WebSocket server (default 8766)")
     return parser
 
 
@@ -105,6 +115,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     if not 0 <= ns.port <= 65535:
         print(f"posekit view: --port must be in 0..65535, got {ns.port}", file=sys.stderr)
+        return 2
+    if not 0 <= ns.foxglove_port <= 65535:
+        print(f"posekit view: --foxglove-port must be in 0..65535, got {ns.foxglove_port}",
+              file=sys.stderr)
         return 2
     if ns.scenario and ns.zenoh:
         print("posekit view: --scenario runs in this process; it cannot be combined with "
@@ -127,6 +141,31 @@ def _announce(server: ViewerServer, what: str) -> None:
     print(f"posekit view: {what} on {server.url} (Ctrl-C to stop)", flush=True)
 
 
+def _sim_clock(run: LaunchRun) -> Callable[[], int] | None:
+    """The run's simulated clock (ns) when its executor is a SimulatedTimeExecutor."""
+    from posekit.runtime.executors import SimulatedTimeExecutor
+
+    executor = run.executor
+    if not isinstance(executor, SimulatedTimeExecutor):
+        return None
+    sim: SimulatedTimeExecutor = executor
+    return lambda: sim.now_ns
+
+
+def _start_foxglove(
+    ns: argparse.Namespace, transport: Transport, clock: Callable[[], int] | None = None
+) -> FoxgloveBridge | None:
+    """The started Foxglove bridge when ``--foxglove`` was given, else None."""
+    if not ns.foxglove:
+        return None
+    from posekit.viewer.foxglove_bridge import FoxgloveBridge
+
+    bridge = FoxgloveBridge(transport, host=ns.host, port=ns.foxglove_port, clock_ns=clock)
+    bridge.start()
+    print(f"posekit view: Foxglove WebSocket on {bridge.url}", flush=True)
+    return bridge
+
+
 def _view_scenario(ns: argparse.Namespace, options: dict[str, Any]) -> int:
     from posekit.robot.scenarios import ScenarioError, start_scenario
 
@@ -136,16 +175,20 @@ def _view_scenario(ns: argparse.Namespace, options: dict[str, Any]) -> int:
         print(f"posekit view: {exc}", file=sys.stderr)
         return 2
     server = None
+    bridge = None
     try:
         server = attach_to_run(run, host=ns.host, port=ns.port, world=ns.world,
                                open_browser=ns.open, **options)
         _announce(server, f"scenario {ns.scenario}")
+        bridge = _start_foxglove(ns, run.context.transport(), _sim_clock(run))
         spinner = threading.Thread(target=run.executor.spin, name="posekit-scenario", daemon=True)
         spinner.start()
         server.serve_forever()
     except KeyboardInterrupt:
         pass
     finally:
+        if bridge is not None:
+            bridge.stop()
         if server is not None:
             server.stop()
         run.shutdown()
@@ -166,10 +209,17 @@ def _view_zenoh(ns: argparse.Namespace, options: dict[str, Any]) -> int:
             print(f"posekit view: cannot view other processes: {exc}", file=sys.stderr)
             return 1
         server = attach_viewer(transport, world=ns.world, host=ns.host, port=ns.port, **options)
-        if ns.open:
-            webbrowser.open(server.url)
-        _announce(server, "viewing the Zenoh graph")
-        server.serve_forever()
+        bridge = None
+        try:
+            if ns.open:
+                webbrowser.open(server.url)
+            _announce(server, "viewing the Zenoh graph")
+            bridge = _start_foxglove(ns, transport)
+            server.serve_forever()
+        finally:
+            if bridge is not None:
+                bridge.stop()
+            server.stop()
     finally:
         context.try_shutdown()
     return 0

@@ -1,0 +1,272 @@
+"""FoxgloveBridge over a real socket, spoken to by a plain aiohttp WebSocket client: the
+``foxglove.sdk.v1`` handshake, advertised channels with ros2msg schemas, CDR payloads decoded
+by rosbags' own typestore (independent of posekit's serializer), /tf_static re-sent to late
+subscribers, the missing-package error, a busy port, and a clean stop."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import socket
+import struct
+import sys
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+aiohttp = pytest.importorskip("aiohttp")
+pytest.importorskip("foxglove", reason="foxglove-sdk is not installed (pip install foxglove-sdk)")
+
+from rosbags.typesys import Stores, get_typestore  # noqa: E402
+
+from posekit.msgs.geometry_msgs import TransformStamped  # noqa: E402
+from posekit.msgs.nav_msgs import Odometry  # noqa: E402
+from posekit.runtime.context import Context  # noqa: E402
+from posekit.runtime.node import Node  # noqa: E402
+from posekit.runtime.tf2_ros import (  # noqa: E402
+    StaticTransformBroadcaster,
+    TransformBroadcaster,
+)
+from posekit.viewer import ViewerError  # noqa: E402
+from posekit.viewer.foxglove_bridge import FOXGLOVE_SUBPROTOCOL, FoxgloveBridge  # noqa: E402
+
+pytestmark = pytest.mark.timeout(30)
+
+ROS = get_typestore(Stores.ROS2_JAZZY)  # rosbags' stock classes, not posekit's
+WANTED = {"/tf", "/tf_static", "/odometry/filtered"}
+# First line of each ROS 2 (Jazzy) .msg definition.
+FIRST_LINES = {
+    "tf2_msgs/msg/TFMessage": "geometry_msgs/TransformStamped[] transforms",
+    "nav_msgs/msg/Odometry": "std_msgs/Header header",
+}
+
+
+def _transform(parent: str, child: str, x: float, sec: int) -> TransformStamped:
+    t = TransformStamped()
+    t.header.frame_id = parent
+    t.header.stamp.sec = sec
+    t.child_frame_id = child
+    t.transform.translation.x = x
+    return t
+
+
+class System:
+    """A context publishing /tf_static (before the bridge exists), /tf and odometry."""
+
+    def __init__(self) -> None:
+        self.ctx = Context()
+        self.ctx.init()
+        self.node = Node("foxglove_test_pub", context=self.ctx)
+        self.static = StaticTransformBroadcaster(self.node)
+        self.static.sendTransform(_transform("base_link", "camera_link", 0.12, 0))
+        self.tf = TransformBroadcaster(self.node)
+        self.odom_pub = self.node.create_publisher(Odometry, "/odometry/filtered", 10)
+        self.bridge = FoxgloveBridge(self.ctx.transport(), port=0, refresh_period=0.1)
+        self.bridge.start()
+        self.url = f"ws://127.0.0.1:{self.bridge.port}"
+
+    def publish(self, x: float) -> None:
+        self.tf.sendTransform(_transform("odom", "base_link", x, 5))
+        odom = Odometry()
+        odom.header.frame_id = "odom"
+        odom.child_frame_id = "base_link"
+        odom.pose.pose.position.x = x
+        odom.twist.twist.linear.x = 0.25
+        self.odom_pub.publish(odom)
+
+    def close(self) -> None:
+        self.bridge.stop()
+        self.ctx.try_shutdown()
+
+
+@pytest.fixture
+def system() -> Iterator[System]:
+    s = System()
+    try:
+        yield s
+    finally:
+        s.close()
+
+
+async def _advertised(
+    ws: Any, wanted: set[str], *, first: bool = True
+) -> dict[str, dict[str, Any]]:
+    """Read text frames until every topic of ``wanted`` is advertised; topic -> channel.
+    ``first``: these are a new connection's first frames, which start with serverInfo."""
+    channels: dict[str, dict[str, Any]] = {}
+    server_info = False
+    while not wanted <= channels.keys():
+        msg = await asyncio.wait_for(ws.receive(), 5.0)
+        assert msg.type == aiohttp.WSMsgType.TEXT, msg
+        data = json.loads(msg.data)
+        if data["op"] == "serverInfo":
+            server_info = True
+        elif data["op"] == "advertise":
+            channels.update({c["topic"]: c for c in data["channels"]})
+    assert server_info == first
+    return channels
+
+
+async def _message(ws: Any, sub_id: int) -> tuple[int, bytes]:
+    """The next messageData frame of subscription ``sub_id``: (log_time ns, payload)."""
+    while True:
+        msg = await asyncio.wait_for(ws.receive(), 5.0)
+        if msg.type != aiohttp.WSMsgType.BINARY:
+            continue
+        opcode, sid, log_time = struct.unpack_from("<BIQ", msg.data)
+        if opcode == 1 and sid == sub_id:
+            return log_time, bytes(msg.data[13:])
+
+
+async def _subscribe(ws: Any, channel_id: int, sub_id: int) -> None:
+    await ws.send_str(json.dumps(
+        {"op": "subscribe", "subscriptions": [{"id": sub_id, "channelId": channel_id}]}
+    ))
+
+
+def test_plain_client_gets_channels_and_cdr_messages(system: System) -> None:
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+        ) as ws:
+            assert ws.protocol == FOXGLOVE_SUBPROTOCOL
+            system.publish(1.0)  # /tf and /odometry/filtered get publishers' first message
+            channels = await _advertised(ws, WANTED)
+            for topic in WANTED:
+                ch = channels[topic]
+                assert ch["encoding"] == "cdr"
+                assert ch["schemaEncoding"] == "ros2msg"
+                assert ch["schema"].splitlines()[0] == FIRST_LINES[ch["schemaName"]]
+            assert channels["/tf"]["schemaName"] == "tf2_msgs/msg/TFMessage"
+            assert channels["/odometry/filtered"]["schemaName"] == "nav_msgs/msg/Odometry"
+            # Dependencies are appended as "MSG: pkg/Type" sections (ROS 2 MCAP format).
+            assert "MSG: geometry_msgs/TransformStamped" in channels["/tf"]["schema"]
+
+            # /tf_static was published before the bridge existed: re-sent on subscribe.
+            await _subscribe(ws, channels["/tf_static"]["id"], 1)
+            _, payload = await _message(ws, 1)
+            static = ROS.deserialize_cdr(payload, "tf2_msgs/msg/TFMessage")
+            assert [t.child_frame_id for t in static.transforms] == ["camera_link"]
+            assert static.transforms[0].header.frame_id == "base_link"
+            assert static.transforms[0].transform.translation.x == pytest.approx(0.12)
+
+            await _subscribe(ws, channels["/odometry/filtered"]["id"], 2)
+            await asyncio.sleep(0.05)  # let the server register the subscription
+            system.publish(2.5)
+            _, payload = await _message(ws, 2)
+            odom = ROS.deserialize_cdr(payload, "nav_msgs/msg/Odometry")
+            assert odom.child_frame_id == "base_link"
+            assert odom.pose.pose.position.x == pytest.approx(2.5)
+            assert odom.twist.twist.linear.x == pytest.approx(0.25)
+
+            # A second, later client also gets the latched static transform.
+            async with session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)) as ws2:
+                channels2 = await _advertised(ws2, WANTED)
+                await _subscribe(ws2, channels2["/tf_static"]["id"], 7)
+                _, payload = await _message(ws2, 7)
+                static2 = ROS.deserialize_cdr(payload, "tf2_msgs/msg/TFMessage")
+                assert static2.transforms[0].child_frame_id == "camera_link"
+
+    asyncio.run(go())
+    assert set(system.bridge.topics()) >= WANTED
+
+
+def test_new_topics_are_advertised_after_start(system: System) -> None:
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+        ) as ws:
+            await _advertised(ws, WANTED)
+            system.node.create_publisher(Odometry, "/odometry/wheels", 10)
+            later = await _advertised(ws, {"/odometry/wheels"}, first=False)  # background refresh
+            assert later["/odometry/wheels"]["schemaName"] == "nav_msgs/msg/Odometry"
+
+    asyncio.run(go())
+
+
+def test_stop_closes_the_port(system: System) -> None:
+    port = system.bridge.port
+    system.bridge.stop()
+    system.bridge.stop()  # idempotent
+    with pytest.raises(ConnectionRefusedError), socket.create_connection(
+        ("127.0.0.1", port), timeout=1.0
+    ):
+        pass
+
+
+def test_busy_port_is_a_named_error() -> None:
+    ctx = Context()
+    ctx.init()
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        sock.listen()
+        bridge = FoxgloveBridge(ctx.transport(), port=sock.getsockname()[1])
+        with pytest.raises(ViewerError, match="cannot serve Foxglove"):
+            bridge.start()
+        bridge.stop()
+    ctx.try_shutdown()
+
+
+def test_missing_package_is_a_clear_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "foxglove", None)  # import foxglove -> ImportError
+    ctx = Context()
+    ctx.init()
+    bridge = FoxgloveBridge(ctx.transport(), port=0)
+    with pytest.raises(ViewerError, match="foxglove-sdk"):
+        bridge.start()
+    ctx.try_shutdown()
+
+
+def test_bad_arguments() -> None:
+    ctx = Context()
+    ctx.init()
+    with pytest.raises(ValueError, match="port"):
+        FoxgloveBridge(ctx.transport(), port=70000)
+    with pytest.raises(ValueError, match="refresh_period"):
+        FoxgloveBridge(ctx.transport(), refresh_period=-1.0)
+    ctx.try_shutdown()
+
+
+def test_cli_bridge_serves_the_p_controller_scenario_on_sim_time() -> None:
+    from posekit.cli.view_cmd import _parser, _sim_clock, _start_foxglove, main
+    from posekit.robot.scenarios import start_scenario
+
+    assert main(["--foxglove", "--foxglove-port", "70000"]) == 2
+    ns = _parser().parse_args(["--foxglove", "--foxglove-port", "0"])
+    assert _parser().parse_args([]).foxglove_port == 8766  # the documented default
+    run = start_scenario("p_controller", record=False)
+    bridge = None
+    try:
+        run.executor.run_for(1.0)
+        bridge = _start_foxglove(ns, run.context.transport(), _sim_clock(run))
+        assert bridge is not None
+        assert bridge.host == "127.0.0.1"  # loopback unless --host says otherwise
+        # Every topic with a publisher (an independent graph query) becomes a channel.
+        transport = run.context.transport()
+        graph = {
+            t for t, _ in transport.get_topic_names_and_types()
+            if transport.count_publishers(t) > 0
+        }
+        assert {"/tf", "/tf_static", "/odometry/filtered", "/odometry/wheels"} <= graph
+        url = f"ws://127.0.0.1:{bridge.port}"
+
+        async def go() -> None:
+            async with aiohttp.ClientSession() as session, session.ws_connect(
+                url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+            ) as ws:
+                channels = await _advertised(ws, graph)
+                assert channels.keys() == graph
+                await _subscribe(ws, channels["/tf_static"]["id"], 3)
+                log_time, payload = await _message(ws, 3)
+                # Logged at the run's simulated time, not the wall clock.
+                assert log_time == run.executor.now_ns == 1_000_000_000
+                static = ROS.deserialize_cdr(payload, "tf2_msgs/msg/TFMessage")
+                assert static.transforms
+                assert all(t.header.frame_id and t.child_frame_id for t in static.transforms)
+
+        asyncio.run(go())
+    finally:
+        if bridge is not None:
+            bridge.stop()
+        run.shutdown()
