@@ -376,3 +376,12 @@ def test_random_and_mutated_bytes_decode_or_raise_cdr_error() -> None:
             decoded += 1
     assert decoded > 0
     assert rejected > 0
+
+
+def test_serializable_type_names_class_and_rejects_unknown() -> None:
+    from posekit.msgs.cdr import serializable_type
+    from posekit.msgs.tf2_msgs import TFMessage
+
+    assert serializable_type("tf2_msgs/TFMessage") == ("tf2_msgs/msg/TFMessage", TFMessage)
+    with pytest.raises(LookupError):
+        serializable_type("my_pkg/msg/NotAType")

@@ -197,17 +197,12 @@ class Recorder:
         return added
 
     def _subscribe(self, topic: str, type_name: str) -> bool:
-        from posekit.msgs.cdr import get_typestore
-        from posekit.msgs.registry import get_message_class, normalize_type_name
+        from posekit.msgs.cdr import get_typestore, serializable_type
         from posekit.runtime.transport import TopicTypeMismatchError
 
         logger = self.node.get_logger()
         try:
-            type_name = normalize_type_name(type_name)
-            msg_class = get_message_class(type_name)
-            store = get_typestore()
-            if type_name not in store.fielddefs:
-                raise LookupError(type_name)
+            type_name, msg_class = serializable_type(type_name)
         except (LookupError, ValueError):
             self._skipped.add(topic)
             logger.warning(
@@ -220,7 +215,7 @@ class Recorder:
             connection = self._writer.add_connection(
                 topic,
                 type_name,
-                typestore=store,
+                typestore=get_typestore(),
                 offered_qos_profiles=[to_rosbags_qos(p) for p in offered],
             )
             self._connections[topic] = connection

@@ -40,7 +40,14 @@ from posekit.msgs.registry import MESSAGE_CLASSES, normalize_type_name
 if TYPE_CHECKING:
     from collections.abc import Callable
 
-__all__ = ["CDR_HEADER_LE", "from_cdr", "get_typestore", "to_cdr", "type_hash_rihs01"]
+__all__ = [
+    "CDR_HEADER_LE",
+    "from_cdr",
+    "get_typestore",
+    "serializable_type",
+    "to_cdr",
+    "type_hash_rihs01",
+]
 
 #: Encapsulation header of every CDR payload posekit emits (CDR_LE, options 0).
 CDR_HEADER_LE = b"\x00\x01\x00\x00"
@@ -103,6 +110,21 @@ def get_typestore() -> Any:
                 _store = _build_store()
     return _store
 
+
+
+def serializable_type(type_name: str) -> tuple[str, type]:
+    """``(normalized name, posekit class)`` of a type that has both a posekit message class
+    and a ROS 2 definition (so it can be serialized, recorded or advertised with a schema).
+
+    Raises LookupError (or ValueError for a malformed name) otherwise.
+    """
+    from posekit.msgs.registry import get_message_class, normalize_type_name
+
+    name = normalize_type_name(type_name)
+    msg_class = get_message_class(name)
+    if name not in get_typestore().fielddefs:
+        raise LookupError(name)
+    return name, msg_class
 
 def _build_store() -> Any:
     from rosbags.typesys import Stores

@@ -32,7 +32,6 @@ from collections.abc import Callable
 from typing import Any
 
 from posekit.msgs.errors import UnknownMessageTypeError
-from posekit.msgs.registry import get_message_class, normalize_type_name
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.logging import RcutilsLogger, get_logger
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -243,15 +242,11 @@ class FoxgloveBridge:
         return False
 
     def _add_topic(self, topic: str, type_name: str) -> bool:
-        from posekit.msgs.cdr import get_typestore
+        from posekit.msgs.cdr import get_typestore, serializable_type
 
         try:
-            type_name = normalize_type_name(type_name)
-            msg_class = get_message_class(type_name)
-            store = get_typestore()
-            if type_name not in store.fielddefs:
-                raise LookupError(type_name)
-            definition, _ = store.generate_msgdef(type_name, ros_version=2)
+            type_name, msg_class = serializable_type(type_name)
+            definition, _ = get_typestore().generate_msgdef(type_name, ros_version=2)
         except (LookupError, ValueError, UnknownMessageTypeError):
             return self._skip(topic, f"type {type_name!r} has no ROS 2 message definition")
         fox = self._fox
