@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import io
 import json
-import socket
 import time
 from collections.abc import Iterator
 from typing import Any
@@ -16,6 +15,7 @@ from typing import Any
 import pytest
 import zenoh
 
+from _support.ports import free_port
 from posekit.cli import node_cmd, topic_cmd
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
@@ -34,10 +34,6 @@ ROS_TOKENS = [  # spec §2, verbatim, plus a hidden ROS node
 ]
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture

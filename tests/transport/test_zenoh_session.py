@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 import random
-import socket
 import subprocess
 import sys
 import textwrap
@@ -17,6 +16,7 @@ import numpy as np
 import pytest
 import zenoh
 
+from _support.ports import free_port
 from posekit.msgs import to_cdr
 from posekit.msgs.builtin_interfaces import Time
 from posekit.msgs.geometry_msgs import Transform, TransformStamped, Vector3
@@ -45,10 +45,6 @@ TL1 = WireQoS(durability=1, depth=1)
 VOLATILE = WireQoS(depth=100)
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import socket
 import time
 from collections.abc import Callable, Iterator
 
 import pytest
 
+from _support.ports import free_port
 from posekit.msgs.geometry_msgs import TransformStamped, Twist
 from posekit.msgs.std_msgs import String
 from posekit.msgs.tf2_msgs import TFMessage
@@ -23,10 +23,6 @@ from posekit.transport.zenoh_wire import WireQoS
 STATIC = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture
