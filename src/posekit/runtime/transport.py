@@ -19,9 +19,9 @@ Contract for implementations:
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
 
-Selection: ``Node(..., transport="zenoh")``, else ``init(transport=...)`` of the context,
-else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names map to
-factories in a registry (:func:`register_transport`); each context creates one instance per
+Selection: ``Node(..., transport="zenoh")`` (or ``"dds"``), else ``init(transport=...)`` of
+the context, else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names
+map to factories in a registry (:func:`register_transport`); each context creates one instance per
 name and shares it among its nodes.
 """
 
@@ -163,8 +163,9 @@ class Transport(ABC):
 TransportFactory = Callable[[], Transport]
 _registry: dict[str, TransportFactory | str] = {
     "inprocess": "posekit.runtime.bus:InProcessBus",
-    # Registered lazily by name so importing the runtime never imports zenoh.
+    # Registered lazily by name so importing the runtime never imports zenoh or cyclonedds.
     "zenoh": "posekit.transport.zenoh:ZenohTransport",
+    "dds": "posekit.transport.dds_transport:DdsTransport",
 }
 
 
