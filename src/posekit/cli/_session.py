@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 from types import TracebackType
 from typing import Any
@@ -11,7 +12,11 @@ from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.transport import ENV_TRANSPORT
 
-__all__ = ["ToolSession", "tool_transport"]
+__all__ = ["TRANSPORT_CHOICES", "ToolSession", "add_transport_option", "tool_transport",
+           "transport_option"]
+
+#: What ``--transport`` accepts on every tool (``--zenoh`` stays as an alias).
+TRANSPORT_CHOICES = ("inprocess", "zenoh", "dds")
 
 
 def tool_transport(explicit: str | None = None) -> str:
@@ -21,6 +26,19 @@ def tool_transport(explicit: str | None = None) -> str:
     is the distributed transport.
     """
     return explicit or os.environ.get(ENV_TRANSPORT, "").strip() or "zenoh"
+
+
+def add_transport_option(parser: argparse.ArgumentParser, default_text: str = "zenoh") -> None:
+    """``--transport {inprocess,zenoh,dds}`` and its alias ``--zenoh``."""
+    parser.add_argument("--transport", default=None, choices=TRANSPORT_CHOICES,
+                        help=f"posekit transport (default: $POSEKIT_TRANSPORT or "
+                             f"{default_text}); dds joins ROS 2 systems on DDS")
+    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+
+
+def transport_option(ns: argparse.Namespace) -> str | None:
+    """The transport named by :func:`add_transport_option`'s options (None: the default)."""
+    return "zenoh" if getattr(ns, "zenoh", False) else getattr(ns, "transport", None)
 
 
 class ToolSession:

@@ -42,6 +42,18 @@ def _parse(parser: _Parser, argv: Sequence[str]) -> argparse.Namespace | int:
         return int(exc.code or 0)
 
 
+def _transport_option(parser: argparse.ArgumentParser) -> None:
+    from posekit.cli._session import add_transport_option
+
+    add_transport_option(parser)
+
+
+def _transport_name(ns: argparse.Namespace) -> str | None:
+    from posekit.cli._session import transport_option
+
+    return transport_option(ns)
+
+
 def _context(context: Any, transport: str | None) -> tuple[Any, bool]:
     if context is not None:
         return context, False
@@ -72,7 +84,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
                         help="with --all, also record hidden topics")
     parser.add_argument("--duration", type=float, default=None,
                         help="stop after this many wall seconds (default: until Ctrl-C)")
-    parser.add_argument("--transport", default=None, help="transport (default: zenoh)")
+    _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
@@ -88,7 +100,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
     from posekit.runtime.executors import SingleThreadedExecutor
 
     try:
-        ctx, own = _context(context, ns.transport)
+        ctx, own = _context(context, _transport_name(ns))
     except Exception as exc:
         sys.stderr.write(f"posekit bag record: cannot start the transport: {exc}\n")
         return 1
@@ -142,7 +154,7 @@ def play(argv: Sequence[str], *, context: Any = None) -> int:
     parser.add_argument("--clock", type=float, default=100.0, metavar="HZ",
                         help="/clock messages per second (default 100)")
     parser.add_argument("--no-clock", action="store_true", help="do not publish /clock")
-    parser.add_argument("--transport", default=None, help="transport (default: zenoh)")
+    _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
@@ -151,7 +163,7 @@ def play(argv: Sequence[str], *, context: Any = None) -> int:
     from posekit.runtime.executors import SingleThreadedExecutor
 
     try:
-        ctx, own = _context(context, ns.transport)
+        ctx, own = _context(context, _transport_name(ns))
     except Exception as exc:
         sys.stderr.write(f"posekit bag play: cannot start the transport: {exc}\n")
         return 1

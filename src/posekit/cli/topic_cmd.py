@@ -500,13 +500,15 @@ def adapted_qos(session: Any, topic: str, out: TextIO) -> Any:
 
 
 def _add_transport_args(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--transport", default=None,
-                        help="posekit transport (default: $POSEKIT_TRANSPORT or zenoh)")
-    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+    from posekit.cli._session import add_transport_option
+
+    add_transport_option(parser)
 
 
 def _transport(ns: argparse.Namespace) -> str | None:
-    return "zenoh" if ns.zenoh else ns.transport
+    from posekit.cli._session import transport_option
+
+    return transport_option(ns)
 
 
 def _session(ns: argparse.Namespace, context: Any) -> Any:
@@ -577,7 +579,9 @@ def _qos_lines(info: Any) -> list[str]:
 def _endpoint_block(info: Any, kind: str) -> str:
     from posekit.transport.zenoh_wire import entity_gid
 
-    gid = entity_gid(info.keyexpr).hex() if info.keyexpr else ""
+    own_gid = getattr(info, "gid", None)  # DDS endpoints carry their GUID
+    gid = (own_gid.hex() if isinstance(own_gid, bytes)
+           else entity_gid(info.keyexpr).hex() if info.keyexpr else "")
     lines = [
         f"Node name: {info.node_name}",
         f"Node namespace: {info.namespace}",

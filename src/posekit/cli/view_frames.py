@@ -113,9 +113,11 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None)
     parser = argparse.ArgumentParser(prog="posekit tf frames")
     parser.add_argument("-t", "--wait-time", type=float, default=5.0)
     parser.add_argument("-o", "--output", default=None)
-    parser.add_argument("--zenoh", action="store_true")
+    from posekit.cli._session import add_transport_option, transport_option
+
+    add_transport_option(parser)
     ns = parser.parse_args(list(argv))
-    yaml_text, now = _collect(ns.wait_time, context, "zenoh" if ns.zenoh else None)
+    yaml_text, now = _collect(ns.wait_time, context, transport_option(ns))
     name = ns.output or time.strftime("frames_%Y-%m-%d_%H.%M.%S")
     dot_text = generate_dot(parse_frames_yaml(yaml_text), now.seconds_nanoseconds())
     gv_path, pdf_path = f"{name}.gv", f"{name}.pdf"
@@ -136,8 +138,10 @@ def main_tree(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     out = out or sys.stdout
     parser = argparse.ArgumentParser(prog="posekit tf tree")
     parser.add_argument("-t", "--wait-time", type=float, default=2.0)
-    parser.add_argument("--zenoh", action="store_true")
+    from posekit.cli._session import add_transport_option, transport_option
+
+    add_transport_option(parser)
     ns = parser.parse_args(list(argv))
-    yaml_text, now = _collect(ns.wait_time, context, "zenoh" if ns.zenoh else None)
+    yaml_text, now = _collect(ns.wait_time, context, transport_option(ns))
     out.write(render_tree(parse_frames_yaml(yaml_text), now.nanoseconds / 1e9))
     return 0
