@@ -562,12 +562,12 @@ def _qos_lines(info: Any) -> list[str]:
             return "Infinite"
         return f"{value[0] * 1_000_000_000 + value[1]} nanoseconds"
 
-    history = "KEEP_ALL" if qos.history == 2 else "KEEP_LAST"
+    history = {2: "KEEP_ALL", 3: "UNKNOWN"}.get(qos.history, "KEEP_LAST")
     liveliness = {1: "AUTOMATIC", 3: "MANUAL_BY_TOPIC"}.get(qos.liveliness, "UNKNOWN")
     return [
         "QoS profile:",
         f"  Reliability: {'RELIABLE' if qos.reliable else 'BEST_EFFORT'}",
-        f"  History (Depth): {history} ({qos.depth})",
+        f"  History (Depth): {history}" + ("" if history == "UNKNOWN" else f" ({qos.depth})"),
         f"  Durability: {'TRANSIENT_LOCAL' if qos.transient_local else 'VOLATILE'}",
         f"  Lifespan: {duration(qos.lifespan)}",
         f"  Deadline: {duration(qos.deadline)}",

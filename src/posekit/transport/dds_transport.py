@@ -170,16 +170,14 @@ def wire_qos_of(qos: Qos) -> WireQoS:
 
     rel = get(Policy.Reliability)
     dur = get(Policy.Durability)
-    hist = get(Policy.History)
     live = get(Policy.Liveliness)
-    depth = getattr(hist, "depth", 0) if hist is not None else 1
     lease = getattr(live, "lease_duration", None)
+    # RTPS discovery does not carry HISTORY: rmw reports it UNKNOWN (3), depth 0.
     return WireQoS(
-        reliability=2 if rel is not None and "BestEffort" in type(rel).__name__ + repr(rel)
-        else 1,
+        reliability=2 if rel is not None and "BestEffort" in repr(rel) else 1,
         durability=1 if dur is not None and "TransientLocal" in repr(dur) else 2,
-        history=2 if hist is not None and "KeepAll" in repr(hist) else 1,
-        depth=int(depth) if depth else 0,
+        history=3,
+        depth=0,
         liveliness=3 if live is not None and "ManualByTopic" in repr(live) else 1,
         liveliness_lease=_duration_pair(lease),
         deadline=_duration_pair(getattr(get(Policy.Deadline), "deadline", None)),
