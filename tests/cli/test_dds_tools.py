@@ -112,7 +112,9 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
                  for c, _t, raw in reader.messages() if c.topic == "/chatter"]
         xs = [reader.deserialize(raw, c.msgtype).pose.pose.position.x
               for c, _t, raw in reader.messages() if c.topic == "/robot/odom"]
-    assert counts["/chatter"] >= 20 and counts["/robot/odom"] >= 20, counts
+    assert counts["/chatter"] >= 20, counts
+    assert counts["/robot/odom"] >= 20, counts
     numbers = [int(t.split()[1]) for t in texts]
-    assert numbers == sorted(numbers) and len(set(numbers)) == len(numbers)
+    assert numbers == sorted(numbers)
+    assert len(set(numbers)) == len(numbers)
     assert all(x == pytest.approx(0.5 * round(x / 0.5)) for x in xs)
