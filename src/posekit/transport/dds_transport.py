@@ -86,7 +86,7 @@ from posekit.transport.dds_wire import (
 )
 from posekit.transport.zenoh_wire import EntityKind, WireQoS, type_hash
 
-__all__ = ["DdsTransport"]
+__all__ = ["DdsTransport", "configure_domain", "endpoint_qos", "wire_qos_of"]
 
 _log = logging.getLogger("posekit.transport.dds")
 _ANY = SampleState.Any | ViewState.Any | InstanceState.Any
@@ -108,7 +108,9 @@ _domains_lock = threading.Lock()
 _domains: dict[int, tuple[str, Domain]] = {}
 
 
-def _domain(options: DiscoveryOptions) -> None:
+def configure_domain(options: DiscoveryOptions) -> None:
+    """Create the process's Cyclone domain for ``options.domain_id`` with posekit's discovery
+    configuration (once per process and domain; later differing settings are logged)."""
     config = cyclone_config(options)
     with _domains_lock:
         known = _domains.get(options.domain_id)
@@ -374,7 +376,7 @@ class DdsTransport(Transport):
 
     def __init__(self, options: DiscoveryOptions | None = None) -> None:
         self.options = options or DiscoveryOptions.from_env()
-        _domain(self.options)
+        configure_domain(self.options)
         self.domain_id = self.options.domain_id
         self.participant = DomainParticipant(
             self.domain_id, qos=Qos(Policy.Userdata(b"enclave=/;"))
