@@ -76,6 +76,8 @@ def test_subnet_allows_multicast_and_adds_static_peers() -> None:
 def test_localhost_with_static_peers_and_off_and_system_default() -> None:
     xml = cyclone_config(_options(ROS_STATIC_PEERS="10.0.0.2"))
     assert '<Peer address="localhost"/><Peer address="10.0.0.2"/>' in xml
+    assert "<AllowMulticast>false</AllowMulticast>" in xml
+    assert "NetworkInterface" not in xml  # the peer must be reachable
     off = cyclone_config(_options(ROS_AUTOMATIC_DISCOVERY_RANGE="OFF", ROS_STATIC_PEERS="x"))
     assert "<ParticipantIndex>none</ParticipantIndex>" in off
     assert "<Tag>ros_discovery_off_" in off

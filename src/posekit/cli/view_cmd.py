@@ -132,7 +132,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if ns.scenario:
             return _view_scenario(ns, options)
-        return _view_remote(ns, options, "zenoh" if ns.zenoh else ns.transport or "zenoh")
+        from posekit.cli._session import tool_transport
+
+        return _view_remote(ns, options, "zenoh" if ns.zenoh else tool_transport(ns.transport))
     except ViewerError as exc:
         print(f"posekit view: {exc}", file=sys.stderr)
         return 1

@@ -15,8 +15,8 @@ What rmw_fastrtps and rmw_cyclonedds (ROS 2 Jazzy) do, and what this module repr
 * Discovery: ``ROS_AUTOMATIC_DISCOVERY_RANGE`` (``LOCALHOST``, ``SUBNET``, ``OFF``,
   ``SYSTEM_DEFAULT``) and ``ROS_STATIC_PEERS`` (``;``-separated addresses) become Cyclone DDS
   configuration as rmw_cyclonedds builds it. posekit's default when the variable is unset is
-  ``LOCALHOST`` (stay on this machine), and for LOCALHOST it also binds Cyclone to the
-  loopback interface so not even unicast leaves the host.
+  ``LOCALHOST`` (stay on this machine), and for LOCALHOST without static peers it also binds
+  Cyclone to the loopback interface so not even unicast leaves the host.
 * The ROS graph: every participant publishes ``rmw_dds_common/msg/ParticipantEntitiesInfo``
   on ``ros_discovery_info`` (reliable, transient local, keep last 1): its GID and, per node,
   namespace, name and the GIDs of the node's readers and writers. A GID is the entity's
@@ -159,8 +159,10 @@ class DiscoveryOptions:
 def cyclone_config(options: DiscoveryOptions) -> str:
     """Cyclone DDS configuration (XML, plus ``CYCLONEDDS_URI`` after a comma) for ``options``.
 
-    LOCALHOST: loopback interface only, no multicast, localhost and the static peers probed by
-    unicast. SUBNET: Cyclone's default interface with multicast, plus the static peers.
+    LOCALHOST: no multicast, localhost and the static peers probed by unicast; without static
+    peers Cyclone is also bound to the loopback interface (with them, to its default
+    interface, so the peers can be reached). SUBNET: Cyclone's default interface with
+    multicast, plus the static peers.
     OFF: no multicast, no peers and a process-unique domain tag, so nothing is discovered.
     SYSTEM_DEFAULT: Cyclone's own defaults. The participant-index settings are
     rmw_cyclonedds's (32 participants per host are probed by unicast).
@@ -168,7 +170,7 @@ def cyclone_config(options: DiscoveryOptions) -> str:
     rng = options.range
     parts: list[str] = []
     general: list[str] = []
-    if rng is DiscoveryRange.LOCALHOST:
+    if rng is DiscoveryRange.LOCALHOST and not options.static_peers:
         general.append('<Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces>')
     if rng in (DiscoveryRange.LOCALHOST, DiscoveryRange.OFF):
         general.append("<AllowMulticast>false</AllowMulticast>")
