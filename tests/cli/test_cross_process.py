@@ -30,6 +30,8 @@ from _support.ports import free_port
 from _support.procs import Proc
 from posekit.msgs.registry import MESSAGE_CLASSES
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 REPO = Path(__file__).resolve().parents[2]
 
 

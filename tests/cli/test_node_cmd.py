@@ -22,6 +22,8 @@ from posekit.runtime.context import Context
 from posekit.runtime.node import Node
 from posekit.transport.zenoh_transport import ZenohTransport
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 ROS_ZID = "1234567890abcdef1234567890abcdef"
 TF_HASH = "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"
 ROS_TOKENS = [  # spec §2, verbatim, plus a hidden ROS node
