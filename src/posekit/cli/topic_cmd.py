@@ -396,21 +396,9 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str) -> 
 
 def message_class(type_name: str) -> type:
     """posekit's class for a ROS type, else the rosbags class (any ROS 2 Jazzy type)."""
-    from posekit.msgs.errors import UnknownMessageTypeError
-    from posekit.msgs.registry import get_message_class, normalize_type_name
+    from posekit.msgs.registry import find_message_class
 
-    try:
-        return get_message_class(type_name)
-    except UnknownMessageTypeError:
-        full = normalize_type_name(type_name)
-    try:
-        from posekit.msgs.cdr import get_typestore
-
-        return typing.cast(type, get_typestore().types[full])
-    except (ImportError, KeyError):
-        raise UnknownMessageTypeError(
-            f"The passed message type '{type_name}' is invalid (no definition known)"
-        ) from None
+    return find_message_class(type_name)
 
 
 # ---------------------------------------------------------------------------------------
