@@ -29,7 +29,8 @@ class RateLimitedLog:
         emit: called with the finished line (e.g. ``logger.warning``).
         period_s: minimum seconds between two lines of one reason (monotonic clock).
         max_reasons: reasons tracked separately; more share one slot.
-        clock: seconds, monotonic (tests may pass their own).
+        clock: seconds (default monotonic wall time; a node's clock works too: a jump
+            back in time ends the current window).
     """
 
     def __init__(
@@ -67,7 +68,7 @@ class RateLimitedLog:
             state = self._state.setdefault(key, [None, 0])
             self.counts[key] = self.counts.get(key, 0) + 1
             last = state[0]
-            if last is not None and now - float(last) < self._period_s:
+            if last is not None and 0.0 <= now - float(last) < self._period_s:
                 state[1] = int(state[1] or 0) + 1
                 return False
             suppressed = int(state[1] or 0)
