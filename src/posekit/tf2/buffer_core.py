@@ -18,6 +18,7 @@ import logging
 import math
 import threading
 from bisect import bisect_right as _bisect_right
+from collections.abc import Iterable
 from typing import Any
 
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
@@ -393,6 +394,54 @@ class BufferCore:
             for cache in self._caches:
                 if cache is not None:
                     cache.clear()
+
+    def forget_frames(self, frames: Iterable[str]) -> int:
+        """Forget frames entirely (posekit extension; tf2 has no way to drop a frame): their
+        transforms (dynamic and static), their authority, and their names unless a frame
+        that stays still has one of them as its parent; frames left with no data and no
+        child go too. Returns how many names were dropped. Waiting lookups are unaffected;
+        a forgotten frame is unknown until it is set again."""
+        with self._lock:
+            caches = self._caches
+            for name in frames:
+                fid = self._ids.get(name[1:] if name[:1] == "/" else name)
+                if fid:
+                    caches[fid] = None
+                    self._authority.pop(fid, None)
+            # Frames that stay: those with a cache, and every parent one of them refers to.
+            keep = {0}
+            for fid, cache in enumerate(caches):
+                if cache is None:
+                    continue
+                keep.add(fid)
+                if isinstance(cache, StaticCache):
+                    keep.add(cache.parent)
+                else:
+                    keep.update(cache.parents)
+            dropped = len(caches) - len(keep)
+            if not dropped:
+                return 0
+            remap = {old: new for new, old in enumerate(sorted(keep))}
+            names = [self._names[old] for old in sorted(keep)]
+            new_caches: list[Cache | None] = [caches[old] for old in sorted(keep)]
+            for cache in new_caches:
+                if cache is None:
+                    continue
+                if isinstance(cache, StaticCache):
+                    cache.parent = remap[cache.parent]
+                else:
+                    cache.parents[:] = [remap[p] for p in cache.parents]
+                cache._arrays = None
+            # In place: readers such as tf2.batch hold references to these containers.
+            self._names[:] = names
+            caches[:] = new_caches
+            self._ids.clear()
+            self._ids.update((name, fid) for fid, name in enumerate(names))
+            authority = {remap[f]: a for f, a in self._authority.items() if f in remap}
+            self._authority.clear()
+            self._authority.update(authority)
+            self._paths.clear()
+            return dropped
 
     # ------------------------------------------------------------------------------------------
     # validation
