@@ -783,8 +783,8 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
     _add_transport_args(parser)
     ns = parser.parse_args(list(argv))
     times = 1 if ns.once else ns.times
-    if ns.rate <= 0:
-        err.write("rate must be positive\n")
+    if not ns.rate > 0 or ns.rate == math.inf:  # NaN fails the first test
+        err.write(f"rate must be a positive finite number of Hz, got {ns.rate}\n")
         return 2
     try:
         msg_cls = message_class(ns.message_type)
