@@ -178,6 +178,12 @@ def play(argv: Sequence[str], *, context: Any = None) -> int:
         finally:
             executor.shutdown()
             player.close()
+        if player.missing:
+            sys.stderr.write(
+                f"posekit bag play: {ns.bag} is damaged: {player.missing} of the messages "
+                "its metadata lists could not be read (posekit bag info / reindex)\n"
+            )
+            return 1
         return 0
     finally:
         if own:
