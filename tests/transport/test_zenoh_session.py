@@ -513,3 +513,33 @@ def test_graph_cache_is_bounded() -> None:
     for k in keys[:100]:
         cache.remove(k)
     assert cache.add(keys[-1]) is not None  # room again
+
+
+@pytest.mark.parametrize("qos", [VOLATILE, WireQoS(durability=1, depth=10)])
+def test_destroying_a_subscription_inside_its_own_callback(
+    pair: tuple[ZenohSession, ZenohSession], qos: WireQoS, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """No exception escapes into a background thread (zenoh's or the drain thread) when the
+    callback undeclares its own subscription while more samples are queued. Oracle:
+    threading.excepthook sees nothing; the callback runs exactly once after destroy()."""
+    a, b = pair
+    escaped: list[BaseException | None] = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: escaped.append(args.exc_value))
+    calls: list[str] = []
+    holder: dict[str, Any] = {}
+
+    def on_message(msg: Any, att: Attachment) -> None:
+        calls.append(msg.data)
+        holder["sub"].destroy()
+
+    topic = f"/self_destroy_{qos.durability}"
+    holder["sub"] = a.create_subscription(a.create_node("victim"), topic, String, qos,
+                                          on_message)
+    pub = b.create_publisher(b.create_node("talker"), topic, "std_msgs/msg/String", qos)
+    assert wait_for(lambda: (pub.publish(String(data="probe")) or bool(calls)), 10)
+    for i in range(200):  # queued behind the first: read after the destroy
+        pub.publish(String(data=str(i)))
+    time.sleep(0.3)  # let any background thread run into the undeclared subscriber
+    pub.destroy()
+    assert len(calls) == 1
+    assert escaped == []

@@ -585,11 +585,13 @@ class WireSubscription:
         while not self._destroyed:
             try:
                 sample = recv()
+                while sample is not None:
+                    on_sample(sample)
+                    if self._destroyed:  # the callback destroyed its own subscription
+                        return
+                    sample = try_recv()
             except Exception:  # the channel closed: undeclared or session closed
                 return
-            while sample is not None:
-                on_sample(sample)
-                sample = try_recv()
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
