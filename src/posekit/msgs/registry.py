@@ -22,6 +22,7 @@ from posekit.msgs.errors import UnknownMessageTypeError
 
 __all__ = [
     "MESSAGE_CLASSES",
+    "find_message_class",
     "get_message_class",
     "message_type_name",
     "normalize_type_name",
@@ -89,3 +90,22 @@ def message_type_name(msg_or_cls: object) -> str:
             f"{type(msg_or_cls).__name__} is not a ROS message (no __msgtype__ attribute)"
         )
     return name
+
+
+def find_message_class(name: str) -> type[Any]:
+    """posekit's class for ``name``, else the class from rosbags' typestore (any ROS 2 Jazzy
+    type; rosbags is imported only here). Never imports a module named by ``name``: type
+    names often come from other peers. Raises :class:`UnknownMessageTypeError`."""
+    try:
+        return get_message_class(name)
+    except UnknownMessageTypeError:
+        full = normalize_type_name(name)
+    try:
+        from posekit.msgs.cdr import get_typestore
+
+        cls: type[Any] = get_typestore().types[full]
+    except (ImportError, KeyError):
+        raise UnknownMessageTypeError(
+            f"The passed message type '{name}' is invalid (no definition known)"
+        ) from None
+    return cls

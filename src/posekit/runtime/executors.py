@@ -332,7 +332,12 @@ class Executor:
                 best = remaining
         return None if best is None else max(0.0, best / 1e9)
 
-    def _wait_for_work(self, timeout_sec: float | None) -> tuple[int, Any, Any] | None:
+    def _wait_for_work(
+        self, timeout_sec: float | None, condition: Callable[[], bool] | None = None
+    ) -> tuple[int, Any, Any] | None:
+        """The next ready callback, waiting up to ``timeout_sec`` (None: forever); None on
+        timeout, shutdown, or once ``condition()`` is true (rclpy's wait condition: whoever
+        makes it true must call :meth:`wake`, e.g. a future's done-callback)."""
         deadline = None
         if timeout_sec is not None and timeout_sec >= 0:
             deadline = time.monotonic() + timeout_sec
@@ -347,6 +352,8 @@ class Executor:
                 # appended after the look sees _waiting and sets the event.
                 self._waiting = True
                 self._wake_event.clear()
+                if condition is not None and condition():
+                    return None
                 work = self._take_ready()
                 if work is not None:
                     return work
@@ -388,19 +395,26 @@ class Executor:
             if work[0] == _MESSAGE:
                 self._drain_messages(64)
 
+    def _spin_once_until(self, timeout_sec: float | None, future: Future) -> None:
+        """spin_once that also returns when ``future`` completes (in any thread)."""
+        work = self._wait_for_work(timeout_sec, future.done)
+        if work is not None:
+            self._execute(work)
+
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
-        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed."""
+        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed. A future
+        completed by another thread ends the wait at once (its done-callback wakes us)."""
         future.add_done_callback(lambda _f: self.wake())
         if timeout_sec is None or timeout_sec < 0:
             while self._context.ok() and not self._is_shutdown and not future.done():
-                self.spin_once()
+                self._spin_once_until(None, future)
             return
         end = time.monotonic() + timeout_sec
-        while self._context.ok() and not future.done():
+        while self._context.ok() and not self._is_shutdown and not future.done():
             remaining = end - time.monotonic()
             if remaining <= 0:
                 return
-            self.spin_once(remaining)
+            self._spin_once_until(remaining, future)
 
     def spin_once_until_future_complete(
         self, future: Future, timeout_sec: float | None = None
@@ -408,7 +422,7 @@ class Executor:
         """spin_once, returning early if ``future`` completes."""
         future.add_done_callback(lambda _f: self.wake())
         if not future.done():
-            self.spin_once(timeout_sec)
+            self._spin_once_until(timeout_sec, future)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
         """Stop spinning and drop the nodes."""
@@ -784,7 +798,14 @@ class SimulatedTimeExecutor(Executor):
             if not self._run_ready():
                 nxt = self._next_timer_ns()
                 if nxt is None:
-                    self._wait_for_work(0.01)
+                    # Nothing moves sim time: wait for outside work, the future itself, or
+                    # a new timer (a timer change marks the schedule dirty and wakes us).
+                    work = self._wait_for_work(
+                        None, lambda: future.done() or self._schedule_dirty
+                    )
+                    if work is not None:
+                        self._execute(work)
+                        self.callbacks_run += 1
                     continue
                 if end is not None and nxt > end:
                     self._advance(max(end, self._now_ns))

@@ -12,6 +12,7 @@ the :func:`node_defaults` scope (used by posekit.launch), then the constructor a
 from __future__ import annotations
 
 import contextvars
+import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -316,9 +317,15 @@ class Node:
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"timer callback must be callable, got {callback!r}")
-        period_ns = round(float(timer_period_sec) * 1e9)
+        period_s = float(timer_period_sec)
+        # rclpy raises ValueError for NaN, OverflowError for inf, an error for negatives.
+        if math.isnan(period_s):
+            raise ValueError(f"timer period must be a number of seconds, got {period_s}")
+        if math.isinf(period_s):
+            raise OverflowError(f"timer period must be finite, got {period_s} s")
+        period_ns = round(period_s * 1e9)
         if period_ns < 0:
-            raise ValueError(f"timer period must be >= 0 s, got {timer_period_sec}")
+            raise ValueError(f"timer period must be non-negative, got {timer_period_sec} s")
         timer = Timer(
             self,
             callback,

@@ -363,6 +363,11 @@ class ParameterStore:
         declared = self._params[param.name].type_
         if desc.type:
             declared = _Type(desc.type)
+        if param.type_ == _Type.NOT_SET and declared != _Type.NOT_SET and (
+            not desc.dynamic_typing
+        ):
+            # rclpy: a None/NOT_SET value would undeclare it, refused for a typed parameter.
+            raise InvalidParameterTypeException("Static parameter cannot be undeclared")
         return self._coerce(param.name, param.value, declared, desc.dynamic_typing)
 
     def set(self, params: Sequence[Parameter]) -> list[SetParametersResult]:
