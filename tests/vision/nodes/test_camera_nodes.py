@@ -49,7 +49,7 @@ def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
     for k, (img, info) in enumerate(zip(sink.images, sink.infos, strict=True), start=1):
         ns = k * 33_333_333  # timers fire on the integer-ns grid of round(1e9 / 30)
         assert img.header.stamp == stamp_msg(ns) == info.header.stamp
-        assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_frame"
+        assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_optical_frame"
         assert (img.width, img.height, img.encoding, img.step) == (1280, 720, "rgb8", 3840)
     K = np.asarray(sink.infos[0].k).reshape(3, 3)
     # spec: K = [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]], D = 0
@@ -141,7 +141,8 @@ def test_overhead_camera_frames_image_and_intrinsics(ctx, executor) -> None:
     executor.add_node(sink)
     executor.run_until(0.04)
     (img,) = sink.images
-    assert (img.width, img.height, img.header.frame_id) == (640, 480, "overhead_camera")
+    assert (img.width, img.height) == (640, 480)
+    assert img.header.frame_id == "overhead_camera_optical_frame"
     K = np.asarray(sink.infos[0].k).reshape(3, 3)
     assert K[0, 0] == pytest.approx(554.383, abs=1e-3)
     assert (K[0, 2], K[1, 2]) == (320.0, 240.0)
@@ -166,3 +167,34 @@ def test_overhead_camera_frames_image_and_intrinsics(ctx, executor) -> None:
 def test_unknown_camera_name_is_a_clear_error(ctx) -> None:
     with pytest.raises(ValueError, match="no camera 'nope'"):
         OverheadCameraNode(context=ctx, parameter_overrides={"camera_name": "nope"})
+
+
+@pytest.mark.parametrize(("world", "camera_cls", "image_topic", "body_frame", "root"), [
+    ("aruco_box_world", OakCameraNode, "/oak/rgb/color", "oak_rgb_camera_frame", "base_link"),
+    ("aruco_box_camera_world", OverheadCameraNode, "/overhead_camera/image_raw",
+     "overhead_camera", "odom"),
+])
+def test_images_carry_an_optical_frame_of_the_tf_tree(ctx, executor, world, camera_cls,
+                                                      image_topic, body_frame, root) -> None:
+    # REP 103: camera drivers stamp images with the optical frame (z forward, x right, y down),
+    # a child of the body frame (x forward, y left, z up) rotated by rpy (-pi/2, 0, -pi/2).
+    from posekit.robot.nodes import WorldSimulation
+    from posekit.tf2_ros import Buffer, TransformListener
+    from posekit.time import Time
+
+    sim = WorldSimulation(context=ctx, parameter_overrides={**SIM, "world": world})
+    cam = camera_cls(context=ctx, parameter_overrides={**SIM, "world": world})
+    sink = Sink(ctx, image_topic, image_topic.rsplit("/", 1)[0] + "/camera_info")
+    sink.watch_images()
+    buffer = Buffer()
+    TransformListener(buffer, sink)
+    for node in (sim, cam, sink):
+        executor.add_node(node)
+    executor.run_until(0.2)
+    frame = sink.images[-1].header.frame_id
+    assert frame.endswith("_optical_frame")
+    t = buffer.lookup_transform(body_frame, frame, Time())
+    q = t.transform.rotation
+    expected = R.from_euler("xyz", [-np.pi / 2, 0.0, -np.pi / 2])
+    assert (R.from_quat([q.x, q.y, q.z, q.w]) * expected.inv()).magnitude() < 1e-4
+    assert buffer.can_transform(root, frame, Time())
