@@ -1,6 +1,6 @@
 """oak_camera and overhead_camera: topics, sizes, stamps, intrinsics and frames against the
-spec's numbers; the robot camera's pose from ground truth (checked against a fine Euler
-integration); lazy rendering; the overhead camera's static frames."""
+docs/specs/rosbot_and_worlds.md numbers; the robot camera's pose from ground truth (checked against
+a fine Euler integration); lazy rendering; the overhead camera's static frames."""
 
 from __future__ import annotations
 
@@ -52,7 +52,8 @@ def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
         assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_optical_frame"
         assert (img.width, img.height, img.encoding, img.step) == (1280, 720, "rgb8", 3840)
     K = np.asarray(sink.infos[0].k).reshape(3, 3)
-    # spec: K = [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]], D = 0
+    # docs/specs/rosbot_and_worlds.md:
+    # K = [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]], D = 0
     assert pytest.approx(np.array([[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]]),
                               abs=1e-3) == K
     assert not np.any(sink.infos[0].d)
@@ -61,7 +62,7 @@ def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
 def test_oak_optical_frame_from_the_robot_description(ctx) -> None:
     cam = OakCameraNode(context=ctx)
     T = cam.T_base_optical
-    # spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875);
+    # docs/specs/rosbot_and_worlds.md: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875);
     # optical R = Rz(-pi/2) Rx(-pi/2)
     assert T[:3, 3] == pytest.approx([-0.0241, 0.0, 0.1875], abs=1e-12)
     assert T[:3, :3] == pytest.approx(R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]).as_matrix(),
@@ -126,7 +127,8 @@ def test_oak_image_shows_the_front_markers_from_the_spawn_pose(ctx, executor) ->
     dets = ArucoMarkerDetector(np.asarray(sink.infos[0].k).reshape(3, 3),
                                marker_size=0.2).detect(pixels)
     assert sorted(d.marker_id for d in dets) == [2, 4, 5]
-    # spec: optical frame at (-0.0241, 0, 0.1875); marker 4 at (2, 0, 0.25) in odom
+    # docs/specs/rosbot_and_worlds.md: optical frame at (-0.0241, 0, 0.1875); marker 4 at (2, 0,
+    # 0.25) in odom
     d4 = next(d for d in dets if d.marker_id == 4)
     expected = R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]).inv().apply(
         np.array([2.0, 0.0, 0.25]) - [-0.0241, 0.0, 0.1875])
@@ -161,7 +163,7 @@ def test_overhead_camera_frames_image_and_intrinsics(ctx, executor) -> None:
     assert T[:3, 2] == pytest.approx([0.0, 0.0, -1.0], abs=1e-4)
     pixels = np.asarray(img.data).reshape(480, 640, 3)
     (det,) = ArucoMarkerDetector(K, marker_size=0.2).detect(pixels)
-    assert det.marker_id == 3  # the top face (spec)
+    assert det.marker_id == 3  # the top face (docs/specs/rosbot_and_worlds.md)
 
 
 def test_unknown_camera_name_is_a_clear_error(ctx) -> None:

@@ -1,6 +1,6 @@
 """static_aruco_detector and dynamic_detector as nodes: the TF they publish (against the
-spec's marker poses, composed with scipy), the one-shot behaviour, the course parameters and
-posekit's additions, and bad inputs logged and survived."""
+marker poses of docs/specs/rosbot_and_worlds.md, composed with scipy), the one-shot behaviour, the
+course parameters and posekit's additions, and bad inputs logged and survived."""
 
 from __future__ import annotations
 
@@ -24,7 +24,8 @@ from posekit.vision.render import BoxRenderer
 
 SIM = {"use_sim_time": True}
 
-# Spec: aruco_box_world boxes, and the three front markers' centres in odom.
+# docs/specs/rosbot_and_worlds.md: aruco_box_world boxes, and the three front markers' centres in
+# odom.
 BOX_WORLD = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
              box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
 FRONT_MARKERS = {4: (2.000, 0.000, 0.250), 2: (2.000, -0.5002, 0.250),
@@ -38,10 +39,12 @@ def T_from(xyz, rotation: R) -> np.ndarray:
     return T
 
 
-# Spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875), optical R = Rz(-pi/2) Rx(-pi/2).
+# docs/specs/rosbot_and_worlds.md: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875),
+# optical R = Rz(-pi/2) Rx(-pi/2).
 T_ODOM_OAK_OPTICAL = T_from((-0.0241, 0.0, 0.1875),
                             R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]))
-# Spec: odom -> overhead_camera (2, 2, 2, rpy 0 1.5708 0) -> optical (rpy -1.5708 0 -1.5708).
+# docs/specs/rosbot_and_worlds.md: odom -> overhead_camera (2, 2, 2, rpy 0 1.5708 0) -> optical
+# (rpy -1.5708 0 -1.5708).
 T_ODOM_OVERHEAD_OPTICAL = (T_from((2.0, 2.0, 2.0), R.from_euler("xyz", [0, 1.5708, 0]))
                            @ T_from((0, 0, 0), R.from_euler("xyz", [-1.5708, 0, -1.5708])))
 
