@@ -282,7 +282,8 @@ def test_tf_static_then_tf_echo_prints_the_tf2_echo_block(routed: World) -> None
     out = echo.finish(30, "posekit tf echo")
     # static transforms are looked up at time 0: tf2_echo prints "At time 0.0"
     assert out == "At time 0.0\n" + SPEC_BLOCK, echo.describe()
-    # the spec's block is tf2's output; check it against scipy as well (rounded to 3 places)
+    # docs/specs/tf2.md's block is tf2's output; check it against scipy as well (rounded to 3
+    # places)
     R = Rotation.from_euler("xyz", [0.1, -0.2, 3.0])
     q = R.as_quat()
     assert f"[{q[0]:.3f}, {q[1]:.3f}, {q[2]:.3f}, {q[3]:.3f}]" in out

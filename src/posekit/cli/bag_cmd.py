@@ -37,13 +37,20 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parse(parser: _Parser, argv: Sequence[str]) -> argparse.Namespace | int:
+    from posekit.cli._extras import require
+
     try:
-        return parser.parse_args(list(argv))
+        ns = parser.parse_args(list(argv))
     except _UsageError as exc:
         sys.stderr.write(parser.format_usage() + f"{exc}\n")
         return 2
     except SystemExit as exc:  # --help
         return int(exc.code or 0)
+    problem = require(parser.prog, [("ROS 2 bags", "bag")])
+    if problem:
+        sys.stderr.write(problem + "\n")
+        return 2
+    return ns
 
 
 def _context(context: Any, transport: str | None) -> tuple[Any, bool]:

@@ -85,6 +85,18 @@ def main(argv: Sequence[str]) -> int:
             sys.stdout.write(f"{name:<28}{get_scenario(name).description}\n")
         return 0
     ns = _parser().parse_args(argv)
+    from posekit.cli._extras import require
+
+    problem = require("posekit launch", [
+        (flag, extra) for flag, extra, given in (
+            ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
+            ("--zenoh", "zenoh", ns.zenoh), ("--record", "bag", ns.record),
+            ("--save-images", "vision", ns.save_images),
+        ) if given
+    ])
+    if problem:  # before anything runs, not after a whole simulation
+        sys.stderr.write(problem + "\n")
+        return 2
     if ns.zenoh:
         os.environ["POSEKIT_TRANSPORT"] = "zenoh"
     params = dict(ns.assignments + ns.param)

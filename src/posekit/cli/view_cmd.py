@@ -120,6 +120,17 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``posekit view``; returns the exit code."""
     ns = _parser().parse_args(argv)
+    from posekit.cli._extras import require
+
+    needs = [("posekit view", "viewer")]
+    if ns.foxglove:
+        needs.append(("--foxglove", "foxglove"))
+    if not ns.scenario:
+        needs.append(("viewing other processes", "zenoh"))
+    problem = require("posekit view", needs)
+    if problem:
+        print(problem, file=sys.stderr)
+        return 2
     from posekit.viewer.errors import ViewerError
 
     if not 0 <= ns.port <= 65535:

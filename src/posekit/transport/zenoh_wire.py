@@ -1,7 +1,7 @@
 """rmw_zenoh's wire format, as pure functions (no zenoh import): keys, tokens, QoS, attachments.
 
 Everything here follows ROS 2's rmw_zenoh (Jazzy >= 0.2.4, Kilted, Rolling); section numbers
-refer to ``shared/specs/rmw_zenoh.md``.
+refer to ``docs/specs/rmw_zenoh.md``.
 
 * Data key (§1): ``<domain>/<topic>/<pkg>::msg::dds_::<Type>_/<RIHS01 hash>``, the topic
   without its leading and trailing ``/`` (inner ``/`` stay chunk separators).

@@ -195,7 +195,8 @@ def test_static_frames_wheels_and_world_statics_through_a_transform_listener(
     for n in (world, listener_node, commander):
         executor.add_node(n)
     executor.run_until(1.0)
-    # Spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875), identity rotation;
+    # docs/specs/rosbot_and_worlds.md: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875),
+    # identity rotation;
     # the optical frame adds R = Rz(-pi/2) Rx(-pi/2).
     t = buffer.lookup_transform("base_link", "oak_rgb_camera_optical_frame", Time())
     tr, q = t.transform.translation, t.transform.rotation
