@@ -31,7 +31,7 @@ class ToolSession:
         self._own_context = context is None
         if context is None:
             context = Context()
-            context.init(transport=tool_transport(transport))
+            context.init(args=[], transport=tool_transport(transport))
         self.context = context
         self.node = Node(node_name, context=context, **node_kwargs)
         self.executor = SingleThreadedExecutor(context=context)

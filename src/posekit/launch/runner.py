@@ -86,7 +86,7 @@ def start(
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
     ctx = context or Context()
     if not ctx.ok():
-        ctx.init()
+        ctx.init(args=[])  # a launch's nodes get their arguments from the description
     executor: Executor
     if sim_time:
         executor = SimulatedTimeExecutor(
