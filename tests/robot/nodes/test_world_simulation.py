@@ -226,3 +226,30 @@ def test_worlds_by_name_file_and_errors(ctx, tmp_path) -> None:
         WorldSimulation("w2", context=ctx, parameter_overrides={**SIM, "world": "no_such"})
     with pytest.raises(ValueError, match=r"imu_rate 30\.0 Hz must divide the update rate"):
         WorldSimulation("w3", context=ctx, parameter_overrides={**SIM, "imu_rate": 30.0})
+
+
+def test_future_stamped_commands_are_rejected_with_one_warning_and_the_robot_stops(
+    ctx, executor, logs
+) -> None:
+    """Valid commands until 1.0 s, then the same commands stamped on the wall clock: one
+    warning, every one rejected, and ground truth still by 1.0 + 0.5 s timeout + 0.5 s of
+    braking (0.5 m/s at 1 m/s²) + one output period."""
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    wall_ns = 1_795_000_000 * 1_000_000_000
+    commander = _Commander(
+        ctx, lambda t: (0.5, 0.0),
+        stamp=lambda t_ns: t_ns if t_ns <= 1_000_000_000 else wall_ns + t_ns,
+    )
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(4.0)
+    warnings = [r for r in logs if r.name == "world_simulation" and "cmd_vel" in r.message]
+    assert len(warnings) == 1, [w.message for w in warnings]
+    assert "future" in warnings[0].message
+    assert len(world.rejected) == 60  # 20 Hz from 1.05 to 4.0 s
+    moving = [m for m in sink.truth if m.header.stamp.sec + m.header.stamp.nanosec / 1e9 <= 1.0]
+    assert moving[-1].twist.twist.linear.x > 0.4
+    late = [m for m in sink.truth
+            if m.header.stamp.sec + m.header.stamp.nanosec / 1e9 >= 1.0 + 0.5 + 0.5 + 0.05]
+    assert late and all(m.twist.twist.linear.x == 0.0 for m in late)
