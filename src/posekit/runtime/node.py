@@ -292,6 +292,19 @@ class Node:
         del event_callbacks, qos_overriding_options
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
+        return self._subscribe(msg_type, topic, callback, qos_profile, callback_group, False)
+
+    def _subscribe(
+        self,
+        msg_type: type,
+        topic: str,
+        callback: Callable[[Any], Any],
+        qos_profile: QoSProfile | int,
+        callback_group: CallbackGroup | None,
+        with_source: bool,
+    ) -> Subscription:
+        """create_subscription; ``with_source``: the callback gets ``(msg, source)`` with the
+        sending publisher's id (see Transport.subscribe_with_source)."""
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"subscription callback must be callable, got {callback!r}")
@@ -300,8 +313,15 @@ class Node:
         group = callback_group or self.default_callback_group
         sub = Subscription(self, msg_type, full, callback, qos, group)
         self._subscriptions.append(sub)
+        info = self._info(msg_type, full, qos)
         try:
-            endpoint = self._transport.subscribe(self._info(msg_type, full, qos), sub._enqueue)
+            if with_source:
+                enqueue = sub._enqueue
+                endpoint = self._transport.subscribe_with_source(
+                    info, lambda msg, source: enqueue((msg, source))
+                )
+            else:
+                endpoint = self._transport.subscribe(info, sub._enqueue)
         except BaseException:
             self._subscriptions.remove(sub)
             raise
