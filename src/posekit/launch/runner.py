@@ -98,6 +98,12 @@ def start(
     else:
         executor = SingleThreadedExecutor(context=ctx)
     run = LaunchRun(ctx, executor)
+    if isinstance(executor, SimulatedTimeExecutor):
+        try:  # before any node exists: a refused run never shows a node to other processes
+            executor.claim_clock(ctx.transport())
+        except BaseException:
+            run.shutdown()
+            raise
     arguments = description.arguments(launch_arguments)
     for entry in description.nodes:
         params = entry.resolved_parameters(arguments)
@@ -121,12 +127,6 @@ def start(
         for n in nodes:
             executor.add_node(n)
             run.nodes.append(n)
-    if isinstance(executor, SimulatedTimeExecutor):
-        try:
-            executor.claim_clock()
-        except BaseException:
-            run.shutdown()
-            raise
     return run
 
 

@@ -64,6 +64,7 @@ __all__ = [
     "SingleThreadedExecutor",
     "Task",
     "get_global_executor",
+    "graph_clock_publishers",
     "spin",
     "spin_once",
     "spin_until_future_complete",
@@ -484,6 +485,32 @@ class MultiThreadedExecutor(Executor):
             w.join(timeout=1.0)
 
 
+def _clock_publisher_names(transport: Any) -> list[str]:
+    infos = getattr(transport, "get_publishers_info_by_topic", None)
+    return sorted(i.node_fqn for i in infos("/clock")) if callable(infos) else []
+
+
+def graph_clock_publishers(transport: Any, *, settle_s: float = 0.3) -> list[str]:
+    """The publishers of ``/clock`` on ``transport``'s graph (node names where the graph
+    says, else ``"N publisher(s)"``); empty when there is none.
+
+    A network graph is completed with its ``sync_graph`` query, repeated for up to
+    ``settle_s`` wall seconds until a publisher shows up: one query right after a session
+    opened can come back before the network answered."""
+    deadline = time.monotonic() + settle_s
+    sync = getattr(transport, "sync_graph", None)
+    while True:
+        if callable(sync):
+            sync(max(0.05, deadline - time.monotonic()))
+        count = int(transport.count_publishers("/clock"))
+        if count > 0 or not callable(sync) or time.monotonic() >= deadline:
+            break
+        time.sleep(0.05)
+    if count <= 0:
+        return []
+    return sorted(set(_clock_publisher_names(transport))) or [f"{count} publisher(s)"]
+
+
 def _to_ns(t: float | int | Time | Duration) -> int:
     if isinstance(t, Time | Duration):
         return t.nanoseconds
@@ -517,6 +544,7 @@ class SimulatedTimeExecutor(Executor):
         self._publish_clock = bool(publish_clock)  # effective value, see _rebuild_timers
         self._foreign_check_at = 0.0
         self._foreign_reported: set[str] = set()
+        self._claimed: Any = None  # the transport claim_clock checked, if any
         self._clock_node: Node | None = None
         self._clock_pub: Any = None
         self._anchor: tuple[float, int] | None = None
@@ -565,48 +593,56 @@ class SimulatedTimeExecutor(Executor):
 
     def _update_publish_clock(self) -> None:
         choice = self._publish_clock_choice
-        self._publish_clock = bool(choice) if choice is not None else any(
+        claimed = self._claimed is not None and self._claimed.crosses_processes
+        self._publish_clock = bool(choice) if choice is not None else claimed or any(
             n._transport.crosses_processes for n in self._nodes
         )
 
     def _clock_transport(self) -> Any:
+        if self._claimed is not None:
+            return self._claimed
         for node in self._nodes:
             if node._transport.crosses_processes:
                 return node._transport
         return self._context.transport()
 
-    def claim_clock(self, timeout_sec: float = 1.0) -> None:
-        """Refuse a second simulation clock: when this executor publishes ``/clock`` and
-        another publisher of ``/clock`` is already on the graph (after up to ``timeout_sec``
-        of graph discovery), raise :class:`ClockConflictError`; otherwise start publishing."""
-        if not self._publish_clock or self._clock_pub is not None:
+    def claim_clock(self, transport: Any = None, *, timeout_sec: float = 0.3) -> None:
+        """Refuse a second simulation clock. ``transport``: where the simulation's nodes are
+        (or will be: ``posekit.launch`` claims before it creates any node, so a refused run
+        never shows a node to others); default: the nodes' transport.
+
+        When ``/clock`` is to be published there (``publish_clock`` True, or None and the
+        transport crosses processes) and another publisher of ``/clock`` is already on its
+        graph (see :func:`graph_clock_publishers`), raise :class:`ClockConflictError`;
+        otherwise start publishing ``/clock`` there."""
+        if self._clock_pub is not None:
             return
-        transport = self._clock_transport()
-        sync = getattr(transport, "sync_graph", None)
-        if callable(sync):
-            sync(timeout_sec)
-        others = self._foreign_clock_publishers(transport)
+        transport = transport if transport is not None else self._clock_transport()
+        choice = self._publish_clock_choice
+        if choice is False or (choice is None and not transport.crosses_processes
+                               and not self._publish_clock):
+            return
+        others = graph_clock_publishers(transport, settle_s=timeout_sec)
         if others:
             raise ClockConflictError(
                 f"another clock source already publishes /clock ({', '.join(others)}): a "
                 "second simulation would fight over sim time. Stop it first, or run your "
                 "nodes against it (use_sim_time:=true) instead of starting another simulation"
             )
+        self._claimed = transport
+        self._update_publish_clock()
         self._ensure_clock_publisher()
 
     def _foreign_clock_publishers(self, transport: Any) -> list[str]:
-        """Who else publishes /clock on ``transport`` (node names where the graph says)."""
+        """Who else publishes /clock on ``transport`` now (the live graph, no query)."""
         count = transport.count_publishers("/clock") - (self._clock_pub is not None)
         if count <= 0:
             return []
-        infos = getattr(transport, "get_publishers_info_by_topic", None)
-        names: list[str] = []
-        if callable(infos):
-            names = sorted(i.node_fqn for i in infos("/clock"))
-            if self._clock_node is not None and self._clock_pub is not None:
-                own = self._clock_node.get_fully_qualified_name()
-                if own in names:
-                    names.remove(own)  # ours, once
+        names = _clock_publisher_names(transport)
+        if self._clock_node is not None and self._clock_pub is not None:
+            own = self._clock_node.get_fully_qualified_name()
+            if own in names:
+                names.remove(own)  # ours, once
         return sorted(set(names)) or [f"{count} publisher(s)"]
 
     def _ensure_clock_publisher(self) -> None:
