@@ -2,7 +2,7 @@
 
 Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qos``,
 ``.executors``, ``.parameter``, ``.clock``, ``.logging``, ``.callback_groups``, ``.task``,
-``.exceptions``.
+``.exceptions``, ``.utilities``.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from posekit.rclpy import (
     qos,
     task,
     time,
+    utilities,
 )
 from posekit.runtime import create_node
 from posekit.runtime.context import Context, get_default_context, init, ok, shutdown, try_shutdown
@@ -54,4 +55,5 @@ __all__ = [
     "task",
     "time",
     "try_shutdown",
+    "utilities",
 ]

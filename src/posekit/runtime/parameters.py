@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from posekit.runtime.arguments import parse_parameter_value
+
 __all__ = [
     "InvalidParameterTypeException",
     "InvalidParameterValueException",
@@ -205,30 +207,6 @@ class SetParametersResult:
 
 OnSetCallback = Callable[[list[Parameter]], SetParametersResult]
 PostSetCallback = Callable[[list[Parameter]], None]
-
-
-def parse_parameter_value(text: str) -> Any:
-    """A command-line / YAML-ish scalar: 'true' -> True, '3' -> 3, '0.5' -> 0.5, '[1, 2]'."""
-    t = text.strip()
-    low = t.lower()
-    if low in ("true", "yes", "on"):
-        return True
-    if low in ("false", "no", "off"):
-        return False
-    if t.startswith("[") and t.endswith("]"):
-        inner = t[1:-1].strip()
-        return [parse_parameter_value(p) for p in inner.split(",")] if inner else []
-    try:
-        return int(t)
-    except ValueError:
-        pass
-    try:
-        return float(t)
-    except ValueError:
-        pass
-    if len(t) >= 2 and t[0] == t[-1] and t[0] in "'\"":
-        return t[1:-1]
-    return t
 
 
 def _as_overrides(
