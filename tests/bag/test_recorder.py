@@ -37,7 +37,10 @@ START_NS = 1_000_250_000_000  # conftest.START_NS: the talkers' start time
 def record_talkers(kit: Any) -> Any:
     return kit.record
 
-TOPICS = ["/camera/image", "/chatter", "/imu", "/odom", "/tf", "/tf_static"]
+# /rosout: every node (the recorder's too) publishes its log lines there, as in ROS 2.
+TOPICS = ["/camera/image", "/chatter", "/imu", "/odom", "/rosout", "/tf", "/tf_static"]
+#: The talkers' topics whose every published message is compared.
+SENT_TOPICS = ["/camera/image", "/chatter", "/imu", "/odom", "/tf"]
 
 
 def _mcap_file(path: Path) -> Path:
@@ -57,7 +60,7 @@ def test_every_message_read_back_by_rosbags_with_its_receive_time(recorded: Any,
                 (timestamp, store.deserialize_cdr(data, conn.msgtype))
             )
     sent = recorded.talkers.sent
-    for topic in TOPICS[:-1]:
+    for topic in SENT_TOPICS:
         expected = [(t, m) for top, t, m in sent if top == topic]
         assert len(got[topic]) == len(expected) > 0, topic
         for (t_exp, m_exp), (t_got, m_got) in zip(expected, got[topic], strict=True):
@@ -96,7 +99,7 @@ def test_every_message_read_back_by_mcap_ros2_from_the_stored_schemas(
                 "MSG: builtin_interfaces/Time", "MSG: geometry_msgs/Quaternion"):
         assert dep in tf_schema
     sent = recorded.talkers.sent
-    for topic in TOPICS[:-1]:
+    for topic in SENT_TOPICS:
         expected = [(t, m) for top, t, m in sent if top == topic]
         assert len(decoded[topic]) == len(expected), topic
         for (t_exp, m_exp), (log_t, pub_t, m_got) in zip(expected, decoded[topic], strict=True):
@@ -219,7 +222,8 @@ def test_header_stamps_option(ctx: Context, tmp_path: Path) -> None:
     rec = attach_recorder(executor, tmp_path / "h", stamp="header")
     executor.run_for(1.0)
     rec.close()
-    stamps = {(m.topic, m.timestamp_ns) for m in read_messages(tmp_path / "h")}
+    stamps = {(m.topic, m.timestamp_ns) for m in read_messages(tmp_path / "h")
+              if m.topic != "/rosout"}  # the nodes' log lines, also recorded
     assert stamps == {
         ("/tf", 5_490_000_000), ("/tf", 5_990_000_000),
         ("/plain", 5_500_000_000), ("/plain", 6_000_000_000),  # no header: receive time
@@ -255,7 +259,7 @@ def test_all_topics_discovers_late_topics_skips_hidden_clock_and_foreign_types(
     node.create_timer(0.1, tick)
     executor.run_for(1.0)
     counts = rec.close()
-    assert set(counts) == {"/early", "/late"}
+    assert set(counts) == {"/early", "/late", "/rosout"}  # /rosout: the nodes' log lines
     # /early is discovered on the first graph check (after the node existed); /late within
     # one discovery period (0.1 s) of appearing at 0.5 s, so it misses at most one message.
     assert counts["/early"] == 10

@@ -108,7 +108,8 @@ def test_record_all_and_metadata_version(ctx: Context, tmp_path: Path) -> None:
     summary = bag_info(tmp_path / "all")
     assert summary.version == 8
     assert summary.chunk_compression == ""
-    assert [t.name for t in summary.topics] == ["/only"]
+    # --all takes every topic, /rosout too (each node publishes its log there, as in ROS 2).
+    assert [t.name for t in summary.topics] == ["/only", "/rosout"]
 
 
 @pytest.mark.parametrize(

@@ -231,9 +231,11 @@ def test_images_newest_only_and_rates(ctx: Context, node: Node) -> None:
 
 def test_tap_creates_no_topics_and_skips_unknown_types(ctx: Context, node: Node) -> None:
     transport = ctx.transport()
+    # the node's own /rosout publisher is the only topic before and after
+    assert transport.get_topic_names_and_types() == [("/rosout", ["rcl_interfaces/msg/Log"])]
     tap = ViewerTap(transport)
     tap.refresh()
-    assert transport.get_topic_names_and_types() == []
+    assert transport.get_topic_names_and_types() == [("/rosout", ["rcl_interfaces/msg/Log"])]
 
     @dataclass
     class Custom:  # a type the registry does not know, defined in a function

@@ -13,12 +13,14 @@ from posekit.msgs import (
     builtin_interfaces,
     geometry_msgs,
     nav_msgs,
+    rcl_interfaces,
     rosgraph_msgs,
     sensor_msgs,
     std_msgs,
     tf2_msgs,
 )
 from posekit.msgs.errors import UnknownMessageTypeError
+from posekit.msgs.introspection import install_introspection
 
 __all__ = [
     "MESSAGE_CLASSES",
@@ -35,6 +37,7 @@ _MODULES = (
     sensor_msgs,
     tf2_msgs,
     rosgraph_msgs,
+    rcl_interfaces,
 )
 
 
@@ -44,6 +47,7 @@ def _collect() -> dict[str, type[Any]]:
         for name in module.__all__:
             cls = getattr(module, name)
             classes[cls.__msgtype__] = cls
+            install_introspection(cls)
     return classes
 
 

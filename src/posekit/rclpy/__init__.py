@@ -2,7 +2,7 @@
 
 Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qos``,
 ``.executors``, ``.parameter``, ``.clock``, ``.logging``, ``.callback_groups``, ``.task``,
-``.exceptions``.
+``.exceptions``, ``.timer``, ``.wait_for_message``.
 """
 
 from __future__ import annotations
@@ -19,6 +19,8 @@ from posekit.rclpy import (
     qos,
     task,
     time,
+    timer,
+    wait_for_message,
 )
 from posekit.runtime import create_node
 from posekit.runtime.context import Context, get_default_context, init, ok, shutdown, try_shutdown
@@ -53,5 +55,7 @@ __all__ = [
     "spin_until_future_complete",
     "task",
     "time",
+    "timer",
     "try_shutdown",
+    "wait_for_message",
 ]

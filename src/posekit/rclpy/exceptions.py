@@ -13,6 +13,7 @@ from posekit.runtime.parameters import (
     ParameterImmutableException,
     ParameterNotDeclaredException,
 )
+from posekit.runtime.rate import ROSInterruptException
 
 __all__ = [
     "InvalidNamespaceException",
@@ -24,4 +25,5 @@ __all__ = [
     "ParameterAlreadyDeclaredException",
     "ParameterImmutableException",
     "ParameterNotDeclaredException",
+    "ROSInterruptException",
 ]

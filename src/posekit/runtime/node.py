@@ -37,6 +37,8 @@ from posekit.runtime.parameters import (
     SetParametersResult,
 )
 from posekit.runtime.qos import QoSProfile, to_qos_profile
+from posekit.runtime.rate import Rate
+from posekit.runtime.rosout import RosoutPublisher
 from posekit.runtime.time_source import TimeSource
 from posekit.runtime.transport import EndpointInfo, Transport
 
@@ -98,6 +100,10 @@ def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | N
     return name, ns
 
 
+def _no_callback() -> None:
+    """Placeholder timer callback a Rate replaces with its own."""
+
+
 class Node:
     """A ROS 2 node (rclpy.node.Node API)."""
 
@@ -117,7 +123,7 @@ class Node:
         remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
         transport: str | Transport | None = None,
     ) -> None:
-        del enable_rosout, start_parameter_services  # no /rosout or parameter services
+        del start_parameter_services  # no parameter services
         scope = _defaults.get()
         self._context = context or (scope.context if scope else None) or get_default_context()
         if not self._context.ok():
@@ -169,6 +175,7 @@ class Node:
         self._destroyed = False
         self.default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
         self._callback_groups: list[CallbackGroup] = [self.default_callback_group]
+        self._rate_group: CallbackGroup | None = None  # rates' own group (made on first use)
 
         self._clock = ROSClock()
         logger_name = (self._namespace.strip("/").replace("/", ".") + "." + self._name).lstrip(".")
@@ -181,6 +188,7 @@ class Node:
         self._parameters.add_post_set(self._on_parameters_set)
         self._parameters.add_on_set(self._check_use_sim_time)
         self.declare_parameter("use_sim_time", False)
+        self._rosout: RosoutPublisher | None = RosoutPublisher(self) if enable_rosout else None
         if automatically_declare_parameters_from_overrides:
             for pname, value in overrides.items():
                 if not self._parameters.has(pname):
@@ -332,9 +340,26 @@ class Node:
             self._executor._node_changed(self)
         return timer
 
-    def create_rate(self, frequency: float, clock: Clock | None = None) -> Any:
-        """Not provided: sleeping in callbacks blocks executors; use a timer."""
-        raise NotImplementedError("create_rate is not supported; use create_timer")
+    def create_rate(self, frequency: float, clock: Clock | None = None) -> Rate:
+        """A :class:`Rate` ticking at ``frequency`` Hz on ``clock`` (default: the node clock).
+
+        ``rate.sleep()`` needs the node to be spun in another thread (posekit.runtime.rate):
+        from a callback of a single-threaded executor it blocks forever, as in rclpy.
+        """
+        if frequency <= 0:
+            raise ValueError("frequency must be > 0")
+        if self._rate_group is None:
+            from posekit.runtime.callback_groups import ReentrantCallbackGroup
+
+            self._rate_group = ReentrantCallbackGroup()
+        timer = self.create_timer(1.0 / frequency, _no_callback, self._rate_group, clock)
+        return Rate(timer, context=self._context)
+
+    def destroy_rate(self, rate: Rate) -> bool:
+        """Destroy a Rate's timer and wake its sleepers; False if the timer is unknown."""
+        success = self.destroy_timer(rate._timer)
+        rate.destroy()
+        return success
 
     def destroy_publisher(self, publisher: Publisher) -> bool:
         """Remove a publisher; False if it is not this node's."""
@@ -402,6 +427,8 @@ class Node:
         for timer in list(self._timers):
             self.destroy_timer(timer)
         self._time_source.destroy()
+        if self._rosout is not None:
+            self._rosout.destroy()
         self._transport.undeclare_node(self._name, self._namespace)
         self._destroyed = True
         return True
