@@ -279,6 +279,13 @@ def _as_array(val: Any, dtype: np.dtype[Any], length: int | None, fname: str) ->
         val = b"".join(val)  # rclpy's byte[] form: a list of 1-byte bytes objects
     if isinstance(val, list | tuple) and not val:
         val = np.zeros(0, dtype=dtype)
+    elif isinstance(val, list | tuple) and dtype.kind in "iu" and all(
+        type(v) is int for v in val
+    ):
+        try:  # Python ints into any integer width (same_kind casting refuses int64 -> uint8)
+            val = np.array(val, dtype=dtype)
+        except OverflowError as exc:
+            raise CdrError(f"field {fname!r}: {exc}") from exc
     if isinstance(val, (bytes, bytearray, memoryview)) and dtype.itemsize == 1:
         arr = np.frombuffer(val, dtype=dtype)
     else:
