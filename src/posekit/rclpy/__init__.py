@@ -2,13 +2,14 @@
 
 Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qos``,
 ``.executors``, ``.parameter``, ``.clock``, ``.logging``, ``.callback_groups``, ``.task``,
-``.exceptions``, ``.timer``, ``.wait_for_message``.
+``.exceptions``, ``.service``, ``.client``, ``.timer``, ``.wait_for_message``.
 """
 
 from __future__ import annotations
 
 from posekit.rclpy import (
     callback_groups,
+    client,
     clock,
     duration,
     exceptions,
@@ -17,6 +18,7 @@ from posekit.rclpy import (
     node,
     parameter,
     qos,
+    service,
     task,
     time,
     timer,
@@ -35,6 +37,7 @@ from posekit.runtime.logging import get_logger
 __all__ = [
     "Context",
     "callback_groups",
+    "client",
     "clock",
     "create_node",
     "duration",
@@ -49,6 +52,7 @@ __all__ = [
     "ok",
     "parameter",
     "qos",
+    "service",
     "shutdown",
     "spin",
     "spin_once",

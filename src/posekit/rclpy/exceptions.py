@@ -4,6 +4,7 @@ from posekit.runtime.context import NotInitializedException
 from posekit.runtime.names import (
     InvalidNamespaceException,
     InvalidNodeNameException,
+    InvalidServiceNameException,
     InvalidTopicNameException,
 )
 from posekit.runtime.parameters import (
@@ -20,6 +21,7 @@ __all__ = [
     "InvalidNodeNameException",
     "InvalidParameterTypeException",
     "InvalidParameterValueException",
+    "InvalidServiceNameException",
     "InvalidTopicNameException",
     "NotInitializedException",
     "ParameterAlreadyDeclaredException",

@@ -26,6 +26,7 @@ from posekit.runtime.names import (
     RemapRule,
     normalize_namespace,
     parse_remap_rules,
+    resolve_service_name,
     resolve_topic_name,
     validate_node_name,
 )
@@ -36,11 +37,12 @@ from posekit.runtime.parameters import (
     ParameterStore,
     SetParametersResult,
 )
-from posekit.runtime.qos import QoSProfile, to_qos_profile
+from posekit.runtime.qos import QoSProfile, qos_profile_services_default, to_qos_profile
 from posekit.runtime.rate import Rate
 from posekit.runtime.rosout import RosoutPublisher
+from posekit.runtime.services import Client, Service
 from posekit.runtime.time_source import TimeSource
-from posekit.runtime.transport import EndpointInfo, Transport
+from posekit.runtime.transport import EndpointInfo, ServiceInfo, Transport
 
 if TYPE_CHECKING:
     from posekit.runtime.executors import Executor
@@ -172,6 +174,8 @@ class Node:
         self._publishers: list[Publisher] = []
         self._subscriptions: list[Subscription] = []
         self._timers: list[Timer] = []
+        self._services: list[Service] = []
+        self._clients: list[Client] = []
         self._destroyed = False
         self.default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
         self._callback_groups: list[CallbackGroup] = [self.default_callback_group]
@@ -243,6 +247,11 @@ class Node:
         """Expand (and unless ``only_expand``, remap) a topic name as this node would."""
         rules: Sequence[RemapRule] = () if only_expand else self._remap_rules
         return resolve_topic_name(topic, self._name, self._namespace, rules)
+
+    def resolve_service_name(self, service: str, *, only_expand: bool = False) -> str:
+        """Expand (and unless ``only_expand``, remap) a service name as this node would."""
+        rules: Sequence[RemapRule] = () if only_expand else self._remap_rules
+        return resolve_service_name(service, self._name, self._namespace, rules)
 
     # -- entities ---------------------------------------------------------------------
     def _check_alive(self) -> None:
@@ -361,6 +370,92 @@ class Node:
         rate.destroy()
         return success
 
+    def _queued_entities(self) -> list[Any]:
+        """Everything whose queue the executor drains: subscriptions, servers, clients."""
+        return [
+            *self._subscriptions,
+            *(s._queued for s in self._services),
+            *(c._queued for c in self._clients),
+        ]
+
+    def _service_info(self, srv_type: type, name: str, qos: QoSProfile) -> ServiceInfo:
+        from posekit.msgs._service import is_service_type
+
+        if not is_service_type(srv_type):
+            raise TypeError(
+                f"service type must be a service class with Request and Response, "
+                f"got {srv_type!r}"
+            )
+        return ServiceInfo(name, srv_type, qos, self._name, self._namespace, self._logger)
+
+    def create_service(
+        self,
+        srv_type: type,
+        srv_name: str,
+        callback: Callable[[Any, Any], Any],
+        *,
+        qos_profile: QoSProfile = qos_profile_services_default,
+        callback_group: CallbackGroup | None = None,
+    ) -> Service:
+        """Service server calling ``callback(request, response) -> response`` from the
+        executor for each request (see :mod:`posekit.runtime.services`)."""
+        self._check_alive()
+        if not callable(callback):
+            raise TypeError(f"service callback must be callable, got {callback!r}")
+        full = self.resolve_service_name(srv_name)
+        qos = to_qos_profile(qos_profile)
+        info = self._service_info(srv_type, full, qos)
+        group = callback_group or self.default_callback_group
+        service = Service(self, srv_type, full, callback, qos, group)
+        service._attach(self._transport.create_service_server(info, service._receive))
+        self._services.append(service)
+        return service
+
+    def create_client(
+        self,
+        srv_type: type,
+        srv_name: str,
+        *,
+        qos_profile: QoSProfile = qos_profile_services_default,
+        callback_group: CallbackGroup | None = None,
+    ) -> Client:
+        """Service client (``call_async``, ``call``, ``wait_for_service``)."""
+        self._check_alive()
+        full = self.resolve_service_name(srv_name)
+        qos = to_qos_profile(qos_profile)
+        info = self._service_info(srv_type, full, qos)
+        group = callback_group or self.default_callback_group
+        endpoint = self._transport.create_service_client(info)
+        client = Client(self, srv_type, full, qos, group, endpoint)
+        self._clients.append(client)
+        return client
+
+    def destroy_service(self, service: Service) -> bool:
+        """Remove a service server; False if it is not this node's."""
+        if service in self._services:
+            self._services.remove(service)
+            service._destroy()
+            return True
+        return False
+
+    def destroy_client(self, client: Client) -> bool:
+        """Remove a client (pending futures never complete); False if unknown."""
+        if client in self._clients:
+            self._clients.remove(client)
+            client._destroy()
+            return True
+        return False
+
+    @property
+    def services(self) -> Iterator[Service]:
+        """This node's service servers."""
+        return iter(list(self._services))
+
+    @property
+    def clients(self) -> Iterator[Client]:
+        """This node's service clients."""
+        return iter(list(self._clients))
+
     def destroy_publisher(self, publisher: Publisher) -> bool:
         """Remove a publisher; False if it is not this node's."""
         if publisher in self._publishers:
@@ -426,6 +521,10 @@ class Node:
             self.destroy_subscription(sub)
         for timer in list(self._timers):
             self.destroy_timer(timer)
+        for service in list(self._services):
+            self.destroy_service(service)
+        for client in list(self._clients):
+            self.destroy_client(client)
         self._time_source.destroy()
         if self._rosout is not None:
             self._rosout.destroy()
@@ -438,6 +537,22 @@ class Node:
         """Every topic known to the node's transport, with type names."""
         del no_demangle
         return self._transport.get_topic_names_and_types()
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every service known to the node's transport, with type names."""
+        return self._transport.get_service_names_and_types()
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services served by node ``node_name`` in ``node_namespace``."""
+        return self._transport.get_service_names_and_types_by_node(node_name, node_namespace)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services node ``node_name`` in ``node_namespace`` has clients for."""
+        return self._transport.get_client_names_and_types_by_node(node_name, node_namespace)
 
     def count_publishers(self, topic_name: str) -> int:
         """Publishers on ``topic_name`` (expanded and remapped like the node's own topics)."""
