@@ -7,7 +7,8 @@ classes have them:
   order, with rosidl's spellings: ``double``/``float`` for float64/float32, ``boolean``,
   ``octet`` for ``byte``, ``uint8`` for ``char``, ``string<N>`` for bounded strings,
   ``double[36]`` for arrays, ``sequence<uint8>`` / ``sequence<T, N>`` for (bounded)
-  sequences, and ``pkg/Type`` for nested messages (``std_msgs/Header``);
+  sequences, and ``pkg/Type`` for nested messages (``std_msgs/Header``); an empty message
+  (``std_srvs/srv/Empty_Request``) has none;
 * ``_fields_and_field_types``: the same mapping as a class attribute.
 
 The field types come from the ROS 2 Jazzy definitions in posekit's typestore
@@ -28,6 +29,9 @@ _IDL_NAMES = {
     "float32": "float",
     "float64": "double",
 }
+
+# The member the .msg -> IDL step adds to an empty message; rosidl does not list it.
+_PLACEHOLDER = "structure_needs_at_least_one_member"
 
 _cache: dict[str, dict[str, str]] = {}
 
@@ -64,7 +68,8 @@ def fields_and_field_types(type_name: str) -> dict[str, str]:
         store = get_typestore()
         if type_name not in store.fielddefs:
             raise UnknownMessageTypeError(f"no ROS 2 definition of {type_name!r}")
-        cached = {name: _idl_type(desc) for name, desc in store.fielddefs[type_name][1]}
+        cached = {name: _idl_type(desc) for name, desc in store.fielddefs[type_name][1]
+                  if name != _PLACEHOLDER}
         _cache[type_name] = cached
     return dict(cached)
 

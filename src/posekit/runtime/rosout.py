@@ -55,6 +55,7 @@ class RosoutPublisher:
         self._alive = True
         self._destroyed = False
         register_rosout(logger.name, self)
+        node.context.on_shutdown(self.destroy)
 
     def __call__(self, record: LogRecord, file: str, function: str, line: int) -> None:
         """Publish ``record`` (called by the logger, see :func:`register_rosout`)."""
@@ -67,7 +68,7 @@ class RosoutPublisher:
             self._publish(msg)
         except (RuntimeError, OSError, ValueError):
             # The transport went away under the logger (shutdown): the line was printed.
-            self._alive = False
+            self.destroy()
 
     @property
     def subscription_count(self) -> int:
@@ -80,4 +81,7 @@ class RosoutPublisher:
             self._alive = False
             self._destroyed = True
             unregister_rosout(self)
-            self._endpoint.destroy()
+            try:
+                self._endpoint.destroy()
+            except (RuntimeError, OSError):  # the transport is closed already
+                pass
