@@ -9,8 +9,8 @@ from __future__ import annotations
 import json
 
 import pytest
-from _support.ros2 import run_ros2_script
 
+from _support.ros2 import run_ros2_script
 from posekit.msgs.geometry_msgs import PoseWithCovariance
 from posekit.msgs.registry import MESSAGE_CLASSES
 from posekit.msgs.sensor_msgs import Image

@@ -7,12 +7,13 @@ clean-up) prints the same lines under both.
 
 from __future__ import annotations
 
+import itertools
 import threading
 import time
 
 import pytest
-from _support.differential import run_both
 
+from _support.differential import run_both
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
 from posekit.runtime.executors import MultiThreadedExecutor
@@ -103,7 +104,7 @@ def test_rate_follows_the_node_clock_of_a_spinning_executor(ctx: Context) -> Non
         rate.sleep()
         stamps.append(node.get_clock().now().nanoseconds)
     # each sleep ends on a later timer tick (10 ms grid, ticks may be skipped, never doubled)
-    assert all(b - a >= 9_000_000 for a, b in zip(stamps, stamps[1:], strict=False))
+    assert all(b - a >= 9_000_000 for a, b in itertools.pairwise(stamps))
     ctx.shutdown()
     thread.join(5)
     assert not thread.is_alive()

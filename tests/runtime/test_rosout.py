@@ -12,10 +12,10 @@ import time
 from typing import Any
 
 import pytest
-from _support.differential import run_both
-from _support.ros2 import run_ros2_script
 from rosbags.typesys import Stores, get_typestore
 
+from _support.differential import run_both
+from _support.ros2 import run_ros2_script
 from posekit.msgs import to_cdr
 from posekit.msgs.builtin_interfaces import Time
 from posekit.msgs.rcl_interfaces import Log

@@ -105,6 +105,7 @@ _sinks: list[Callable[[LogRecord], None]] = [_stderr_sink]
 # Logger name -> rosout handlers (first registered wins; later ones wait as fallbacks).
 _rosout: dict[str, list[RosoutHandler]] = {}
 _rosout_busy = threading.local()
+_abspaths: dict[str, str] = {}  # code file name -> absolute path (rclpy's CallerId path)
 _levels: dict[str, LoggingSeverity] = {}
 _default_level = LoggingSeverity.INFO
 _lock = threading.Lock()
@@ -151,7 +152,10 @@ def _publish_rosout(handler: RosoutHandler, record: LogRecord, frame: FrameType 
     try:
         if frame is not None:
             code = frame.f_code
-            handler(record, os.path.abspath(code.co_filename), code.co_name, frame.f_lineno)
+            path = _abspaths.get(code.co_filename)
+            if path is None:
+                path = _abspaths[code.co_filename] = os.path.abspath(code.co_filename)
+            handler(record, path, code.co_name, frame.f_lineno)
         else:
             handler(record, "", "", 0)
     finally:

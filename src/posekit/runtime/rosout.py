@@ -16,6 +16,7 @@ publisher's history; records that are filtered by level or throttling cost nothi
 
 from __future__ import annotations
 
+import contextlib
 from typing import TYPE_CHECKING
 
 from posekit.msgs.builtin_interfaces import Time
@@ -81,7 +82,5 @@ class RosoutPublisher:
             self._alive = False
             self._destroyed = True
             unregister_rosout(self)
-            try:
+            with contextlib.suppress(RuntimeError, OSError):  # transport closed already
                 self._endpoint.destroy()
-            except (RuntimeError, OSError):  # the transport is closed already
-                pass
