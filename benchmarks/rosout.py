@@ -21,7 +21,7 @@ def per_second(node: Node) -> float:
     logger = node.get_logger()
     start = time.process_time()
     for i in range(N):
-        logger.info("step %d done" % i)
+        logger.info(f"step {i} done")
     return N / (time.process_time() - start)
 
 
