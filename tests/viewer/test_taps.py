@@ -233,7 +233,10 @@ def test_tap_creates_no_topics_and_skips_unknown_types(ctx: Context, node: Node)
     transport = ctx.transport()
     tap = ViewerTap(transport)
     tap.refresh()
-    assert transport.get_topic_names_and_types() == []
+    # only the /parameter_events publisher every node has (as in ROS 2)
+    assert transport.get_topic_names_and_types() == [
+        ("/parameter_events", ["rcl_interfaces/msg/ParameterEvent"])
+    ]
 
     @dataclass
     class Custom:  # a type the registry does not know, defined in a function

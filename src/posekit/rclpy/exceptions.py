@@ -8,22 +8,28 @@ from posekit.runtime.names import (
     InvalidTopicNameException,
 )
 from posekit.runtime.parameters import (
+    InvalidParameterException,
     InvalidParameterTypeException,
     InvalidParameterValueException,
     ParameterAlreadyDeclaredException,
+    ParameterException,
     ParameterImmutableException,
     ParameterNotDeclaredException,
+    ParameterUninitializedException,
 )
 
 __all__ = [
     "InvalidNamespaceException",
     "InvalidNodeNameException",
+    "InvalidParameterException",
     "InvalidParameterTypeException",
     "InvalidParameterValueException",
     "InvalidServiceNameException",
     "InvalidTopicNameException",
     "NotInitializedException",
     "ParameterAlreadyDeclaredException",
+    "ParameterException",
     "ParameterImmutableException",
     "ParameterNotDeclaredException",
+    "ParameterUninitializedException",
 ]
