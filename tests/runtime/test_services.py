@@ -77,9 +77,9 @@ def test_service_names_are_expanded_remapped_and_validated(ctx) -> None:
 
 
 def test_graph_lists_services_and_who_serves_them(ctx) -> None:
-    server = Node("server", namespace="/ns", context=ctx)
+    server = Node("server", namespace="/ns", context=ctx, start_parameter_services=False)
     _set_bool_server(server)
-    client_node = Node("client", context=ctx)
+    client_node = Node("client", context=ctx, start_parameter_services=False)
     client_node.create_client(Trigger, "/ns/trigger_me")
     assert ("/ns/set_flag", ["std_srvs/srv/SetBool"]) in client_node.get_service_names_and_types()
     assert ("/ns/trigger_me", ["std_srvs/srv/Trigger"]) in (
@@ -96,7 +96,8 @@ def test_graph_lists_services_and_who_serves_them(ctx) -> None:
 
 
 def test_destroyed_service_is_no_longer_ready(ctx) -> None:
-    server, client_node = Node("server", context=ctx), Node("client", context=ctx)
+    server = Node("server", context=ctx, start_parameter_services=False)
+    client_node = Node("client", context=ctx, start_parameter_services=False)
     service = server.create_service(Empty, "ping", lambda q, r: r)
     client = client_node.create_client(Empty, "ping")
     assert client.service_is_ready()

@@ -1,15 +1,20 @@
 """rcl_interfaces: the parameter messages and services every ROS 2 node serves, and Log.
 
 Field order, constants and types are ROS 2 Jazzy's. Primitive sequence fields
-(``ParameterValue.integer_array_value``...) accept lists or numpy arrays; decoded messages
-hold numpy arrays there (string sequences stay lists). Service classes follow rosidl:
-``GetParameters.Request`` is :class:`GetParameters_Request` (``rcl_interfaces/srv/...``).
+(``ParameterValue.integer_array_value``...) are numpy arrays (``byte[]`` as int8, the dtype
+rosbags decodes it to) and accept lists too; string sequences are lists. Service classes
+follow rosidl: ``GetParameters.Request`` is :class:`GetParameters_Request`
+(``rcl_interfaces/srv/GetParameters_Request``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
+
+import numpy as np
+import numpy.typing as npt
 
 from posekit.msgs._base import array_aware_eq
 from posekit.msgs.builtin_interfaces import Time
@@ -46,6 +51,10 @@ __all__ = [
 ]
 
 
+def _empty(dtype: type[np.generic]) -> Callable[[], npt.NDArray[Any]]:
+    return lambda: np.zeros(0, dtype=dtype)
+
+
 # -- messages ---------------------------------------------------------------------------
 @dataclass(slots=True)
 class ParameterType:
@@ -75,10 +84,10 @@ class ParameterValue:
     integer_value: int = 0
     double_value: float = 0.0
     string_value: str = ""
-    byte_array_value: Any = field(default_factory=list)
-    bool_array_value: Any = field(default_factory=list)
-    integer_array_value: Any = field(default_factory=list)
-    double_array_value: Any = field(default_factory=list)
+    byte_array_value: npt.NDArray[np.int8] = field(default_factory=_empty(np.int8))
+    bool_array_value: npt.NDArray[np.bool_] = field(default_factory=_empty(np.bool_))
+    integer_array_value: npt.NDArray[np.int64] = field(default_factory=_empty(np.int64))
+    double_array_value: npt.NDArray[np.float64] = field(default_factory=_empty(np.float64))
     string_array_value: list[str] = field(default_factory=list)
     __msgtype__: ClassVar[str] = "rcl_interfaces/msg/ParameterValue"
     __eq__ = array_aware_eq
@@ -315,7 +324,7 @@ class GetParameterTypes_Request:  # noqa: N801 - rosidl name
 class GetParameterTypes_Response:  # noqa: N801 - rosidl name
     """One ParameterType constant per requested name."""
 
-    types: Any = field(default_factory=list)
+    types: npt.NDArray[np.uint8] = field(default_factory=_empty(np.uint8))
     __msgtype__: ClassVar[str] = "rcl_interfaces/srv/GetParameterTypes_Response"
     __eq__ = array_aware_eq
 

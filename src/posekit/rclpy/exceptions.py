@@ -8,24 +8,30 @@ from posekit.runtime.names import (
     InvalidTopicNameException,
 )
 from posekit.runtime.parameters import (
+    InvalidParameterException,
     InvalidParameterTypeException,
     InvalidParameterValueException,
     ParameterAlreadyDeclaredException,
+    ParameterException,
     ParameterImmutableException,
     ParameterNotDeclaredException,
+    ParameterUninitializedException,
 )
 from posekit.runtime.rate import ROSInterruptException
 
 __all__ = [
     "InvalidNamespaceException",
     "InvalidNodeNameException",
+    "InvalidParameterException",
     "InvalidParameterTypeException",
     "InvalidParameterValueException",
     "InvalidServiceNameException",
     "InvalidTopicNameException",
     "NotInitializedException",
     "ParameterAlreadyDeclaredException",
+    "ParameterException",
     "ParameterImmutableException",
     "ParameterNotDeclaredException",
+    "ParameterUninitializedException",
     "ROSInterruptException",
 ]

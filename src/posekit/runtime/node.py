@@ -17,6 +17,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent
 from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from posekit.runtime.clock import Clock, ROSClock
 from posekit.runtime.context import Context, NotInitializedException, get_default_context
@@ -35,9 +36,16 @@ from posekit.runtime.parameters import (
     Parameter,
     ParameterDescriptor,
     ParameterStore,
+    PostSetCallback,
+    PreSetCallback,
     SetParametersResult,
 )
-from posekit.runtime.qos import QoSProfile, qos_profile_services_default, to_qos_profile
+from posekit.runtime.qos import (
+    QoSProfile,
+    qos_profile_parameter_events,
+    qos_profile_services_default,
+    to_qos_profile,
+)
 from posekit.runtime.rate import Rate
 from posekit.runtime.rosout import RosoutPublisher
 from posekit.runtime.services import Client, Service
@@ -125,7 +133,6 @@ class Node:
         remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
         transport: str | Transport | None = None,
     ) -> None:
-        del start_parameter_services  # no parameter services
         scope = _defaults.get()
         self._context = context or (scope.context if scope else None) or get_default_context()
         if not self._context.ok():
@@ -187,6 +194,10 @@ class Node:
         self._parameters = ParameterStore.create(
             self._name, overrides, allow_undeclared_parameters
         )
+        self._parameter_event_publisher = self.create_publisher(
+            ParameterEvent, "/parameter_events", qos_profile_parameter_events
+        )
+        self._parameters.on_event = self._publish_parameter_event
         self._time_source = TimeSource(self)
         self._time_source.attach_clock(self._clock)
         self._parameters.add_post_set(self._on_parameters_set)
@@ -197,6 +208,11 @@ class Node:
             for pname, value in overrides.items():
                 if not self._parameters.has(pname):
                     self.declare_parameter(pname, value)
+        self._parameter_service: Any = None
+        if start_parameter_services and self._transport.supports_services:
+            from posekit.runtime.parameter_service import ParameterService
+
+            self._parameter_service = ParameterService(self)
 
     # -- identity ---------------------------------------------------------------------
     @property
@@ -563,11 +579,19 @@ class Node:
         return self._transport.count_subscribers(self.resolve_topic_name(topic_name))
 
     # -- parameters -------------------------------------------------------------------
+    def _publish_parameter_event(self, event: ParameterEvent) -> None:
+        event.node = self.get_fully_qualified_name()
+        sec, nanosec = divmod(self._clock.now_ns(), 1_000_000_000)
+        event.stamp.sec, event.stamp.nanosec = sec, nanosec
+        self._parameter_event_publisher.publish(event)
+
     def _check_use_sim_time(self, params: list[Parameter]) -> SetParametersResult:
         for p in params:
             if p.name == "use_sim_time" and p.type_ != Parameter.Type.BOOL:
-                return SetParametersResult(False, "use_sim_time parameter must be a boolean")
-        return SetParametersResult(True)
+                return SetParametersResult(
+                    successful=False, reason="use_sim_time parameter must be a boolean"
+                )
+        return SetParametersResult(successful=True)
 
     def _on_parameters_set(self, params: list[Parameter]) -> None:
         for p in params:
@@ -583,7 +607,9 @@ class Node:
         descriptor: ParameterDescriptor | None = None,
         ignore_override: bool = False,
     ) -> Parameter:
-        """Declare ``name`` with a default; a launch/override value wins. Returns it."""
+        """Declare ``name`` with a default value (or a ``Parameter.Type``); a launch or
+        override value wins. Returns the parameter (rclpy's rules, see
+        :mod:`posekit.runtime.parameters`)."""
         return self._parameters.declare(name, value, descriptor, ignore_override)
 
     def declare_parameters(
@@ -592,17 +618,11 @@ class Node:
         parameters: Sequence[tuple[Any, ...]],
         ignore_override: bool = False,
     ) -> list[Parameter]:
-        """Declare ``(name, value[, descriptor])`` tuples under ``namespace.``."""
-        out = []
-        for item in parameters:
-            name = f"{namespace}.{item[0]}" if namespace else str(item[0])
-            value = item[1] if len(item) > 1 else None
-            desc = item[2] if len(item) > 2 else None
-            out.append(self.declare_parameter(name, value, desc, ignore_override))
-        return out
+        """Declare ``(name[, value[, descriptor]])`` tuples under ``namespace.``."""
+        return self._parameters.declare_many(namespace, parameters, ignore_override)
 
     def undeclare_parameter(self, name: str) -> None:
-        """Remove a declared parameter."""
+        """Remove a declared parameter (ParameterImmutableException if read-only)."""
         self._parameters.undeclare(name)
 
     def has_parameter(self, name: str) -> bool:
@@ -615,25 +635,35 @@ class Node:
 
     def get_parameters(self, names: Sequence[str]) -> list[Parameter]:
         """Several declared parameters."""
+        if not all(isinstance(n, str) for n in names):
+            raise TypeError("All names must be instances of type str")
         return [self._parameters.get(n) for n in names]
 
     def get_parameter_or(self, name: str, alternative_value: Parameter | None = None) -> Parameter:
-        """The parameter if declared, else ``alternative_value`` (or a NOT_SET one)."""
-        if self._parameters.has(name):
-            return self._parameters.get(name)
-        return alternative_value if alternative_value is not None else Parameter(name)
+        """The parameter if declared and set, else ``alternative_value`` (or a NOT_SET one)."""
+        return self._parameters.get_or(name, alternative_value)
+
+    def get_parameter_type(self, name: str) -> int:
+        """The ParameterType constant of a declared parameter."""
+        return self._parameters.get_type(name)
+
+    def get_parameter_types(self, names: Sequence[str]) -> list[int]:
+        """ParameterType constants of several declared parameters."""
+        if not all(isinstance(n, str) for n in names):
+            raise TypeError("All names must be instances of type str")
+        return [self._parameters.get_type(n) for n in names]
 
     def get_parameters_by_prefix(self, prefix: str) -> dict[str, Parameter]:
         """Declared parameters under ``prefix.`` keyed by the rest of the name."""
         pre = prefix + "." if prefix else ""
-        return {
-            n[len(pre):]: self._parameters.get(n)
-            for n in self._parameters.names()
-            if n.startswith(pre)
-        }
+        return {n[len(pre):]: p for n, p in self._parameters.items() if n.startswith(pre)}
+
+    def list_parameters(self, prefixes: list[str], depth: int) -> ListParametersResult:
+        """Names (and their prefixes) under ``prefixes`` down to ``depth`` levels (0: all)."""
+        return self._parameters.list_names(prefixes, depth)
 
     def set_parameters(self, parameter_list: Sequence[Parameter]) -> list[SetParametersResult]:
-        """Set each parameter; one result per parameter."""
+        """Set each parameter; one result per parameter (undeclared names raise)."""
         return self._parameters.set(parameter_list)
 
     def set_parameters_atomically(self, parameter_list: Sequence[Parameter]) -> SetParametersResult:
@@ -644,6 +674,18 @@ class Node:
         """The descriptor of a declared parameter."""
         return self._parameters.descriptor(name)
 
+    def describe_parameters(self, names: Sequence[str]) -> list[ParameterDescriptor]:
+        """Descriptors of several declared parameters."""
+        return [self._parameters.descriptor(n) for n in names]
+
+    def add_pre_set_parameters_callback(self, callback: PreSetCallback) -> None:
+        """Rewrite the list of parameters about to be set (before validation)."""
+        self._parameters.add_pre_set(callback)
+
+    def remove_pre_set_parameters_callback(self, callback: PreSetCallback) -> None:
+        """Undo add_pre_set_parameters_callback."""
+        self._parameters.remove_pre_set(callback)
+
     def add_on_set_parameters_callback(self, callback: OnSetCallback) -> None:
         """Validate (and possibly refuse) parameter changes."""
         self._parameters.add_on_set(callback)
@@ -651,6 +693,14 @@ class Node:
     def remove_on_set_parameters_callback(self, callback: OnSetCallback) -> None:
         """Undo add_on_set_parameters_callback."""
         self._parameters.remove_on_set(callback)
+
+    def add_post_set_parameters_callback(self, callback: PostSetCallback) -> None:
+        """React to parameters that were set (after they changed)."""
+        self._parameters.add_post_set(callback)
+
+    def remove_post_set_parameters_callback(self, callback: PostSetCallback) -> None:
+        """Undo add_post_set_parameters_callback."""
+        self._parameters.remove_post_set(callback)
 
     def __repr__(self) -> str:
         return f"Node('{self.get_fully_qualified_name()}')"

@@ -32,6 +32,7 @@ __all__ = [
     "ReliabilityPolicy",
     "check_qos_compatibility",
     "qos_profile_clock",
+    "qos_profile_parameter_events",
     "qos_profile_parameters",
     "qos_profile_sensor_data",
     "qos_profile_services_default",
@@ -178,6 +179,8 @@ qos_profile_system_default = QoSProfile(
 )
 #: rclpy's qos_profile_parameters: KEEP_LAST 1000, RELIABLE, VOLATILE.
 qos_profile_parameters = QoSProfile(depth=1000)
+#: rclpy's qos_profile_parameter_events (/parameter_events): KEEP_LAST 1000, RELIABLE, VOLATILE.
+qos_profile_parameter_events = QoSProfile(depth=1000)
 #: rclpy's qos_profile_services_default: KEEP_LAST 10, RELIABLE, VOLATILE.
 qos_profile_services_default = QoSProfile(depth=10)
 #: Subscription QoS of rclpy's TimeSource on /clock: KEEP_LAST 1, BEST_EFFORT.
