@@ -27,6 +27,7 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("topic", "hz"): ("posekit.cli.topic_cmd:main_hz", "average receive rate of a topic"),
     ("topic", "pub"): ("posekit.cli.topic_cmd:main_pub", "publish a message (YAML values)"),
     ("node", "list"): ("posekit.cli.node_cmd:main_list", "list nodes on the graph"),
+    ("interface", None): ("posekit.cli.interface_cmd:main", "list|show|proto msg/srv/action types"),
     ("router", None): ("posekit.cli.router_cmd:main", "run a zenoh router until Ctrl-C"),
     ("bag", "record"): ("posekit.cli.bag_cmd:record", "record topics to a ROS 2 bag (MCAP)"),
     ("bag", "play"): ("posekit.cli.bag_cmd:play", "play a bag back on sim time"),

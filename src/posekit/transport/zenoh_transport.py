@@ -45,7 +45,13 @@ from posekit.transport.zenoh_session import (
     ZenohSession,
     open_session,
 )
-from posekit.transport.zenoh_wire import Attachment, EntityKind, TokenInfo, WireQoS
+from posekit.transport.zenoh_wire import (
+    DEFAULT_WIRE_QOS,
+    Attachment,
+    EntityKind,
+    TokenInfo,
+    WireQoS,
+)
 
 __all__ = ["ENV_ATTACHMENT", "ENV_ROUTER", "ZenohTransport", "options_from_env", "wire_qos"]
 
@@ -55,11 +61,14 @@ ENV_ATTACHMENT = "POSEKIT_ZENOH_ATTACHMENT"
 
 def wire_qos(qos: QoSProfile) -> WireQoS:
     """Map an rclpy-style profile to rmw_zenoh's QoS (rmw enum values are rclpy's)."""
+    lifespan = qos.lifespan_ns
     return WireQoS(
         reliability=2 if qos.resolved_reliability == ReliabilityPolicy.BEST_EFFORT else 1,
         durability=1 if qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL else 2,
         history=2 if qos.history == HistoryPolicy.KEEP_ALL else 1,
         depth=qos.depth if qos.depth > 0 else 42,
+        lifespan=DEFAULT_WIRE_QOS.lifespan if lifespan is None
+        else divmod(lifespan, 1_000_000_000),
     )
 
 
