@@ -78,8 +78,8 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
         bag.finish(40, "bag record")
         # in this process: hz and info -v
         hz_out, info_out = io.StringIO(), io.StringIO()
-        assert topic_cmd.main_hz(["/chatter", "--count", "2"], context=context, out=hz_out,
-                                 timeout_s=15) == 0
+        assert topic_cmd.main_hz(["/chatter", "--count", "3", "-w", "15"], context=context,
+                                 out=hz_out, timeout_s=20) == 0
         assert topic_cmd.main_info(["/robot/odom", "-v"], context=context, out=info_out) == 0
         # bad input: an unknown topic on the DDS graph is one line, not a traceback
         err = io.StringIO()
@@ -94,8 +94,10 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
     assert "/robot/ros_talker" in node_text.splitlines()
     assert re.search(r"^data: hello \d+$", echo_text, re.MULTILINE), echo_text
     rates = [float(m) for m in re.findall(r"average rate: ([0-9.]+)", hz_out.getvalue())]
-    assert rates, hz_out.getvalue()
-    assert all(15.0 < r < 25.0 for r in rates), rates  # the talker's 20 Hz timer
+    assert len(rates) == 3, hz_out.getvalue()
+    # the talker's 20 Hz timer, over the last 15 messages (the first report may include a
+    # start-up bunch when the machine is busy)
+    assert 14.0 < rates[-1] < 28.0, rates
     info = info_out.getvalue()
     assert "Type: nav_msgs/msg/Odometry" in info
     assert "Publisher count: 1" in info

@@ -62,6 +62,7 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    SourcedMessageSink,
     SubscriptionEndpoint,
     TopicTypeMismatchError,
     Transport,
@@ -248,11 +249,12 @@ class _Publisher(PublisherEndpoint):
 
 class _Subscription(SubscriptionEndpoint):
     def __init__(self, owner: DdsTransport, info: EndpointInfo, ros_type: str,
-                 sink: MessageSink) -> None:
+                 sink: MessageSink, sourced: SourcedMessageSink | None = None) -> None:
         self._owner = owner
         self.info = info
         self.ros_type = ros_type
         self._sink = sink
+        self._sourced = sourced
         self.reader: DataReader[Any] | None = None
         self.gid = b""
         self.alive = True
@@ -309,11 +311,11 @@ class _Subscription(SubscriptionEndpoint):
                 return
             for data, sample_info in batch:
                 if sample_info.valid_data:
-                    self._deliver(data)
+                    self._deliver(data, sample_info)
             if len(batch) < _TAKE_BATCH:
                 return
 
-    def _deliver(self, data: bytes) -> None:
+    def _deliver(self, data: bytes, sample_info: Any = None) -> None:
         try:
             msg = from_cdr(data, self.info.msg_type)
         except CdrError as exc:
@@ -322,7 +324,13 @@ class _Subscription(SubscriptionEndpoint):
                                   f"decode as {self.ros_type}: {exc} (logged once)")
             return
         self.received += 1
-        if self.alive:
+        if not self.alive:
+            return
+        if self._sourced is not None:
+            # the writer's instance handle: unique per publisher as seen from this reader
+            handle = getattr(sample_info, "publication_handle", None)
+            self._sourced(msg, None if handle is None else int(handle).to_bytes(8, "little"))
+        else:
             self._sink(msg)
 
     def _report_incompatible(self, reader: DataReader[Any]) -> None:
@@ -373,6 +381,7 @@ class DdsTransport(Transport):
     """Nodes' endpoints as DDS readers and writers of one Cyclone DDS participant."""
 
     name = "dds"
+    crosses_processes = True
 
     def __init__(self, options: DiscoveryOptions | None = None) -> None:
         self.options = options or DiscoveryOptions.from_env()
@@ -505,11 +514,21 @@ class DdsTransport(Transport):
         return pub
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        return self._subscribe(info, sink, None)
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """:meth:`subscribe` whose sink also gets an id of the sending publisher (8 bytes)."""
+        return self._subscribe(info, lambda msg: sink(msg, None), sink)
+
+    def _subscribe(self, info: EndpointInfo, sink: MessageSink,
+                   sourced: SourcedMessageSink | None) -> SubscriptionEndpoint:
         ros_type = _ros_type(info)
         dds_topic = dds_topic_name(info.topic)
         topic = self._topic(dds_topic, ros_type)
         node = self._acquire_node(info.node_namespace, info.node_name)
-        sub = _Subscription(self, info, ros_type, sink)
+        sub = _Subscription(self, info, ros_type, sink, sourced)
         try:
             reader = DataReader(self.participant, topic, endpoint_qos(
                 info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=False))
