@@ -9,7 +9,7 @@ from posekit.robot.scenarios import get_scenario, run_scenario, scenario_names
 __all__ = ["get_scenario", "run_scenario", "scenario_names"]
 
 # Each module registers its scenarios when imported; vision is optional (needs OpenCV).
-for _module in ("posekit.vision.scenarios",):
+for _module in ("posekit.vision.scenarios", "posekit.demos.lecture"):
     try:
         importlib.import_module(_module)
     except ModuleNotFoundError as _exc:

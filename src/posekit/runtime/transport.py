@@ -18,11 +18,19 @@ Contract for implementations:
   Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
+* ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*
+  processes/sessions only. A remote-only publisher is not delivered to this process's
+  subscriptions, a remote-only subscription does not receive this process's publications,
+  and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
+  in-process bus ignores it (everything on it is local). This is what
+  :class:`posekit.runtime.mirror.MirroredTransport` builds on.
 
 Selection: ``Node(..., transport="zenoh")``, else ``init(transport=...)`` of the context,
 else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names map to
 factories in a registry (:func:`register_transport`); each context creates one instance per
-name and shares it among its nodes.
+name and shares it among its nodes. ``"inprocess+NET"`` (e.g. ``inprocess+zenoh``) is the
+in-process bus mirrored onto the network transport ``NET``
+(:class:`~posekit.runtime.mirror.MirroredTransport`).
 """
 
 from __future__ import annotations
@@ -83,6 +91,8 @@ class EndpointInfo:
     node_name: str
     node_namespace: str
     logger: RcutilsLogger
+    #: Match endpoints of other processes only (see the module docstring).
+    remote_only: bool = False
 
     @property
     def type_name(self) -> str:
@@ -187,6 +197,12 @@ def selected_transport_name(explicit: str | None = None) -> str:
 
 def create_transport(name: str) -> Transport:
     """Instantiate the transport registered as ``name``."""
+    local_name, plus, network_name = name.partition("+")
+    if plus and local_name == "inprocess" and network_name and network_name != "inprocess":
+        from posekit.runtime.bus import InProcessBus
+        from posekit.runtime.mirror import MirroredTransport
+
+        return MirroredTransport(InProcessBus(), create_transport(network_name))
     factory = _registry.get(name)
     if factory is None:
         raise UnknownTransportError(

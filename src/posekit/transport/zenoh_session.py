@@ -328,10 +328,13 @@ class ZenohSession:
         return count
 
     def create_publisher(
-        self, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS
+        self, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS, *,
+        remote_only: bool = False,
     ) -> WirePublisher:
-        """A publisher of ``ros_type`` on the fully qualified ``topic``."""
-        pub = WirePublisher(self, node, topic, normalize_type_name(ros_type), qos)
+        """A publisher of ``ros_type`` on the fully qualified ``topic`` (``remote_only``: its
+        samples reach other sessions only, never this session's subscribers)."""
+        pub = WirePublisher(self, node, topic, normalize_type_name(ros_type), qos,
+                            remote_only=remote_only)
         with self._lock:
             self._entities.append(pub)
         return pub
@@ -345,9 +348,12 @@ class ZenohSession:
         callback: Callable[[Any, Attachment], None],
         *,
         warn: Callable[[str], object] | None = None,
+        remote_only: bool = False,
     ) -> WireSubscription:
-        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)`` (zenoh thread)."""
-        sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn)
+        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)`` (zenoh thread);
+        ``remote_only``: only samples published by other sessions."""
+        sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn,
+                               remote_only=remote_only)
         with self._lock:
             self._entities.append(sub)
         return sub
@@ -407,7 +413,8 @@ class WirePublisher:
     """Publishes CDR + attachment on the data key; announced by an ``MP`` token."""
 
     def __init__(
-        self, owner: ZenohSession, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS
+        self, owner: ZenohSession, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS,
+        *, remote_only: bool = False,
     ) -> None:
         self.topic = topic
         self.ros_type = ros_type
@@ -440,6 +447,7 @@ class WirePublisher:
             else zenoh.CongestionControl.DROP
         )
         session = owner.session
+        destination = zenoh.Locality.REMOTE if remote_only else zenoh.Locality.ANY
         try:
             if qos.transient_local:
                 self._pub: Any = zext.declare_advanced_publisher(
@@ -454,10 +462,12 @@ class WirePublisher:
                     ),
                     reliability=reliability,
                     congestion_control=congestion,
+                    allowed_destination=destination,
                 )
             else:
                 self._pub = session.declare_publisher(
-                    self.key, reliability=reliability, congestion_control=congestion
+                    self.key, reliability=reliability, congestion_control=congestion,
+                    allowed_destination=destination,
                 )
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
@@ -500,6 +510,8 @@ class WireSubscription:
         qos: WireQoS,
         callback: Callable[[Any, Attachment], None],
         warn: Callable[[str], object] | None,
+        *,
+        remote_only: bool = False,
     ) -> None:
         ros_type = normalize_type_name(
             msg_type if isinstance(msg_type, str) else msg_type.__msgtype__
@@ -537,12 +549,14 @@ class WireSubscription:
             explicit_qos=owner.options.explicit_qos,
         )
         session = owner.session
+        origin = zenoh.Locality.REMOTE if remote_only else zenoh.Locality.ANY
         try:
             if qos.transient_local:
                 self._sub: Any = zext.declare_advanced_subscriber(
                     session,
                     self._match_key,
                     self._on_sample,
+                    allowed_origin=origin,
                     history=zext.HistoryConfig(
                         detect_late_publishers=True, max_samples=max(1, qos.depth)
                     ),
@@ -556,7 +570,8 @@ class WireSubscription:
             else:
                 # A channel drained by our own thread rather than a callback: see _drain().
                 self._sub = session.declare_subscriber(
-                    self._match_key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY)
+                    self._match_key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY),
+                    allowed_origin=origin,
                 )
                 threading.Thread(
                     target=self._drain, name=f"posekit-zenoh {topic}", daemon=True
@@ -578,7 +593,10 @@ class WireSubscription:
                 return
             while sample is not None:
                 on_sample(sample)
-                sample = try_recv()
+                try:
+                    sample = try_recv()
+                except Exception:  # closed while draining
+                    return
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
