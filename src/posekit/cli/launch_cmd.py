@@ -205,6 +205,7 @@ def _main(argv: list[str]) -> int:
     ):
         return _launch_file(ns, words[0], params, transport, network)
 
+    import posekit.demos.scenarios  # noqa: F401 - registers every scenario
     from posekit.demos.lecture import resolve_launch
     from posekit.robot.scenarios import ScenarioError
 
