@@ -11,7 +11,7 @@ from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.transport import ENV_TRANSPORT
 
-__all__ = ["ToolSession", "tool_transport"]
+__all__ = ["ToolSession", "empty_graph_hint", "tool_transport"]
 
 
 def tool_transport(explicit: str | None = None) -> str:
@@ -21,6 +21,19 @@ def tool_transport(explicit: str | None = None) -> str:
     is the distributed transport.
     """
     return explicit or os.environ.get(ENV_TRANSPORT, "").strip() or "zenoh"
+
+
+def empty_graph_hint(what: str, transport: Any) -> str:
+    """The one line a tool prints when it finds no ``what`` (topics, nodes) on the graph."""
+    where = f"the {getattr(transport, 'name', 'selected')} transport"
+    session = getattr(transport, "session", None)
+    if session is not None and hasattr(session, "domain_id"):
+        endpoint = getattr(getattr(session, "options", None), "router_endpoint", "?")
+        where = (f"zenoh domain {session.domain_id} via router {endpoint}"
+                 f"{' (hosted by this tool: no router was running)' if session.hosts_router else ''}")
+    return (f"no {what} found on {where}; check that a launch or node is running (posekit "
+            "launch NAME, not --isolated) with the same ROS_DOMAIN_ID, POSEKIT_ZENOH_ROUTER "
+            "and POSEKIT_TRANSPORT\n")
 
 
 class ToolSession:

@@ -189,7 +189,7 @@ def _main(argv: list[str]) -> int:
         from posekit.demos.scenarios import get_scenario, scenario_names
 
         for name in scenario_names():
-            sys.stdout.write(f"{name:<36}{get_scenario(name).description}\n")
+            sys.stdout.write(f"{name:<38}{get_scenario(name).description}\n")
         return 0
     ns = _parser().parse_intermixed_args(argv)
     words = [w for w in ns.words if ":=" not in w or w.startswith("/") or w.endswith(".py")]

@@ -109,11 +109,10 @@ _WORLDS = {
 }
 for _name, _world_name in _WORLDS.items():
     _what = "with all its sensors" if _vision() is not None else "(no cameras: needs OpenCV)"
-    _alias = WORLD_ALIASES.get(_name)
     register_scenario(
         _name, _world(_world_name, _name), replace=True,
         description=(f"world only: the ROSbot {_what} in {_world_name}"
-                     + (f" ({_alias[1].split(':')[0]})" if _alias else "")),
+                     + (" (no office model)" if _name == "husarion_world" else "")),
     )
 
 
