@@ -145,7 +145,8 @@ def test_graph_listings_are_complete_in_100_of_100_runs(group: ProcGroup) -> Non
 def test_empty_graph_prints_one_hint_line(group: ProcGroup) -> None:
     # Nothing runs on this endpoint: the listing is empty and says what to check.
     topics, nodes, err = list_once()
-    assert topics == set() and nodes == set()
+    assert topics == set()
+    assert nodes == set()
     lines = err.splitlines()
     assert len(lines) == 2, err  # one per tool
     assert all(group.endpoint in line and "ROS_DOMAIN_ID" in line for line in lines), err
@@ -173,5 +174,6 @@ def test_p_controller_demo_reaches_its_goal_against_a_world_in_another_process(
     # One clock in the system: the world's.
     info = group.posekit("topic", "info", "/clock").finish(30, "topic info /clock")
     assert re.search(r"Publisher count: 1\b", info), info
-    assert world.popen.poll() is None and demo.popen.poll() is None
+    assert world.popen.poll() is None, world.describe()
+    assert demo.popen.poll() is None, demo.describe()
     assert not any("Rejected cmd_vel" in line for line in world.err), world.describe()

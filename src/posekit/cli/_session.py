@@ -29,8 +29,8 @@ def empty_graph_hint(what: str, transport: Any) -> str:
     session = getattr(transport, "session", None)
     if session is not None and hasattr(session, "domain_id"):
         endpoint = getattr(getattr(session, "options", None), "router_endpoint", "?")
-        where = (f"zenoh domain {session.domain_id} via router {endpoint}"
-                 f"{' (hosted by this tool: no router was running)' if session.hosts_router else ''}")
+        hosted = " (hosted by this tool: no router was running)" if session.hosts_router else ""
+        where = f"zenoh domain {session.domain_id} via router {endpoint}{hosted}"
     return (f"no {what} found on {where}; check that a launch or node is running (posekit "
             "launch NAME, not --isolated) with the same ROS_DOMAIN_ID, POSEKIT_ZENOH_ROUTER "
             "and POSEKIT_TRANSPORT\n")
