@@ -260,3 +260,23 @@ def test_an_owned_topic_is_never_taken_from_other_processes(
     ex_here.spin_some(0.5)
     assert got == [f"own{i}" for i in range(5)]
     assert stray.get_subscription_count() == 0  # nobody here subscribes to it remotely
+
+
+@pytest.mark.slow
+def test_a_mirrored_scenario_runs_exactly_as_the_isolated_one(router: str) -> None:
+    """Oracle: the isolated run of the same scenario and seed, message for message."""
+    import numpy as np
+
+    from posekit.robot.scenarios import run_scenario
+
+    runs = [run_scenario("p_controller", {}, seed=2, until_sim_time=8.0, transport=t,
+                         publish_clock=t != "inprocess")
+            for t in ("inprocess", "inprocess+zenoh")]
+    isolated, mirrored = (r.recording for r in runs)
+    assert isolated is not None
+    assert mirrored is not None
+    assert set(isolated.series) == set(mirrored.series)
+    assert {"ground_truth", "filtered"} <= set(isolated.series), set(isolated.series)
+    for name, rows in isolated.series.items():
+        assert len(rows) > 100, name
+        np.testing.assert_array_equal(rows, mirrored.series[name], err_msg=name)
