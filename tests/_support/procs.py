@@ -88,6 +88,20 @@ class Proc:
                 self.popen.wait(5)
 
 
+#: Environment variables that would point a test's Zenoh sessions somewhere else.
+ZENOH_ENV_PREFIXES = ("ZENOH_", "ROS_DOMAIN", "POSEKIT_")
+
+
+def use_zenoh_endpoint(monkeypatch: Any, endpoint: str) -> None:
+    """Point this test process's Zenoh sessions at ``endpoint`` only (pytest monkeypatch)."""
+    import os
+
+    for name in list(os.environ):
+        if name.startswith(ZENOH_ENV_PREFIXES):
+            monkeypatch.delenv(name)
+    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", endpoint)
+
+
 class ProcGroup:
     """Processes sharing one Zenoh router endpoint (``POSEKIT_ZENOH_ROUTER``) and a clean
     environment (no inherited ZENOH_/ROS_DOMAIN/POSEKIT_ variables); ``close()`` kills them
@@ -99,8 +113,7 @@ class ProcGroup:
         self.endpoint = endpoint
         self.cwd = cwd
         self.procs: list[Proc] = []
-        self.env = {k: v for k, v in os.environ.items()
-                    if not k.startswith(("ZENOH_", "ROS_DOMAIN", "POSEKIT_"))}
+        self.env = {k: v for k, v in os.environ.items() if not k.startswith(ZENOH_ENV_PREFIXES)}
         self.env.update(POSEKIT_ZENOH_ROUTER=endpoint, PYTHONUNBUFFERED="1")
 
     def start(self, args: list[str], env: dict[str, str] | None = None) -> Proc:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
 import shutil
 import signal
@@ -27,44 +26,27 @@ import yaml
 from scipy.spatial.transform import Rotation
 
 from _support.ports import free_port
-from _support.procs import Proc
+from _support.procs import Proc, ProcGroup
 from posekit.msgs.registry import MESSAGE_CLASSES
 
 REPO = Path(__file__).resolve().parents[2]
 
 
-class World:
+class World(ProcGroup):
     """Starts processes that share one router endpoint and kills them all at the end."""
 
     def __init__(self, endpoint: str, tmp: Path) -> None:
-        self.endpoint = endpoint
+        super().__init__(endpoint, tmp)
         self.tmp = tmp
-        self.procs: list[Proc] = []
-        self.env = {k: v for k, v in os.environ.items()
-                    if not k.startswith(("ZENOH_", "ROS_DOMAIN", "POSEKIT_"))}
-        self.env.update(POSEKIT_ZENOH_ROUTER=endpoint, PYTHONUNBUFFERED="1")
 
     def cli(self, *args: str) -> Proc:
-        return self._start([sys.executable, "-m", "posekit.cli.main", *args])
+        return self.posekit(*args)
 
     def script(self, source: str, *args: str, transport_env: bool = True) -> Proc:
         env = dict(self.env)
         if transport_env:
             env["POSEKIT_TRANSPORT"] = "zenoh"
-        return self._start([sys.executable, "-c", textwrap.dedent(source), *args], env)
-
-    def _start(self, args: list[str], env: dict[str, str] | None = None) -> Proc:
-        proc = Proc(args, env or self.env, cwd=self.tmp)
-        self.procs.append(proc)
-        return proc
-
-    def close(self) -> None:
-        for proc in reversed(self.procs):
-            proc.kill()
-        for proc in self.procs:
-            for stream in (proc.popen.stdout, proc.popen.stderr):
-                if stream is not None:
-                    stream.close()
+        return self.start([sys.executable, "-c", textwrap.dedent(source), *args], env)
 
 
 @pytest.fixture

@@ -16,12 +16,9 @@ from __future__ import annotations
 import signal
 import threading
 import time
-from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 
-from _support.ports import free_port
 from _support.procs import Proc, ProcGroup
 
 pytestmark = pytest.mark.slow
@@ -29,19 +26,6 @@ pytestmark = pytest.mark.slow
 IMAGE = "/overhead_camera/image_raw"
 STRESS_S = 20.0
 WINDOW_S = 5.0
-
-
-@pytest.fixture
-def group(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[ProcGroup]:
-    g = ProcGroup(f"tcp/127.0.0.1:{free_port()}", tmp_path)
-    for name in ("POSEKIT_TRANSPORT", "ROS_DOMAIN_ID", "ZENOH_SESSION_CONFIG_URI",
-                 "ZENOH_CONFIG_OVERRIDE"):
-        monkeypatch.delenv(name, raising=False)
-    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", g.endpoint)
-    try:
-        yield g
-    finally:
-        g.close()
 
 
 class ClockWatch:

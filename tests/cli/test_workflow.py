@@ -20,29 +20,13 @@ import math
 import re
 import socket
 import time
-from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 import yaml
 
-from _support.ports import free_port
 from _support.procs import ProcGroup
 
 pytestmark = pytest.mark.slow
-
-
-@pytest.fixture
-def group(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[ProcGroup]:
-    g = ProcGroup(f"tcp/127.0.0.1:{free_port()}", tmp_path)
-    for name in ("POSEKIT_TRANSPORT", "ROS_DOMAIN_ID", "ZENOH_SESSION_CONFIG_URI",
-                 "ZENOH_CONFIG_OVERRIDE"):
-        monkeypatch.delenv(name, raising=False)
-    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", g.endpoint)
-    try:
-        yield g
-    finally:
-        g.close()
 
 
 def expected_graph(scenario: str) -> tuple[set[str], set[str]]:

@@ -18,6 +18,7 @@ from typing import Any
 import pytest
 
 from _support.ports import free_port
+from _support.procs import use_zenoh_endpoint
 from posekit.msgs.std_msgs import String
 from posekit.runtime.bus import InProcessBus
 from posekit.runtime.context import Context
@@ -157,10 +158,7 @@ def test_a_stuck_network_never_blocks_the_publisher_and_keeps_the_newest() -> No
 @pytest.fixture
 def router(monkeypatch: pytest.MonkeyPatch) -> str:
     endpoint = f"tcp/127.0.0.1:{free_port()}"
-    for name in ("POSEKIT_TRANSPORT", "ROS_DOMAIN_ID", "ZENOH_SESSION_CONFIG_URI",
-                 "ZENOH_CONFIG_OVERRIDE"):
-        monkeypatch.delenv(name, raising=False)
-    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", endpoint)
+    use_zenoh_endpoint(monkeypatch, endpoint)
     return endpoint
 
 

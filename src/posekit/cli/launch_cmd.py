@@ -267,15 +267,25 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
 def _follow(ns: argparse.Namespace, name: str, params: dict[str, Any], seed: int,
             transport: str) -> int:
     """A demo against a running world: its nodes follow that world's /clock."""
-    from posekit.launch.runner import run_until
     from posekit.robot.scenarios import start_scenario
 
     run = start_scenario(name, params, seed, record=False, transport=transport)
+    _run_started(ns, run, before=_wait_for_clock)
+    return 0
+
+
+def _run_started(ns: argparse.Namespace, run: Any,
+                 before: Callable[[Any], None] | None = None) -> None:
+    """Attach the option hooks (recorder, image saver, viewer) to a started launch, run it
+    until ``--until-sim-time`` (or Ctrl-C) and shut everything down."""
+    from posekit.launch.runner import run_until
+
     servers: list[Any] = []
     try:
         for hook in _hooks(ns, servers):
             hook(run)
-        _wait_for_clock(run)
+        if before is not None:
+            before(run)
         run_until(run, ns.until_sim_time, sim_time=True)
     except KeyboardInterrupt:
         pass
@@ -283,7 +293,6 @@ def _follow(ns: argparse.Namespace, name: str, params: dict[str, Any], seed: int
         for server in servers:
             server.stop()
         run.shutdown()
-    return 0
 
 
 CLOCK_HINT_AFTER_S = 5.0
@@ -315,7 +324,6 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
         start,
     )
     from posekit.launch import Node as LaunchNode
-    from posekit.launch.runner import run_until
 
     try:
         description = load_launch_file(path)
@@ -336,7 +344,6 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
         from posekit.robot.nodes import OdometryRecorder
 
         description.add_action(LaunchNode(OdometryRecorder, name="odometry_recorder"))
-    servers: list[Any] = []
     try:
         run = start(description, sim_time=True,
                     real_time_factor=1.0 if ns.realtime or ns.viewer else None,
@@ -345,18 +352,9 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
     except LaunchDescriptionError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
         return 2
-    try:
-        for hook in _hooks(ns, servers):
-            hook(run)
-        if ns.plot:
-            recorder_node = run.node("odometry_recorder")
-        run_until(run, ns.until_sim_time, sim_time=True)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        for server in servers:
-            server.stop()
-        run.shutdown()
+    if ns.plot:
+        recorder_node = run.node("odometry_recorder")
+    _run_started(ns, run)
     if recorder_node is not None:
         from posekit.robot.plot import plot_odometry
 
