@@ -30,7 +30,7 @@ def _installed(module: str) -> bool:
 
 def missing_extra(extra: str) -> list[str]:
     """The modules of ``extra`` that are not installed (empty: the extra is complete)."""
-    return [m for m in EXTRA_MODULES[extra] if not _installed(m)]
+    return [m for m in EXTRA_MODULES.get(extra, ()) if not _installed(m)]
 
 
 def require(command: str, needs: Iterable[tuple[str, str]]) -> str | None:

@@ -25,7 +25,7 @@ def include_scenario(name: str, params: Mapping[str, Any] | None = None,
     return get_scenario(name).factory(dict(params or {}), int(seed)).nodes
 
 # Each module registers its scenarios when imported; vision is optional (needs OpenCV).
-for _module in ("posekit.vision.scenarios",):
+for _module in ("posekit.vision.scenarios", "posekit.demos.lecture"):
     try:
         importlib.import_module(_module)
     except ModuleNotFoundError as _exc:
