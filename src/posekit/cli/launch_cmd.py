@@ -85,6 +85,18 @@ def main(argv: Sequence[str]) -> int:
             sys.stdout.write(f"{name:<28}{get_scenario(name).description}\n")
         return 0
     ns = _parser().parse_args(argv)
+    from posekit.cli._extras import require
+
+    problem = require("posekit launch", [
+        (flag, extra) for flag, extra, given in (
+            ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
+            ("--zenoh", "zenoh", ns.zenoh), ("--record", "bag", ns.record),
+            ("--save-images", "vision", ns.save_images),
+        ) if given
+    ])
+    if problem:  # before anything runs, not after a whole simulation
+        sys.stderr.write(problem + "\n")
+        return 2
     if ns.zenoh:
         os.environ["POSEKIT_TRANSPORT"] = "zenoh"
     params = dict(ns.assignments + ns.param)
@@ -110,6 +122,7 @@ def main(argv: Sequence[str]) -> int:
         result = run_scenario(
             ns.target, params, seed=ns.seed, until_sim_time=ns.until_sim_time,
             realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
+            record=ns.plot is not None,  # odometry is kept in memory only for the plot
         )
     except ScenarioError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
@@ -121,8 +134,8 @@ def main(argv: Sequence[str]) -> int:
              f"wall ({result.speedup:.0f}x real time), seed {result.seed}"]
     if result.goal_reached_time is not None:
         lines.append(f"goal reached at t = {result.goal_reached_time:.2f} s")
-    if result.rejected_commands:
-        lines.append(f"{len(result.rejected_commands)} cmd_vel messages rejected")
+    if result.rejected_count:
+        lines.append(f"{result.rejected_count} cmd_vel messages rejected")
     if result.plot_path is not None:
         lines.append(f"odometry plot: {result.plot_path}")
     if ns.record:

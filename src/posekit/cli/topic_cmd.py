@@ -400,21 +400,9 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str,
 
 def message_class(type_name: str) -> type:
     """posekit's class for a ROS type, else the rosbags class (any ROS 2 Jazzy type)."""
-    from posekit.msgs.errors import UnknownMessageTypeError
-    from posekit.msgs.registry import get_message_class, normalize_type_name
+    from posekit.msgs.registry import find_message_class
 
-    try:
-        return get_message_class(type_name)
-    except UnknownMessageTypeError:
-        full = normalize_type_name(type_name)
-    try:
-        from posekit.msgs.cdr import get_typestore
-
-        return typing.cast(type, get_typestore().types[full])
-    except (ImportError, KeyError):
-        raise UnknownMessageTypeError(
-            f"The passed message type '{type_name}' is invalid (no definition known)"
-        ) from None
+    return find_message_class(type_name)
 
 
 # ---------------------------------------------------------------------------------------
@@ -813,8 +801,8 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
     add_sim_time_args(parser)
     ns = parser.parse_args(list(argv))
     times = 1 if ns.once else ns.times
-    if ns.rate <= 0:
-        err.write("rate must be positive\n")
+    if not ns.rate > 0 or ns.rate == math.inf:  # NaN fails the first test
+        err.write(f"rate must be a positive finite number of Hz, got {ns.rate}\n")
         return 2
     try:
         msg_cls = message_class(ns.message_type)

@@ -3,12 +3,15 @@
     posekit view [--host 127.0.0.1] [--port 8765] [--zenoh] [--world NAME]
                  [--fixed-frame odom] [--tf-rate 30] [--scenario NAME [--seed N]]
                  [--foxglove [--foxglove-port 8766]]
+                 [--allow-host NAME]... [--allow-origin ORIGIN]...
 
 Alone (or with ``--zenoh``) it views other processes over the Zenoh transport.
 ``--scenario NAME`` runs a named scenario in this process, paced to the wall clock, and views
 it. :func:`attach_to_run` is what ``posekit launch SCENARIO --viewer`` calls.
 ``--foxglove`` also serves the same system to the Foxglove app over its WebSocket protocol
 (optional package foxglove-sdk; :mod:`posekit.viewer.foxglove_bridge`), on the same host.
+The page answers only requests addressed to this machine (``Host``) and WebSockets from its
+own pages (``Origin``); ``--allow-host``/``--allow-origin`` widen that (see docs/security.md).
 """
 
 from __future__ import annotations
@@ -99,6 +102,12 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--fixed-frame", default="odom", help="default Fixed Frame (odom)")
     parser.add_argument("--tf-rate", type=float, default=30.0,
                         help="TF updates per second sent to the page (max 100)")
+    parser.add_argument("--allow-host", action="append", default=[], metavar="NAME",
+                        help="also accept this HTTP Host header (name or name:port; '*': any); "
+                             "by default only localhost, 127.0.0.1, [::1] and --host")
+    parser.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                        help="also accept WebSocket connections from pages of this origin "
+                             "(e.g. http://myhost:8765; '*': any)")
     parser.add_argument("--open", action="store_true", help="open the page in a browser")
     parser.add_argument("--foxglove", action="store_true",
                         help="also serve the Foxglove app over its WebSocket protocol "
@@ -111,6 +120,17 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``posekit view``; returns the exit code."""
     ns = _parser().parse_args(argv)
+    from posekit.cli._extras import require
+
+    needs = [("posekit view", "viewer")]
+    if ns.foxglove:
+        needs.append(("--foxglove", "foxglove"))
+    if not ns.scenario:
+        needs.append(("viewing other processes", "zenoh"))
+    problem = require("posekit view", needs)
+    if problem:
+        print(problem, file=sys.stderr)
+        return 2
     from posekit.viewer.errors import ViewerError
 
     if not 0 <= ns.port <= 65535:
@@ -124,7 +144,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("posekit view: --scenario runs in this process; it cannot be combined with "
               "--zenoh", file=sys.stderr)
         return 2
-    options: dict[str, Any] = {"fixed_frame": ns.fixed_frame, "tf_rate": ns.tf_rate}
+    options: dict[str, Any] = {"fixed_frame": ns.fixed_frame, "tf_rate": ns.tf_rate,
+                               "allow_hosts": ns.allow_host, "allow_origins": ns.allow_origin}
     try:
         if ns.scenario:
             return _view_scenario(ns, options)

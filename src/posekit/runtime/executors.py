@@ -32,6 +32,7 @@ or other callbacks. ``KeyboardInterrupt``/``SystemExit`` still propagate.
 
 from __future__ import annotations
 
+import functools
 import heapq
 import inspect
 import os
@@ -40,7 +41,7 @@ import time
 import traceback
 from collections import deque
 from collections.abc import Callable, Coroutine
-from typing import Any
+from typing import Any, TypeVar, cast
 
 from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
 from posekit.runtime.callback_groups import CallbackGroup
@@ -50,6 +51,7 @@ from posekit.runtime.entities import Subscription, Timer
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
 from posekit.runtime.qos import QoSProfile
+from posekit.runtime.services import set_current_executor
 from posekit.runtime.task import Future, Task
 from posekit.runtime.time_source import TimeSource
 from posekit.time import ClockType, Duration, Time
@@ -73,6 +75,23 @@ __all__ = [
 _TIMER = 0
 _MESSAGE = 1
 _TASK = 2
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _runs_callbacks(method: _F) -> _F:
+    """Mark the calling thread as running this executor's callbacks for the call's
+    duration (what ``Client.call`` checks to serve a request instead of deadlocking)."""
+
+    @functools.wraps(method)
+    def wrapper(self: Executor, *args: Any, **kwargs: Any) -> Any:
+        previous = set_current_executor(self)
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            set_current_executor(previous)
+
+    return cast(_F, wrapper)
 
 
 class _WakeSignal:
@@ -153,7 +172,7 @@ class Executor:
             self._nodes.append(node)
             node._executor = self
             pending = sorted(
-                ((seq, sub) for sub in node._subscriptions for seq, _ in list(sub.queue)),
+                ((seq, sub) for sub in node._queued_entities() for seq, _ in list(sub.queue)),
                 key=lambda item: item[0],
             )
             self._fifo.extend(pending)
@@ -326,7 +345,8 @@ class Executor:
     @staticmethod
     def _describe(kind: int, entity: Any) -> str:
         if kind == _MESSAGE:
-            return f"subscription callback on '{entity.topic_name}'"
+            what = getattr(entity, "callback_description", None)
+            return what or f"subscription callback on '{entity.topic_name}'"
         return "timer callback"
 
     def _report(self, node: Node, what: str, tb: str) -> None:
@@ -351,7 +371,12 @@ class Executor:
                 best = remaining
         return None if best is None else max(0.0, best / 1e9)
 
-    def _wait_for_work(self, timeout_sec: float | None) -> tuple[int, Any, Any] | None:
+    def _wait_for_work(
+        self, timeout_sec: float | None, condition: Callable[[], bool] | None = None
+    ) -> tuple[int, Any, Any] | None:
+        """The next ready callback, waiting up to ``timeout_sec`` (None: forever); None on
+        timeout, shutdown, or once ``condition()`` is true (rclpy's wait condition: whoever
+        makes it true must call :meth:`wake`, e.g. a future's done-callback)."""
         deadline = None
         if timeout_sec is not None and timeout_sec >= 0:
             deadline = time.monotonic() + timeout_sec
@@ -366,6 +391,8 @@ class Executor:
                 # appended after the look sees _waiting and sets the event.
                 self._waiting = True
                 self._wake_event.clear()
+                if condition is not None and condition():
+                    return None
                 work = self._take_ready()
                 if work is not None:
                     return work
@@ -380,6 +407,24 @@ class Executor:
         finally:
             self._waiting = self._always_wake
 
+    def _serve_until(self, future: Future, timeout_sec: float | None) -> None:
+        """Run ready callbacks (never moving simulated time) until ``future`` is done or
+        ``timeout_sec`` wall seconds passed: a blocking call made inside a callback."""
+        end = None if timeout_sec is None or timeout_sec < 0 else time.monotonic() + timeout_sec
+        while not future.done() and self._context.ok():
+            work = self._take_ready()
+            if work is not None:
+                self._execute(work)
+                continue
+            wait = 0.01
+            if end is not None:
+                remaining = end - time.monotonic()
+                if remaining <= 0:
+                    return
+                wait = min(wait, remaining)
+            future.wait(wait)
+
+    @_runs_callbacks
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""
         work = self._wait_for_work(timeout_sec)
@@ -391,6 +436,7 @@ class Executor:
         while self._context.ok() and not self._is_shutdown:
             self.spin_once()
 
+    @_runs_callbacks
     def spin_some(self, max_duration: float = 0.0) -> None:
         """Run what is ready now (and for up to ``max_duration`` s more), then return."""
         end = time.monotonic() + max_duration
@@ -407,19 +453,27 @@ class Executor:
             if work[0] == _MESSAGE:
                 self._drain_messages(64)
 
+    def _spin_once_until(self, timeout_sec: float | None, future: Future) -> None:
+        """spin_once that also returns when ``future`` completes (in any thread)."""
+        work = self._wait_for_work(timeout_sec, future.done)
+        if work is not None:
+            self._execute(work)
+
+    @_runs_callbacks
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
-        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed."""
+        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed. A future
+        completed by another thread ends the wait at once (its done-callback wakes us)."""
         future.add_done_callback(lambda _f: self.wake())
         if timeout_sec is None or timeout_sec < 0:
             while self._context.ok() and not self._is_shutdown and not future.done():
-                self.spin_once()
+                self._spin_once_until(None, future)
             return
         end = time.monotonic() + timeout_sec
-        while self._context.ok() and not future.done():
+        while self._context.ok() and not self._is_shutdown and not future.done():
             remaining = end - time.monotonic()
             if remaining <= 0:
                 return
-            self.spin_once(remaining)
+            self._spin_once_until(remaining, future)
 
     def spin_once_until_future_complete(
         self, future: Future, timeout_sec: float | None = None
@@ -427,7 +481,7 @@ class Executor:
         """spin_once, returning early if ``future`` completes."""
         future.add_done_callback(lambda _f: self.wake())
         if not future.done():
-            self.spin_once(timeout_sec)
+            self._spin_once_until(timeout_sec, future)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
         """Stop spinning and drop the nodes."""
@@ -459,6 +513,7 @@ class MultiThreadedExecutor(Executor):
         """How many workers spin() starts."""
         return self._num_threads
 
+    @_runs_callbacks
     def _worker(self) -> None:
         while self._context.ok() and not self._is_shutdown:
             work = self._wait_for_work(0.05)
@@ -873,6 +928,7 @@ class SimulatedTimeExecutor(Executor):
         self.callbacks_run += count
         return count
 
+    @_runs_callbacks
     def run_until(self, t: float | Time) -> int:
         """Advance simulated time to ``t`` (seconds or Time), running every callback due on
         the way in time order; returns the number of callbacks run."""
@@ -897,6 +953,7 @@ class SimulatedTimeExecutor(Executor):
         """run_until(now + seconds)."""
         return self.run_until(Time(nanoseconds=self._now_ns + _to_ns(seconds)))
 
+    @_runs_callbacks
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Run one ready callback; if none, jump to the next timer and run one there. With no
         timers at all, wait up to ``timeout_sec`` wall seconds for an outside message."""
@@ -912,6 +969,7 @@ class SimulatedTimeExecutor(Executor):
             self._execute(work)
             self.callbacks_run += 1
 
+    @_runs_callbacks
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
         """Step until ``future`` is done; ``timeout_sec`` counts *simulated* seconds."""
         future.add_done_callback(lambda _f: self.wake())
@@ -920,7 +978,14 @@ class SimulatedTimeExecutor(Executor):
             if not self._run_ready():
                 nxt = self._next_timer_ns()
                 if nxt is None:
-                    self._wait_for_work(0.01)
+                    # Nothing moves sim time: wait for outside work, the future itself, or
+                    # a new timer (a timer change marks the schedule dirty and wakes us).
+                    work = self._wait_for_work(
+                        None, lambda: future.done() or self._schedule_dirty
+                    )
+                    if work is not None:
+                        self._execute(work)
+                        self.callbacks_run += 1
                     continue
                 if end is not None and nxt > end:
                     self._advance(max(end, self._now_ns))
