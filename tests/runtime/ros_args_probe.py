@@ -1,7 +1,7 @@
 """Prints, one JSON line per case, what rclpy makes of command-line ROS arguments.
 
-Run by tests/runtime/test_arguments.py twice: under the real ROS 2 Jazzy rclpy and, with
-``PROBE_SIDE=posekit``, under posekit.rclpy; the test compares the two outputs.
+Run by tests/runtime/test_arguments.py twice (tests/_support/differential.py): under the real
+ROS 2 Jazzy rclpy and under posekit.rclpy; the test compares the two outputs.
 """
 
 import json
@@ -9,17 +9,11 @@ import os
 import sys
 import tempfile
 
-if os.environ.get("PROBE_SIDE") == "posekit":
-    from posekit import rclpy
-    from posekit.rclpy.logging import get_logger
-    from posekit.rclpy.node import Node
-    from posekit.rclpy.utilities import remove_ros_args
-else:
-    from rclpy.logging import get_logger
-    from rclpy.node import Node
-    from rclpy.utilities import remove_ros_args
+from rclpy.logging import get_logger
+from rclpy.node import Node
+from rclpy.utilities import remove_ros_args
 
-    import rclpy
+import rclpy
 
 
 def val(v):
@@ -185,7 +179,8 @@ run(
 run("no-section", ["prog", "-p", "a:=1"])
 run("params-missing", ["prog", "--ros-args", "--params-file", "/nonexistent/params.yaml"])
 run("trail-params", ["prog", "--ros-args", "--params-file"])
-d = os.environ.get("PROBE_DIR") or tempfile.mkdtemp()
+d = tempfile.mkdtemp()
+print(json.dumps({"case": "tmpdir", "dir": d}), flush=True)
 
 
 def yfile(name, text):
