@@ -35,6 +35,7 @@ def node_view(node):
         "ns": node.get_namespace(),
         "params": ps,
         "chatter": node.resolve_topic_name("chatter"),
+        "srv": node.resolve_service_name("chatter"),
         "abs": node.resolve_topic_name("/abs/topic"),
         "priv": node.resolve_topic_name("~/priv"),
     }
@@ -153,6 +154,8 @@ run("remap-ns-rel", ["prog", "--ros-args", "-r", "__ns:=rel"])
 run("remap-bad-node", ["prog", "--ros-args", "-r", "__node:=1bad"])
 run("remap-bad-topic", ["prog", "--ros-args", "-r", "chatter:=bad name"])
 run("remap-rostopic", ["prog", "--ros-args", "-r", "rostopic://chatter:=x"])
+run("remap-rosservice", ["prog", "--ros-args", "-r", "rosservice://chatter:=svc"])
+run("remap-node-rostopic", ["prog", "--ros-args", "-r", "talker:rostopic://chatter:=t"])
 run("enclave", ["prog", "--ros-args", "-e", "/foo", "--enclave", "/bar"])
 run(
     "misc-flags",

@@ -10,7 +10,8 @@ flag                                   meaning
                                        as rcl types it (see :func:`parse_parameter_value`)
 ``--params-file FILE``                 ROS 2 parameter YAML (``/**:``, ``node:``,
                                        ``/ns/node:``, wildcards, ``ros__parameters``)
-``-r/--remap [node:]from:=to``         topic/service remapping; ``__node:=`` /
+``-r/--remap [node:]from:=to``         topic and service remapping (``rostopic://``
+                                       / ``rosservice://`` for one kind); ``__node:=`` /
                                        ``__name:=`` rename the node, ``__ns:=`` moves it
 ``--log-level LEVEL``                  default logger level; ``name:=LEVEL`` one logger
 ``-e/--enclave NAME``                  accepted (posekit has no security enclaves)
@@ -298,9 +299,10 @@ def _parse_remap(spec: str) -> RemapRule:
     match = re.fullmatch(r"([A-Za-z_][A-Za-z0-9_]*):(?!//)(.+)", lhs)
     if match and not lhs.startswith(("rostopic://", "rosservice://")):
         node, lhs = match.group(1), match.group(2)
+    kind: str | None = None
     for scheme in ("rostopic://", "rosservice://"):
         if lhs.startswith(scheme):
-            lhs = lhs[len(scheme):]
+            lhs, kind = lhs[len(scheme):], scheme[3:-3]
     try:
         if lhs in ("__node", "__name"):
             validate_node_name(rhs)
@@ -311,7 +313,7 @@ def _parse_remap(spec: str) -> RemapRule:
             validate_topic_name(rhs)
     except NameValidationError as exc:
         raise RCLError(exc.reason) from None
-    return RemapRule(lhs, rhs, node)
+    return RemapRule(lhs, rhs, node, kind)
 
 
 def _parse_param(spec: str, out: RosArguments) -> None:
