@@ -7,7 +7,8 @@ between ``--ros-args`` and ``--`` (or the end; a later ``--ros-args`` opens anot
 flag                                   meaning
 =====================================  ====================================================
 ``-p/--param [node:]name:=value``      parameter override; ``value`` is a YAML value typed
-                                       as rcl types it (see :func:`parse_parameter_value`)
+                                       as rcl types it (see :func:`parse_parameter_value`);
+                                       ``node`` is a plain name (root namespace only)
 ``--params-file FILE``                 ROS 2 parameter YAML (``/**:``, ``node:``,
                                        ``/ns/node:``, wildcards, ``ros__parameters``)
 ``-r/--remap [node:]from:=to``         topic and service remapping (``rostopic://``
@@ -323,7 +324,14 @@ def _parse_param(spec: str, out: RosArguments) -> None:
     node = "/**"
     if ":" in lhs:
         node_name, lhs = lhs.split(":", 1)
-        node = "/" + node_name.strip("/")
+        if "*" in node_name:
+            raise RCLError(f"wildcards are not implemented in '{node_name}:' (use a "
+                           "parameter file for them)")
+        try:
+            validate_node_name(node_name)
+        except NameValidationError as exc:
+            raise RCLError(f"'{node_name}' before ':' must be a node name: {exc.reason}") from None
+        node = "/" + node_name  # as rcl: matches that name in the root namespace only
     if not lhs:
         raise RCLError("expected a parameter name before :=")
     out._add_parameter(node, lhs, parse_parameter_value(value))
