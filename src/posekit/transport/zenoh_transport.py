@@ -264,32 +264,38 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
-        def deliver(endpoint: _Subscription, msg: Any, _att: Attachment) -> None:
-            if endpoint.alive:
-                sink(msg)
+        def deliverer(endpoint: _Subscription) -> Callable[[Any, Attachment], None]:
+            def deliver(msg: Any, _att: Attachment) -> None:
+                if endpoint.alive:
+                    sink(msg)
 
-        return self._subscribe(info, deliver)
+            return deliver
+
+        return self._subscribe(info, deliverer)
 
     def subscribe_with_source(
         self, info: EndpointInfo, sink: SourcedMessageSink
     ) -> SubscriptionEndpoint:
         """:meth:`subscribe` whose sink also gets the sending publisher's GID (16 bytes)."""
 
-        def deliver(endpoint: _Subscription, msg: Any, att: Attachment) -> None:
-            if endpoint.alive:
-                sink(msg, att.gid)
+        def deliverer(endpoint: _Subscription) -> Callable[[Any, Attachment], None]:
+            def deliver(msg: Any, att: Attachment) -> None:
+                if endpoint.alive:
+                    sink(msg, att.gid)
 
-        return self._subscribe(info, deliver)
+            return deliver
+
+        return self._subscribe(info, deliverer)
 
     def _subscribe(
-        self, info: EndpointInfo, deliver_to: Callable[[_Subscription, Any, Attachment], None]
+        self,
+        info: EndpointInfo,
+        deliverer: Callable[[_Subscription], Callable[[Any, Attachment], None]],
     ) -> SubscriptionEndpoint:
         _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Subscription(self, info)
-
-        def deliver(msg: Any, att: Attachment) -> None:
-            deliver_to(endpoint, msg, att)
+        deliver = deliverer(endpoint)
 
         qos = wire_qos(info.qos)
         self._check_qos(info, qos, EntityKind.SUBSCRIPTION)
