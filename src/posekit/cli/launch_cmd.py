@@ -86,13 +86,16 @@ def main(argv: Sequence[str]) -> int:
         return 0
     ns = _parser().parse_args(argv)
     from posekit.cli._extras import require
+    from posekit.demos.scenarios import SCENARIO_EXTRAS
 
+    scenario_extra = SCENARIO_EXTRAS.get(ns.target)
     problem = require("posekit launch", [
-        (flag, extra) for flag, extra, given in (
+        *([(f"scenario {ns.target}", scenario_extra)] if scenario_extra else []),
+        *((flag, extra) for flag, extra, given in (
             ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
             ("--zenoh", "zenoh", ns.zenoh), ("--record", "bag", ns.record),
             ("--save-images", "vision", ns.save_images),
-        ) if given
+        ) if given),
     ])
     if problem:  # before anything runs, not after a whole simulation
         sys.stderr.write(problem + "\n")
