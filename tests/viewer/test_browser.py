@@ -17,6 +17,8 @@ from typing import Any
 import numpy as np
 import pytest
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 cv2 = pytest.importorskip("cv2")
 
 BACKGROUND = np.array([58, 48, 48])  # the scene's clear colour 0x30303a as BGR

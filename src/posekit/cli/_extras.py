@@ -15,6 +15,7 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "viewer": ("aiohttp", "cv2"),
     "vision": ("cv2",),
     "zenoh": ("zenoh", "rosbags"),
+    "dds": ("cyclonedds", "rosbags"),
     "bag": ("rosbags",),
     "foxglove": ("foxglove", "rosbags"),
 }
