@@ -201,15 +201,19 @@ def _main(argv: list[str]) -> int:
         raise _UsageError("which scenario? (posekit launch --list names them)")
     network = network_transport(ns)
     from posekit.cli._extras import require
+    from posekit.demos.scenarios import SCENARIO_EXTRAS
 
     network_label = ("--zenoh" if ns.zenoh else f"--transport {network}" if ns.transport
                      else f"a launch visible on {network} (the default; --isolated: not)")
+    target = words[0] if len(words) == 1 else " ".join(words)
+    scenario_extra = SCENARIO_EXTRAS.get(words[0]) if len(words) == 1 else None
     problem = require("posekit launch", [
-        (flag, extra) for flag, extra, given in (
+        *([(f"scenario {target}", scenario_extra)] if scenario_extra else []),
+        *((flag, extra) for flag, extra, given in (
             ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
             (network_label, network or "", network is not None), ("--record", "bag", ns.record),
             ("--save-images", "vision", ns.save_images),
-        ) if given
+        ) if given),
     ])
     if problem:  # before anything runs, not after a whole simulation
         sys.stderr.write(problem + "\n")
