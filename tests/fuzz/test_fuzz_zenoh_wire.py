@@ -106,3 +106,59 @@ def test_random_attachments_decode_or_raise_wire_format_error() -> None:
         decoded += 1
     assert decoded > 0
     assert refused > 0
+
+
+@pytest.mark.slow
+def test_mutated_tokens_over_real_liveliness(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The same mutations declared as real Zenoh liveliness tokens by a peer session: the
+    victim's graph records, rejects or bounds each one in zenoh's callback thread, and no
+    exception escapes into that thread (threading.excepthook sees nothing)."""
+    import threading
+    import time
+
+    from _support.ports import free_port
+    from posekit.transport.zenoh_session import SessionOptions, open_session
+
+    escaped: list[object] = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: escaped.append(args.exc_value))
+    for var in ("ZENOH_SESSION_CONFIG_URI", "ZENOH_CONFIG_OVERRIDE", "ROS_DOMAIN_ID"):
+        monkeypatch.delenv(var, raising=False)
+    options = SessionOptions(router_endpoint=f"tcp/127.0.0.1:{free_port()}")
+    victim = open_session(options)
+    peer = open_session(options)
+    rng = random.Random(13)
+    tokens = _valid_tokens()
+    declared = []
+    keys: set[str] = set()
+    try:
+        for i in range(400):
+            key = _mutate_token(rng, tokens[i % len(tokens)])
+            if not key.startswith("@ros2_lv/0/"):
+                key = "@ros2_lv/0/" + key.lstrip("@/")
+            try:
+                declared.append(peer.session.liveliness().declare_token(key))
+            except Exception:  # zenoh refuses key expressions that are not well formed
+                continue
+            if "*" not in key and "$" not in key:  # wildcards are zenoh's to interpret
+                keys.add(key)
+        graph = victim.graph
+        cache = graph.cache
+        # Zenoh canonicalises some key expressions (two declared keys may arrive as one),
+        # so most, not necessarily all, distinct keys show up as distinct tokens.
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline:
+            seen = len(graph.entities()) + cache.rejected + cache.overflowed
+            if seen >= 0.9 * len(keys):
+                break
+            time.sleep(0.05)
+        assert len(keys) > 100
+        assert seen >= 0.9 * len(keys), (seen, len(keys))
+        assert cache.rejected > 0
+        graph.node_names()
+        graph.topic_names_and_types()
+        for token in declared:
+            token.undeclare()
+    finally:
+        peer.close()
+        victim.close()
+    assert escaped == []
