@@ -331,3 +331,24 @@ def test_far_future_stamps_and_endless_frames_in_the_tap(graph: Graph,
     assert len(graph.tap.tree()) <= MAX_FRAMES
     assert len(graph.tap.buffer.get_all_frame_names()) <= MAX_FRAMES + 1  # plus "odom"
     assert {r["name"] for r in graph.tap.tree()} >= {"base_link"}
+
+
+def test_the_tap_follows_a_bounded_number_of_topics(graph: Graph) -> None:
+    """A peer announcing hundreds of topics: the tap subscribes to at most
+    MAX_SUBSCRIBED_TOPICS (each is a subscription and, over Zenoh, a thread), /tf first, and
+    lists the rest with the reason. Oracle: the transport's own subscriber counts."""
+    from posekit.msgs.std_msgs import String
+    from posekit.viewer.taps import MAX_SUBSCRIBED_TOPICS
+
+    pubs = [graph.node.create_publisher(String, f"/aa_flood_{i:03d}", 1)
+            for i in range(MAX_SUBSCRIBED_TOPICS + 50)]
+    graph.dynamic.sendTransform(_tf("odom", "base_link", 1.0))  # /tf sorts after /aa_...
+    graph.tap.refresh()
+    transport = graph.ctx.transport()
+    followed = [p.topic_name for p in pubs if transport.count_subscribers(p.topic_name)]
+    assert len(followed) <= MAX_SUBSCRIBED_TOPICS
+    assert transport.count_subscribers("/tf") == 1
+    rows = {t["name"]: t for t in graph.tap.topics()}
+    refused = [n for n, t in rows.items() if "at most" in t["error"]]
+    assert len(followed) + len(refused) == len(pubs)
+    assert refused

@@ -28,7 +28,8 @@ What is tapped (topics are matched fully qualified):
 
 Topics are discovered with ``transport.get_topic_names_and_types()`` (call :meth:`refresh`
 periodically); the tap subscribes only to topics that have a publisher, so it never creates
-a topic of its own in the graph.
+a topic of its own in the graph, and to at most :data:`MAX_SUBSCRIBED_TOPICS` of them (the
+others are listed with the reason).
 """
 
 from __future__ import annotations
@@ -91,6 +92,9 @@ _FRAME_STAMPS = 100
 #: Frames shown at most; beyond that the least recently updated are forgotten (a peer can
 #: announce any number of frames).
 MAX_FRAMES = DEFAULT_MAX_FRAMES
+#: Topics the tap subscribes to at most (each costs a subscription; a peer can announce any
+#: number): /tf, /tf_static, /clock and the odometry displays first, then graph order.
+MAX_SUBSCRIBED_TOPICS = 200
 #: /tf stamps further ahead of "now" are ignored (as TransformListener does).
 _MAX_FUTURE_NS = DEFAULT_MAX_FUTURE.nanoseconds
 
@@ -255,6 +259,9 @@ class ViewerTap:
         except Exception as exc:  # a transport failing a graph query must not kill the viewer
             self.logger.warning(f"viewer: graph query failed: {exc}")
             return
+        # The topics the page draws first: a graph with endless topics must not crowd them out.
+        shown = {"/tf", "/tf_static", "/clock", *self.odometry_topics, self.ground_truth_topic}
+        names_and_types = sorted(names_and_types, key=lambda nt: nt[0] not in shown)
         for name, types in names_and_types:
             type_name = types[0] if types else ""
             with self._lock:
@@ -264,6 +271,10 @@ class ViewerTap:
             if info.subscribed or info.error:
                 continue
             if self.transport.count_publishers(name) <= 0:
+                continue
+            if len(self._endpoints) >= MAX_SUBSCRIBED_TOPICS:
+                info.error = (f"not subscribed: the viewer follows at most "
+                              f"{MAX_SUBSCRIBED_TOPICS} topics")
                 continue
             self._subscribe(info)
 
