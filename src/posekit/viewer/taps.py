@@ -12,8 +12,9 @@ What is tapped (topics are matched fully qualified):
 * ``/tf`` and ``/tf_static`` (tf2_msgs/TFMessage) into a :class:`posekit.tf2.Buffer`, plus
   per frame: parent, last stamp, update rate from the stamps (tf2's ``allFramesAsYAML``
   rate: samples per stamp span), static or not; with TransformListener's guards: ``/tf``
-  stamps more than 10 s ahead of :meth:`ViewerTap.now_ns` are ignored (one warning per
-  second), and at most :data:`MAX_FRAMES` frames are kept (least recently updated forgotten);
+  stamps more than 10 s ahead of the run's clock (``clock_ns``, else ``/clock``, else the
+  wall clock) are ignored (one warning per second), and at most :data:`MAX_FRAMES` frames
+  are kept (least recently updated forgotten);
 * ``/clock`` (rosgraph_msgs/Clock): "now" for frame ages when a run is on sim time, else the
   wall clock; a backward jump of the clock (a restarted run) clears the tf buffer;
 * Odometry displays (nav_msgs/Odometry): :data:`ODOMETRY_TOPICS` by default; each keeps the
@@ -341,7 +342,14 @@ class ViewerTap:
     def _on_tf(self, msg: Any, is_static: bool) -> None:
         horizon = None
         if not is_static:
-            now = self.now_ns()
+            # The run's clock if there is one, else the wall clock (not now_ns()'s guess
+            # from the stamps themselves, which a sample could steer).
+            if self._clock_fn is not None:
+                now = int(self._clock_fn())
+            elif self._clock_ns is not None:
+                now = self._clock_ns
+            else:
+                now = time.time_ns()
             horizon = now + _MAX_FUTURE_NS if now > 0 else None
         stale: list[str] = []
         for t in msg.transforms:
