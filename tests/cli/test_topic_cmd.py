@@ -214,10 +214,15 @@ def test_list_and_info(ctx: Context) -> None:
     node.create_publisher(String, "/_hidden/x", 10)
     out = io.StringIO()
     assert topic_cmd.main(["list", "-t"], context=ctx, out=out) == 0
-    assert out.getvalue() == "/cmd_vel [geometry_msgs/msg/Twist]\n"
+    # every node (the tool's too) has /parameter_events and /rosout, as in ROS 2
+    assert out.getvalue() == (
+        "/cmd_vel [geometry_msgs/msg/Twist]\n"
+        "/parameter_events [rcl_interfaces/msg/ParameterEvent]\n"
+        "/rosout [rcl_interfaces/msg/Log]\n"
+    )
     out = io.StringIO()
     topic_cmd.main(["list", "--include-hidden-topics", "-c"], context=ctx, out=out)
-    assert out.getvalue() == "2\n"
+    assert out.getvalue() == "4\n"
     out = io.StringIO()
     assert topic_cmd.main(["info", "cmd_vel"], context=ctx, out=out) == 0
     assert out.getvalue() == (

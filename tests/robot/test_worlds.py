@@ -1,4 +1,5 @@
-"""Worlds: the spec's marker positions and camera intrinsics, validation errors, files."""
+"""Worlds: docs/specs/rosbot_and_worlds.md's marker positions and camera intrinsics, validation
+errors, files."""
 
 from __future__ import annotations
 

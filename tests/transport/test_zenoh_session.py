@@ -41,6 +41,8 @@ from posekit.transport.zenoh_wire import (
     entity_gid,
 )
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 TL1 = WireQoS(durability=1, depth=1)
 VOLATILE = WireQoS(depth=100)
 

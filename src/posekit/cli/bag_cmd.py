@@ -37,13 +37,32 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parse(parser: _Parser, argv: Sequence[str]) -> argparse.Namespace | int:
+    from posekit.cli._extras import require
+
     try:
-        return parser.parse_args(list(argv))
+        ns = parser.parse_args(list(argv))
     except _UsageError as exc:
         sys.stderr.write(parser.format_usage() + f"{exc}\n")
         return 2
     except SystemExit as exc:  # --help
         return int(exc.code or 0)
+    problem = require(parser.prog, [("ROS 2 bags", "bag")])
+    if problem:
+        sys.stderr.write(problem + "\n")
+        return 2
+    return ns
+
+
+def _transport_option(parser: argparse.ArgumentParser) -> None:
+    from posekit.cli._session import add_transport_option
+
+    add_transport_option(parser)
+
+
+def _transport_name(ns: argparse.Namespace) -> str | None:
+    from posekit.cli._session import transport_option
+
+    return transport_option(ns)
 
 
 def _context(context: Any, transport: str | None) -> tuple[Any, bool]:
@@ -76,7 +95,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
                         help="with --all, also record hidden topics")
     parser.add_argument("--duration", type=float, default=None,
                         help="stop after this many wall seconds (default: until Ctrl-C)")
-    parser.add_argument("--transport", default=None, help="transport (default: zenoh)")
+    _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
@@ -92,7 +111,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
     from posekit.runtime.executors import SingleThreadedExecutor
 
     try:
-        ctx, own = _context(context, ns.transport)
+        ctx, own = _context(context, _transport_name(ns))
     except Exception as exc:
         sys.stderr.write(f"posekit bag record: cannot start the transport: {exc}\n")
         return 1
@@ -146,7 +165,7 @@ def play(argv: Sequence[str], *, context: Any = None) -> int:
     parser.add_argument("--clock", type=float, default=100.0, metavar="HZ",
                         help="/clock messages per second (default 100)")
     parser.add_argument("--no-clock", action="store_true", help="do not publish /clock")
-    parser.add_argument("--transport", default=None, help="transport (default: zenoh)")
+    _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
@@ -155,7 +174,7 @@ def play(argv: Sequence[str], *, context: Any = None) -> int:
     from posekit.runtime.executors import SingleThreadedExecutor
 
     try:
-        ctx, own = _context(context, ns.transport)
+        ctx, own = _context(context, _transport_name(ns))
     except Exception as exc:
         sys.stderr.write(f"posekit bag play: cannot start the transport: {exc}\n")
         return 1

@@ -58,7 +58,7 @@ from posekit.robot.nodes import (
 )
 from posekit.robot.worlds import WorldError, load_world
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
+from posekit.runtime.executors import ClockConflictError, SimulatedTimeExecutor
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.parameters import ParameterException
 
@@ -257,16 +257,17 @@ def start_scenario(
     *,
     realtime: bool = False,
     record: bool = True,
-    publish_clock: bool = False,
+    publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
 ) -> LaunchRun:
     """Build and start scenario ``name`` in a fresh context; nothing has run yet (step
     ``run.executor``, a :class:`SimulatedTimeExecutor`, then ``run.shutdown()``).
 
     ``record`` adds an ``odometry_recorder``; ``extra_nodes`` are appended launch entries.
-    ``publish_clock`` publishes ``/clock`` at every step: nodes of the run get the time from
-    the executor directly, so this only matters for outside observers (and costs one callback
-    per node per step).
+    ``publish_clock``: None (default) publishes ``/clock`` at every step exactly when the
+    run's nodes are visible to other processes, and refuses to start (ScenarioError) when
+    another simulation already publishes ``/clock`` there; True/False force it. Nodes of the
+    run get the time from the executor directly either way.
     """
     params = dict(params or {})
     scenario = get_scenario(name)
@@ -283,7 +284,7 @@ def start_scenario(
             context=Context(),
             publish_clock=publish_clock,
         )
-    except (ParameterException, ValueError, TypeError) as exc:
+    except (ParameterException, ValueError, TypeError, ClockConflictError) as exc:
         raise ScenarioError(f"scenario '{name}' cannot start: {exc}") from exc
     try:
         _check_parameters(run, params)
@@ -340,7 +341,7 @@ def run_scenario(
     stop_on_goal: bool = False,
     record: bool = True,
     plot_path: str | Path | None = None,
-    publish_clock: bool = False,
+    publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
     step: float = 0.1,
     on_start: Sequence[Callable[[LaunchRun], Any]] = (),

@@ -117,7 +117,8 @@ class ArucoBoxModel:
         return m
 
 
-#: The course's ``aruco_box`` (husarion_gz_worlds/models/aruco_box), spec face table.
+#: The course's ``aruco_box`` (husarion_gz_worlds/models/aruco_box): the face table of
+#: docs/specs/rosbot_and_worlds.md.
 ARUCO_BOX = ArucoBoxModel(
     name="aruco_box",
     size=0.5,

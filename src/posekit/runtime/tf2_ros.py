@@ -1,13 +1,13 @@
 """tf2_ros's node-level classes: TransformBroadcaster, StaticTransformBroadcaster,
-TransformListener (QoS and behaviour from specs/tf2.md §9).
+TransformListener (QoS and behaviour from docs/specs/tf2.md §9).
 
 * ``TransformBroadcaster(node)``: ``/tf``, KEEP_LAST 100, RELIABLE, VOLATILE;
   ``sendTransform(t | [t, ...])`` publishes one ``TFMessage``.
 * ``StaticTransformBroadcaster(node)``: ``/tf_static``, KEEP_LAST 1, TRANSIENT_LOCAL (latched).
   It keeps ONE cumulative TFMessage and republishes everything it was ever given on every
   call; a transform whose ``child_frame_id`` was already sent **replaces** the old entry in
-  place (C++ tf2_ros and current rolling; Python jazzy ignored re-sends, see ros2/geometry2
-  #704/#820). Transforms are copied when sent, so editing the object afterwards has no effect.
+  place (as C++ tf2_ros and current Rolling do; Python Jazzy ignores re-sends). Transforms
+  are copied when sent, so editing the object afterwards has no effect.
 * ``TransformListener(buffer, node)``: subscribes ``/tf`` (KEEP_LAST 100, VOLATILE) and
   ``/tf_static`` (KEEP_LAST 100, TRANSIENT_LOCAL, so it also receives static transforms sent
   before it existed), in a ReentrantCallbackGroup; every transform goes to

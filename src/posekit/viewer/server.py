@@ -3,8 +3,10 @@
 Routes:
 
 * ``GET /``: the page (``web/index.html``); ``/app/...``: its scripts and styles;
-  ``/vendor/three/...``: three.js from ``web/node_modules/three`` (``npm ci`` in ``web/``;
-  the page falls back to its 2D canvas and says so when it is missing);
+  ``/vendor/three/...``: the three.js vendored in the package (``web/vendor/three``, a pinned
+  release with its licence; nothing is fetched at install or run time). Files are looked up
+  per request, so a repaired installation is served without a restart; if three.js is
+  missing the page falls back to its 2D canvas and names the fix;
 * ``GET /ws``: the WebSocket (protocol below);
 * ``GET /api/state``: a JSON snapshot (frames in the default fixed frame, TF tree, topics,
   odometry trails) for scripts and tests.
@@ -64,12 +66,14 @@ from posekit.viewer.images import encode_jpeg
 from posekit.viewer.taps import ViewerTap
 from posekit.viewer.world import world_payload
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "WEB_ROOT", "ViewerServer"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "THREE_ROOT", "WEB_ROOT", "ViewerServer"]
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
-#: The page sources (and node_modules after ``npm ci``).
+#: The page sources.
 WEB_ROOT = Path(__file__).parent / "web"
+#: three.js, vendored (see ``VERSION`` there and ``scripts/vendor_three.sh``).
+THREE_ROOT = WEB_ROOT / "vendor" / "three"
 _MAX_TF_RATE = 100.0
 _ODOM_PERIOD = 0.1
 _GRAPH_PERIOD = 0.5
@@ -330,9 +334,7 @@ class ViewerServer:
         app.router.add_get("/api/state", self._state)
         app.router.add_get("/favicon.ico", self._no_content)
         app.router.add_static("/app/", WEB_ROOT / "app", follow_symlinks=False)
-        three = WEB_ROOT / "node_modules" / "three"
-        if three.is_dir():
-            app.router.add_static("/vendor/three/", three, follow_symlinks=False)
+        app.router.add_get("/vendor/three/{path:.+}", self._three)
         self._runner = web.AppRunner(app, access_log=None)
         await self._runner.setup()
         site = web.TCPSite(self._runner, self.host, self.port)
@@ -394,6 +396,13 @@ class ViewerServer:
     async def _index(self, request: web.Request) -> web.StreamResponse:
         del request
         return web.FileResponse(WEB_ROOT / "index.html", headers={"Cache-Control": "no-cache"})
+
+    async def _three(self, request: web.Request) -> web.StreamResponse:
+        root = THREE_ROOT.resolve()
+        path = (root / request.match_info["path"]).resolve()
+        if not path.is_relative_to(root) or not path.is_file():
+            raise web.HTTPNotFound(text=f"{request.path} is not part of the vendored three.js")
+        return web.FileResponse(path)
 
     async def _no_content(self, request: web.Request) -> web.Response:
         del request

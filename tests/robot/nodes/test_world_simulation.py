@@ -195,7 +195,8 @@ def test_static_frames_wheels_and_world_statics_through_a_transform_listener(
     for n in (world, listener_node, commander):
         executor.add_node(n)
     executor.run_until(1.0)
-    # Spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875), identity rotation;
+    # docs/specs/rosbot_and_worlds.md: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875),
+    # identity rotation;
     # the optical frame adds R = Rz(-pi/2) Rx(-pi/2).
     t = buffer.lookup_transform("base_link", "oak_rgb_camera_optical_frame", Time())
     tr, q = t.transform.translation, t.transform.rotation
@@ -253,3 +254,31 @@ def test_a_flood_of_bad_commands_keeps_logs_and_memory_bounded(ctx, executor, lo
     lines = [r for r in logs if r.name == "world_simulation" and "Rejected cmd_vel" in r.message]
     assert 1 <= len(lines) <= 2  # 1.2 s of sim time
     assert "non-finite" in lines[0].message
+
+
+def test_future_stamped_commands_are_rejected_with_one_warning_and_the_robot_stops(
+    ctx, executor, logs
+) -> None:
+    """Valid commands until 1.0 s, then the same commands stamped on the wall clock: one
+    warning, every one rejected, and ground truth still by 1.0 + 0.5 s timeout + 0.5 s of
+    braking (0.5 m/s at 1 m/s²) + one output period."""
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    wall_ns = 1_795_000_000 * 1_000_000_000
+    commander = _Commander(
+        ctx, lambda t: (0.5, 0.0),
+        stamp=lambda t_ns: t_ns if t_ns <= 1_000_000_000 else wall_ns + t_ns,
+    )
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(4.0)
+    warnings = [r for r in logs if r.name == "world_simulation" and "cmd_vel" in r.message]
+    assert len(warnings) == 1, [w.message for w in warnings]
+    assert "future" in warnings[0].message
+    assert len(world.rejected) == 60  # 20 Hz from 1.05 to 4.0 s
+    moving = [m for m in sink.truth if m.header.stamp.sec + m.header.stamp.nanosec / 1e9 <= 1.0]
+    assert moving[-1].twist.twist.linear.x > 0.4
+    late = [m for m in sink.truth
+            if m.header.stamp.sec + m.header.stamp.nanosec / 1e9 >= 1.0 + 0.5 + 0.5 + 0.05]
+    assert late
+    assert all(m.twist.twist.linear.x == 0.0 for m in late)

@@ -6,7 +6,8 @@ clock (sim time under a stepped executor) and publishes what the course's simula
 =========================  ==========================  ==========================================
 topic                      type                        content
 =========================  ==========================  ==========================================
-``cmd_vel`` (in)           geometry_msgs/TwistStamped  velocity command (timeout, stale rejection)
+``cmd_vel`` (in)           geometry_msgs/TwistStamped  velocity command (timeout, stale and
+                                                       future stamps rejected)
 ``joint_states``           sensor_msgs/JointState      four wheel joints (``joint_states_rate``)
 ``imu/data``               sensor_msgs/Imu             frame ``imu_link``, 25 Hz, course noise
 ``ground_truth/odom``      nav_msgs/Odometry           true pose of base_link in ``odom`` (tests,
@@ -153,6 +154,7 @@ class WorldSimulation(Node):
         self._warn_rejected = RateLimitedLog(
             self.get_logger().warning, clock=lambda: self._now_ns() / NS
         )
+        self._future_warned = False
 
         self._cmd_sub = self.create_subscription(TwistStamped, "cmd_vel", self._on_cmd_vel, 10)
         self._joint_pub = self.create_publisher(JointState, "joint_states", 10)
@@ -215,8 +217,17 @@ class WorldSimulation(Node):
         if not result.accepted:
             self.rejected.append((now_ns, result.reason))
             self.rejected_count += 1
-            self._warn_rejected("Rejected cmd_vel", result.reason)
-        elif result.reason:
+            if result.kind != "future":
+                self._warn_rejected("Rejected cmd_vel", result.reason)
+            elif not self._future_warned:  # one line per run of future-stamped commands
+                self._future_warned = True
+                self.get_logger().warning(
+                    f"Rejected cmd_vel: {result.reason}; further future-stamped commands are "
+                    "ignored silently until a valid one arrives"
+                )
+            return
+        self._future_warned = False
+        if result.reason:
             self.get_logger().warning(f"cmd_vel: {result.reason}", once=True)
 
     def _advance_to(self, now_ns: int) -> None:
