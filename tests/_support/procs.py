@@ -102,6 +102,17 @@ class Proc:
             os.killpg(self.popen.pid, signal.SIGKILL)
             self.popen.wait(5)
 
+
+def stop_all(procs: list[Proc]) -> None:
+    """Kill ``procs`` newest first (each one this test started) and close their pipes."""
+    for proc in reversed(procs):
+        proc.kill()
+    for proc in procs:
+        for stream in (proc.popen.stdout, proc.popen.stderr):
+            if stream is not None:
+                stream.close()
+
+
 #: Environment variables that would point a test's Zenoh sessions somewhere else.
 ZENOH_ENV_PREFIXES = ("ZENOH_", "ROS_DOMAIN", "POSEKIT_")
 
@@ -137,9 +148,4 @@ class ProcGroup:
         return self.start([sys.executable, "-m", "posekit.cli.main", *args])
 
     def close(self) -> None:
-        for proc in reversed(self.procs):
-            proc.kill()
-        for proc in self.procs:
-            for stream in (proc.popen.stdout, proc.popen.stderr):
-                if stream is not None:
-                    stream.close()
+        stop_all(self.procs)

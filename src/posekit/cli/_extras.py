@@ -16,7 +16,7 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "vision": ("cv2",),
     "zenoh": ("zenoh", "rosbags"),
     "dds": ("cyclonedds", "rosbags"),
-    "bag": ("rosbags",),
+    "bag": ("rosbags", "mcap"),
     "foxglove": ("foxglove", "rosbags"),
 }
 
