@@ -21,8 +21,8 @@ __all__ = [
 #: Scenarios that need an optional extra (registered only when it is installed), so that a
 #: missing one is named before anything runs.
 SCENARIO_EXTRAS: dict[str, str] = dict.fromkeys(
-    ("aruco_box_camera_world", "aruco_box_world", "static_aruco_detector", "kdl_chain_demo",
-     "dynamic_detector", "dynamic_detector_listener"),
+    ("static_aruco_detector", "kdl_chain_demo", "dynamic_detector",
+     "dynamic_detector_listener"),
     "vision",
 )
 
