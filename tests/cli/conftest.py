@@ -1,4 +1,9 @@
-"""Fixtures of the command-line tests."""
+"""Fixtures for the CLI tests that start real processes over Zenoh on loopback.
+
+Every test points its processes at a fresh free port through ``POSEKIT_ZENOH_ROUTER`` (the
+variable the transport honours), so tests never meet each other or a user's router, and every
+process is killed at the end.
+"""
 
 from __future__ import annotations
 
@@ -8,16 +13,28 @@ from pathlib import Path
 import pytest
 
 from _support.ports import free_port
-from _support.procs import ProcGroup, use_zenoh_endpoint
+from _support.world import World, use_zenoh_endpoint
 
 
 @pytest.fixture
-def group(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[ProcGroup]:
-    """Processes on a fresh loopback router endpoint, which this test process uses too;
-    all killed at the end."""
-    g = ProcGroup(f"tcp/127.0.0.1:{free_port()}", tmp_path)
-    use_zenoh_endpoint(monkeypatch, g.endpoint)
+def world(tmp_path: Path) -> Iterator[World]:
+    w = World(f"tcp/127.0.0.1:{free_port()}", tmp_path)
     try:
-        yield g
+        yield w
     finally:
-        g.close()
+        w.close()
+
+
+@pytest.fixture
+def routed(world: World) -> World:
+    """A world with ``posekit router`` running on its endpoint."""
+    router = world.cli("router", "--listen", world.endpoint)
+    router.wait_line(lambda s: "listening on" in s, 15, "the router to listen")
+    return world
+
+
+@pytest.fixture
+def joined(world: World, monkeypatch: pytest.MonkeyPatch) -> World:
+    """A world whose endpoint this test process's own Zenoh sessions use too."""
+    use_zenoh_endpoint(monkeypatch, world.endpoint)
+    return world

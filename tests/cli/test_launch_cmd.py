@@ -78,8 +78,15 @@ def test_network_is_the_default_and_isolated_switches_it_off(
     assert launch_cmd.network_transport(parser.parse_args(["x"])) is None
 
 
-def test_unknown_transport_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+def test_unknown_transport_is_one_line(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     code, _, err = run_cli(capsys, "p_controller", "--transport", "carrier_pigeon")
+    assert code == 2
+    assert err.count("\n") == 1
+    assert "invalid choice: 'carrier_pigeon'" in err
+    monkeypatch.setenv("POSEKIT_TRANSPORT", "carrier_pigeon")
+    code, _, err = run_cli(capsys, "p_controller")
     assert code == 2
     assert err.count("\n") == 1
     assert "unknown transport 'carrier_pigeon'" in err
@@ -139,6 +146,13 @@ def test_world_launch_has_the_robot_and_its_cameras() -> None:
         run.shutdown()
     assert names == {"world_simulation", "wheel_odometry", "ekf_node", "oak_camera",
                      "overhead_camera"}
+    run = start_scenario("husarion_world", {}, 0, record=False)  # the empty world, said so
+    try:
+        assert {n.get_name() for n in run.nodes} == {
+            "world_simulation", "wheel_odometry", "ekf_node", "oak_camera"}
+        assert run.node("world_simulation").get_parameter("world").value == "empty_world"
+    finally:
+        run.shutdown()
 
 
 def test_demo_launch_needs_the_network(capsys: pytest.CaptureFixture[str]) -> None:

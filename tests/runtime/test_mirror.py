@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 
 from _support.ports import free_port
-from _support.procs import use_zenoh_endpoint
+from _support.world import use_zenoh_endpoint
 from posekit.msgs.std_msgs import String
 from posekit.runtime.bus import InProcessBus
 from posekit.runtime.context import Context
@@ -39,10 +39,16 @@ from posekit.runtime.transport import (
 
 
 class _StuckPublisher(PublisherEndpoint):
-    def __init__(self, net: StuckNetwork) -> None:
+    """Stuck on ``/chatter``; other topics (a node's /parameter_events) have no remote
+    subscriber."""
+
+    def __init__(self, net: StuckNetwork, topic: str) -> None:
         self.net = net
+        self.stuck = topic == "/chatter"
 
     def publish(self, msg: Any) -> None:
+        if not self.stuck:
+            return
         self.net.entered.set()
         self.net.release.wait()
         self.net.sent.append(msg.data)
@@ -52,7 +58,7 @@ class _StuckPublisher(PublisherEndpoint):
 
     @property
     def subscription_count(self) -> int:
-        return 1  # a remote subscriber that never reads
+        return 1 if self.stuck else 0  # a remote subscriber that never reads
 
 
 class _NoSubscription(SubscriptionEndpoint):
@@ -77,7 +83,7 @@ class StuckNetwork(Transport):
 
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
         self.remote_only.append(info.remote_only)
-        return _StuckPublisher(self)
+        return _StuckPublisher(self, info.topic)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
         self.remote_only.append(info.remote_only)

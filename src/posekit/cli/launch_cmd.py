@@ -8,11 +8,13 @@ Targets: a scenario name (``posekit launch --list``), the lecture's launch files
 p_controller.launch.py``), or your own launch file ``FILE.py`` (its folder is importable).
 
 Visibility: by default the launch's nodes keep their deterministic in-process delivery *and*
-are visible on the network transport (Zenoh unless ``--transport`` or $POSEKIT_TRANSPORT
+are visible on the network transport (Zenoh unless ``--transport dds`` or $POSEKIT_TRANSPORT
 says otherwise), so ``posekit topic list``, ``node list``, ``tf echo`` or your own node in
-another terminal see and talk to them; the run then also publishes ``/clock``.
-``--isolated`` (or POSEKIT_TRANSPORT=inprocess) keeps everything in this process: no
-network, no ``/clock``, the fastest mode.
+another terminal see and talk to them; the run then also publishes ``/clock`` (and refuses to
+start when another simulation already does). ``--isolated`` (or POSEKIT_TRANSPORT=inprocess)
+keeps everything in this process: no network, no ``/clock``, the fastest mode. Without the
+network transport's package installed, a launch that did not ask for it runs isolated and
+says so in one line.
 
 Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:=value``
 reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds),
@@ -57,9 +59,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--realtime", action="store_true")
     parser.add_argument("--isolated", action="store_true",
                         help="no network: nodes in this process only, no /clock (fastest)")
-    parser.add_argument("--transport", default=None, metavar="NAME",
+    parser.add_argument("--transport", default=None, choices=("inprocess", "zenoh", "dds"),
                         help="network transport to be visible on (default: "
-                             "$POSEKIT_TRANSPORT or zenoh)")
+                             "$POSEKIT_TRANSPORT or zenoh; inprocess = --isolated; dds joins "
+                             "ROS 2 systems on DDS)")
     parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
     parser.add_argument("--record", default=None, metavar="DIR")
     parser.add_argument("--viewer", action="store_true")
@@ -84,20 +87,32 @@ def _parse_assignment(text: str) -> tuple[str, Any]:
 
 
 def network_transport(ns: argparse.Namespace) -> str | None:
-    """The network transport a launch is visible on, or None (isolated)."""
-    if ns.isolated:
-        return None
-    if ns.zenoh:
-        return "zenoh"
-    chosen = ns.transport or os.environ.get("POSEKIT_TRANSPORT", "").strip() or "zenoh"
-    chosen = chosen.rpartition("+")[2]
-    if chosen == "inprocess":
-        return None
+    """The network transport a launch is visible on, or None (isolated).
+
+    An explicit choice (``--zenoh``, ``--transport``, $POSEKIT_TRANSPORT) whose package is
+    missing is a one-line error; the implicit default (zenoh) without its package means an
+    isolated run, said in one line."""
+    from posekit.cli._extras import require
     from posekit.runtime.transport import registered_transports
 
+    if ns.isolated:
+        return None
+    explicit = "zenoh" if ns.zenoh else (
+        ns.transport or os.environ.get("POSEKIT_TRANSPORT", "").strip())
+    chosen = (explicit or "zenoh").rpartition("+")[2]
+    if chosen == "inprocess":
+        return None
     if chosen not in registered_transports():
         raise _UsageError(f"unknown transport {chosen!r}; known: "
                           f"{', '.join(registered_transports())}")
+    problem = require("posekit launch", [(f"--transport {chosen}", chosen)]) if chosen in (
+        "zenoh", "dds") else None
+    if problem and explicit:
+        raise _UsageError(problem.removeprefix("posekit launch: "))
+    if problem:
+        sys.stderr.write(f"posekit launch: running isolated (not visible to other processes): "
+                         f"{problem.removeprefix('posekit launch: ')}\n")
+        return None
     return chosen
 
 
@@ -192,6 +207,16 @@ def _main(argv: list[str]) -> int:
             sys.stdout.write(f"{name:<38}{get_scenario(name).description}\n")
         return 0
     ns = _parser().parse_intermixed_args(argv)
+    from posekit.cli._extras import require
+
+    problem = require("posekit launch", [
+        (flag, extra) for flag, extra, given in (
+            ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
+            ("--record", "bag", ns.record), ("--save-images", "vision", ns.save_images),
+        ) if given
+    ])
+    if problem:  # before anything runs, not after a whole simulation
+        raise _UsageError(problem.removeprefix("posekit launch: "))
     words = [w for w in ns.words if ":=" not in w or w.startswith("/") or w.endswith(".py")]
     assignments = [_parse_assignment(w) for w in ns.words if w not in words]
     params = dict(assignments + [_parse_assignment(p) for p in ns.param])
@@ -243,7 +268,7 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
         result = run_scenario(
             name, params, seed=seed, until_sim_time=ns.until_sim_time,
             realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
-            transport=transport, publish_clock=network is not None,
+            transport=transport, record=ns.plot is not None,  # odometry kept only for the plot
         )
     finally:
         for server in servers:
@@ -252,8 +277,8 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
              f"wall ({result.speedup:.0f}x real time), seed {result.seed}"]
     if result.goal_reached_time is not None:
         lines.append(f"goal reached at t = {result.goal_reached_time:.2f} s")
-    if result.rejected_commands:
-        lines.append(f"{len(result.rejected_commands)} cmd_vel messages rejected")
+    if result.rejected_count:
+        lines.append(f"{result.rejected_count} cmd_vel messages rejected")
     if result.plot_path is not None:
         lines.append(f"odometry plot: {result.plot_path}")
     if ns.record:
@@ -347,8 +372,7 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
     try:
         run = start(description, sim_time=True,
                     real_time_factor=1.0 if ns.realtime or ns.viewer else None,
-                    launch_arguments=params, transport=transport,
-                    publish_clock=network is not None)
+                    launch_arguments=params, transport=transport)
     except LaunchDescriptionError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
         return 2

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections import deque
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -57,7 +58,7 @@ from posekit.robot.nodes import (
 )
 from posekit.robot.worlds import WorldError, load_world
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
+from posekit.runtime.executors import ClockConflictError, SimulatedTimeExecutor
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.parameters import ParameterException
 
@@ -261,7 +262,7 @@ def start_scenario(
     *,
     realtime: bool = False,
     record: bool = True,
-    publish_clock: bool = False,
+    publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
     transport: str | None = None,
 ) -> LaunchRun:
@@ -269,11 +270,13 @@ def start_scenario(
     ``run.executor``, a :class:`SimulatedTimeExecutor`, then ``run.shutdown()``).
 
     ``record`` adds an ``odometry_recorder``; ``extra_nodes`` are appended launch entries.
-    ``publish_clock`` publishes ``/clock`` at every step: nodes of the run get the time from
-    the executor directly, so this only matters for outside observers (and costs one callback
-    per node per step). ``transport`` names the context's transport (default: the
-    in-process bus, or $POSEKIT_TRANSPORT); ``"inprocess+zenoh"`` keeps in-process delivery
-    and makes the run visible to other processes.
+    ``publish_clock``: None (default) publishes ``/clock`` at every step exactly when the
+    run's nodes are visible to other processes, and refuses to start (ScenarioError) when
+    another simulation already publishes ``/clock`` there; True/False force it. Nodes of the
+    run get the time from the executor directly either way.
+    ``transport`` names the context's transport (default: the in-process bus, or
+    $POSEKIT_TRANSPORT); ``"inprocess+zenoh"`` keeps in-process delivery and makes the run
+    visible to other processes.
 
     A :attr:`Scenario.follows_clock` scenario (a demo against a running world) gets a
     wall-clock executor instead, its nodes following ``/clock`` from another process; its
@@ -301,7 +304,7 @@ def start_scenario(
             own_clock=not scenario.follows_clock,
             transport=transport,
         )
-    except (ParameterException, ValueError, TypeError) as exc:
+    except (ParameterException, ValueError, TypeError, ClockConflictError) as exc:
         raise ScenarioError(f"scenario '{name}' cannot start: {exc}") from exc
     try:
         _check_parameters(run, params)
@@ -317,8 +320,9 @@ class ScenarioResult:
 
     ``sim_time`` and ``wall_time`` in s; ``goal_reached_time`` the sim time of the first
     ``goal_reached`` (None if never); ``recording`` the odometry series (if recorded);
-    ``rejected_commands`` ``(t_s, reason)`` from the simulator; ``logs`` every log record
-    emitted during the run; ``plot_path`` the PNG written (if asked); ``run`` the (shut
+    ``rejected_commands`` ``(t_s, reason)`` of the simulator's last refused commands and
+    ``rejected_count`` all of them; ``logs`` the log records emitted during the run (the
+    newest ``max_log_records``); ``plot_path`` the PNG written (if asked); ``run`` the (shut
     down) launch run, whose node objects stay readable (``result.node("world_simulation")``).
     """
 
@@ -331,6 +335,7 @@ class ScenarioResult:
     recording: OdometryRecording | None
     rejected_commands: list[tuple[float, str]]
     logs: list[LogRecord] = field(default_factory=list)
+    rejected_count: int = 0
     plot_path: Path | None = None
     run: LaunchRun | None = None
 
@@ -356,11 +361,12 @@ def run_scenario(
     stop_on_goal: bool = False,
     record: bool = True,
     plot_path: str | Path | None = None,
-    publish_clock: bool = False,
+    publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
     step: float = 0.1,
     on_start: Sequence[Callable[[LaunchRun], Any]] = (),
     transport: str | None = None,
+    max_log_records: int = 10_000,
 ) -> ScenarioResult:
     """Run scenario ``name`` and return a :class:`ScenarioResult`.
 
@@ -378,6 +384,9 @@ def run_scenario(
         on_start: callables given the started run before any time passes (attach a bag
             recorder or a viewer; whatever they start must end when the run's context does).
         transport: see :func:`start_scenario`.
+        max_log_records: log records kept for :attr:`ScenarioResult.logs` (the newest; a
+            long run keeps memory flat). ``record=True`` keeps every odometry sample, so
+            leave it off for long runs that need no plot.
     """
     if until_sim_time is not None and not until_sim_time >= 0.0:
         raise ScenarioError(f"until_sim_time must be >= 0 s, got {until_sim_time}")
@@ -412,7 +421,9 @@ def run_scenario(
         node = run.node("odometry_recorder")
         assert isinstance(node, OdometryRecorder)
         recorder = node
-    logs: list[LogRecord] = []
+    if max_log_records < 0:
+        raise ScenarioError(f"max_log_records must be >= 0, got {max_log_records}")
+    logs: deque[LogRecord] = deque(maxlen=max_log_records)
     add_sink(logs.append)
     wall0 = time.perf_counter()
     try:
@@ -435,10 +446,16 @@ def run_scenario(
     sim_time = executor.now_ns / 1e9
     recording = recorder.recording() if recorder is not None else None
     rejected: list[tuple[float, str]] = []
+    rejected_count = 0
     for n in run.nodes:
         if isinstance(n, WorldSimulation):
             rejected.extend((t_ns / 1e9, reason) for t_ns, reason in n.rejected)
+            rejected_count += n.rejected_count
     goal_time = recording.goal_reached[0] if recording and recording.goal_reached else None
+    if recording is None:  # not recorded: the controller knows when it got there
+        reached = [n.goal_reached_ns for n in run.nodes
+                   if isinstance(n, PControllerNode) and n.goal_reached_ns is not None]
+        goal_time = min(reached) / 1e9 if reached else None
     written: Path | None = None
     if plot_path is not None and recording is not None:
         from posekit.robot.plot import plot_odometry
@@ -455,7 +472,8 @@ def run_scenario(
         goal_reached_time=goal_time,
         recording=recording,
         rejected_commands=rejected,
-        logs=logs,
+        rejected_count=rejected_count,
+        logs=list(logs),
         plot_path=written,
         run=run,
     )

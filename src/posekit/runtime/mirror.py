@@ -26,8 +26,12 @@ Delivery rules:
   except on topics this process *owns* (:meth:`MirroredTransport.own_topic`; a simulation
   owns ``/clock``): those are never taken from the network.
 
-Graph questions (topic names, node names, endpoint counts) are answered by the network
-transport, which knows this process's endpoints and every other process's.
+Graph questions (topic names, node names, endpoint counts, services) are answered by the
+network transport, which knows this process's endpoints and every other process's.
+
+Services: a server is created on both (this process's clients reach it on the bus, other
+processes' over the network: ``posekit param set`` on a launch's node); a client calls a
+server of this process on the bus when there is one, else over the network.
 ``get_subscription_count()`` of a publisher counts local subscriptions plus remote ones
 (known within one demand poll), so nodes that publish only while someone listens (lazy
 cameras, ``/tf`` when nobody subscribes) work for remote subscribers too.
@@ -48,6 +52,12 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestSink,
+    ResponseSink,
+    ServiceClientEndpoint,
+    ServiceInfo,
+    ServiceServerEndpoint,
+    SourcedMessageSink,
     SubscriptionEndpoint,
     Transport,
 )
@@ -118,13 +128,49 @@ class _MirrorSubscription(SubscriptionEndpoint):
         return self.local.publisher_count + remote
 
 
+class _MirrorServer(ServiceServerEndpoint):
+    __slots__ = ("local", "remote")
+
+    def __init__(self, local: ServiceServerEndpoint, remote: ServiceServerEndpoint) -> None:
+        self.local = local
+        self.remote = remote
+
+    def destroy(self) -> None:
+        self.local.destroy()
+        self.remote.destroy()
+
+
+class _MirrorClient(ServiceClientEndpoint):
+    __slots__ = ("local", "remote")
+
+    def __init__(self, local: ServiceClientEndpoint, remote: ServiceClientEndpoint) -> None:
+        self.local = local
+        self.remote = remote
+
+    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+        target = self.local if self.local.server_count else self.remote
+        target.send_request(request, on_response)
+
+    @property
+    def server_count(self) -> int:
+        # The network also counts this process's servers (created on both).
+        return max(self.local.server_count, self.remote.server_count)
+
+    def destroy(self) -> None:
+        self.local.destroy()
+        self.remote.destroy()
+
+
 class MirroredTransport(Transport):
     """Local delivery on ``local``, visibility and remote traffic on ``network``."""
+
+    crosses_processes = True
 
     def __init__(self, local: Transport, network: Transport) -> None:
         self.local = local
         self.network = network
         self.name = f"{local.name}+{network.name}"
+        self.supports_services = local.supports_services and network.supports_services
         self._owned: set[str] = set()
         self._publishers: list[_MirrorPublisher] = []
         self._cond = threading.Condition()
@@ -169,15 +215,55 @@ class MirroredTransport(Transport):
         return pub
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
-        local = self.local.subscribe(info, sink)
+        return self.subscribe_with_source(info, lambda msg, _source: sink(msg))
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """Local messages with the local transport's source ids, remote ones with the
+        network's (a GID)."""
+        local = self.local.subscribe_with_source(info, sink)
         remote: SubscriptionEndpoint | None = None
         try:
             if info.topic not in self._owned:
-                remote = self.network.subscribe(dataclasses.replace(info, remote_only=True), sink)
+                remote = self.network.subscribe_with_source(
+                    dataclasses.replace(info, remote_only=True), sink)
         except BaseException:
             local.destroy()
             raise
         return _MirrorSubscription(local, remote)
+
+    # -- services -------------------------------------------------------------------------
+    def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        local = self.local.create_service_server(info, sink)
+        try:
+            remote = self.network.create_service_server(info, sink)
+        except BaseException:
+            local.destroy()
+            raise
+        return _MirrorServer(local, remote)
+
+    def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        local = self.local.create_service_client(info)
+        try:
+            remote = self.network.create_service_client(info)
+        except BaseException:
+            local.destroy()
+            raise
+        return _MirrorClient(local, remote)
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return self.network.get_service_names_and_types()
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self.network.get_service_names_and_types_by_node(node_name, node_namespace)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self.network.get_client_names_and_types_by_node(node_name, node_namespace)
 
     def declare_node(self, name: str, namespace: str = "/") -> Any:
         self.local.declare_node(name, namespace)
