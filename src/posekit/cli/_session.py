@@ -21,7 +21,8 @@ from posekit.runtime.parameters import Parameter
 from posekit.runtime.transport import ENV_TRANSPORT
 
 __all__ = ["TRANSPORT_CHOICES", "ToolSession", "add_sim_time_args", "add_transport_option",
-           "empty_graph_hint", "tool_transport", "transport_option"]
+           "empty_graph_hint", "graph_has_other_nodes", "tool_transport",
+           "transport_option"]
 
 #: What ``--transport`` accepts on every tool (``--zenoh`` stays as an alias).
 TRANSPORT_CHOICES = ("inprocess", "zenoh", "dds")
@@ -45,6 +46,14 @@ def tool_transport(explicit: str | None = None) -> str:
     is the distributed transport.
     """
     return explicit or os.environ.get(ENV_TRANSPORT, "").strip() or "zenoh"
+
+
+def graph_has_other_nodes(session: Any) -> bool:
+    """Whether the graph holds any node but the tool's own (hidden ones included)."""
+    from posekit.cli.node_cmd import node_names
+
+    own = session.node.get_fully_qualified_name()
+    return any(name != own for name in node_names(session))
 
 
 def empty_graph_hint(what: str, transport: Any) -> str:

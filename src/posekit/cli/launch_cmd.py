@@ -105,8 +105,9 @@ def network_transport(ns: argparse.Namespace) -> str | None:
     if chosen not in registered_transports():
         raise _UsageError(f"unknown transport {chosen!r}; known: "
                           f"{', '.join(registered_transports())}")
-    problem = require("posekit launch", [(f"--transport {chosen}", chosen)]) if chosen in (
-        "zenoh", "dds") else None
+    what = ("--zenoh" if ns.zenoh else f"--transport {chosen}" if ns.transport
+            else f"POSEKIT_TRANSPORT={chosen}" if explicit else "the default network (zenoh)")
+    problem = require("posekit launch", [(what, chosen)]) if chosen in ("zenoh", "dds") else None
     if problem and explicit:
         raise _UsageError(problem.removeprefix("posekit launch: "))
     if problem:
