@@ -243,3 +243,24 @@ def test_launch_file_show_args_and_one_line_errors(
     assert code == 2
     assert err.count("\n") == 1
     assert "declares no 'seed' launch argument" in err
+    # --plot on a launch file that runs no robot: one line, not a traceback.
+    code, _, err = run_cli(capsys, str(no_seed), "--plot", str(tmp_path / "odom.png"),
+                           "--until-sim-time", "0.5")
+    assert code == 2
+    assert err.count("\n") == 1
+    assert "--plot: the recording holds no odometry messages" in err
+
+
+def test_launch_file_plot_and_record(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "robot.launch.py"
+    path.write_text("from posekit.demos.scenarios import include_scenario\n"
+                    "from posekit.launch import LaunchDescription\n"
+                    "def generate_launch_description():\n"
+                    "    return LaunchDescription(include_scenario('p_controller'))\n")
+    png, bag = tmp_path / "odom.png", tmp_path / "bag"
+    code, out, err = run_cli(capsys, str(path), "--until-sim-time", "2", "--plot", str(png),
+                             "--record", str(bag))
+    assert code == 0, err
+    assert f"odometry plot: {png}" in out
+    assert png.read_bytes().startswith(b"\x89PNG")
+    assert (bag / "metadata.yaml").is_file()

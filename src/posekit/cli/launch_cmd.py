@@ -381,8 +381,12 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
         recorder_node = run.node("odometry_recorder")
     _run_started(ns, run)
     if recorder_node is not None:
-        from posekit.robot.plot import plot_odometry
+        from posekit.robot.plot import PlotError, plot_odometry
 
-        written = plot_odometry(recorder_node.recording(), ns.plot, title=Path(path).name)
+        try:
+            written = plot_odometry(recorder_node.recording(), ns.plot, title=Path(path).name)
+        except PlotError as exc:
+            sys.stderr.write(f"posekit launch: --plot: {exc} (does {path} run the robot?)\n")
+            return 2
         sys.stdout.write(f"odometry plot: {written}\n")
     return 0
