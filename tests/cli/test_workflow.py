@@ -161,3 +161,16 @@ def test_p_controller_demo_reaches_its_goal_against_a_world_in_another_process(
     assert world.popen.poll() is None, world.describe()
     assert demo.popen.poll() is None, demo.describe()
     assert not any("Rejected cmd_vel" in line for line in world.err), world.describe()
+
+
+def test_a_demo_without_a_world_waits_and_says_what_is_missing(joined: World) -> None:
+    demo = joined.cli("run", "robot_control_demo", "random_mover")
+    demo.wait_stderr("no /clock yet", 40, "the hint that no world runs")
+    hint = [line for line in demo.err if "no /clock yet" in line]
+    assert len(hint) == 1, demo.describe()
+    assert "posekit launch empty_world --realtime" in hint[0]
+    # It follows a clock, it does not make one: nothing publishes /clock.
+    info = joined.cli("topic", "info", "/clock")
+    text = info.finish(30, "topic info /clock")
+    assert "Publisher count: 1" not in text, info.describe()
+    assert demo.popen.poll() is None, demo.describe()
