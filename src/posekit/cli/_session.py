@@ -21,7 +21,8 @@ from posekit.runtime.parameters import Parameter
 from posekit.runtime.transport import ENV_TRANSPORT
 
 __all__ = ["TRANSPORT_CHOICES", "ToolSession", "add_sim_time_args", "add_transport_option",
-           "empty_graph_hint", "tool_transport", "transport_option"]
+           "empty_graph_hint", "graph_has_other_nodes", "tool_transport",
+           "transport_option"]
 
 #: What ``--transport`` accepts on every tool (``--zenoh`` stays as an alias).
 TRANSPORT_CHOICES = ("inprocess", "zenoh", "dds")
@@ -47,17 +48,12 @@ def tool_transport(explicit: str | None = None) -> str:
     return explicit or os.environ.get(ENV_TRANSPORT, "").strip() or "zenoh"
 
 
-def add_transport_option(parser: argparse.ArgumentParser, default_text: str = "zenoh") -> None:
-    """``--transport {inprocess,zenoh,dds}`` and its alias ``--zenoh``."""
-    parser.add_argument("--transport", default=None, choices=TRANSPORT_CHOICES,
-                        help=f"posekit transport (default: $POSEKIT_TRANSPORT or "
-                             f"{default_text}); dds joins ROS 2 systems on DDS")
-    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+def graph_has_other_nodes(session: Any) -> bool:
+    """Whether the graph holds any node but the tool's own (hidden ones included)."""
+    from posekit.cli.node_cmd import node_names
 
-
-def transport_option(ns: argparse.Namespace) -> str | None:
-    """The transport named by :func:`add_transport_option`'s options (None: the default)."""
-    return "zenoh" if getattr(ns, "zenoh", False) else getattr(ns, "transport", None)
+    own = session.node.get_fully_qualified_name()
+    return any(name != own for name in node_names(session))
 
 
 def empty_graph_hint(what: str, transport: Any) -> str:
@@ -73,6 +69,19 @@ def empty_graph_hint(what: str, transport: Any) -> str:
             "and POSEKIT_TRANSPORT\n")
 
 
+def add_transport_option(parser: argparse.ArgumentParser, default_text: str = "zenoh") -> None:
+    """``--transport {inprocess,zenoh,dds}`` and its alias ``--zenoh``."""
+    parser.add_argument("--transport", default=None, choices=TRANSPORT_CHOICES,
+                        help=f"posekit transport (default: $POSEKIT_TRANSPORT or "
+                             f"{default_text}); dds joins ROS 2 systems on DDS")
+    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+
+
+def transport_option(ns: argparse.Namespace) -> str | None:
+    """The transport named by :func:`add_transport_option`'s options (None: the default)."""
+    return "zenoh" if getattr(ns, "zenoh", False) else getattr(ns, "transport", None)
+
+
 class ToolSession:
     """Owns a context (unless one is given), one node named like the ROS tool, an executor."""
 
@@ -83,8 +92,6 @@ class ToolSession:
             context = Context()
             context.init(args=[], transport=tool_transport(transport))
         self.context = context
-        # As ros2cli's node: no parameter services (a tool is not a parameter server).
-        node_kwargs.setdefault("start_parameter_services", False)
         self.node = Node(node_name, context=context, **node_kwargs)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)

@@ -18,6 +18,12 @@ Contract for implementations:
   Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
+* ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*
+  processes/sessions only. A remote-only publisher is not delivered to this process's
+  subscriptions, a remote-only subscription does not receive this process's publications,
+  and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
+  in-process bus ignores it (everything on it is local). This is what
+  :class:`posekit.runtime.mirror.MirroredTransport` builds on.
 * ``crosses_processes`` says whether the endpoints are visible to other processes (a network
   transport). A :class:`~posekit.runtime.executors.SimulatedTimeExecutor` publishes
   ``/clock`` exactly when one of its nodes sits on such a transport.
@@ -31,17 +37,11 @@ Contract for implementations:
   ``send_request(request, on_response)`` (:class:`ServiceClientEndpoint`) delivers the
   request to one server and calls ``on_response(response)`` at most once. The base class
   raises :class:`ServicesNotSupportedError` so a transport without services says so.
-* ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*
-  processes/sessions only. A remote-only publisher is not delivered to this process's
-  subscriptions, a remote-only subscription does not receive this process's publications,
-  and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
-  in-process bus ignores it (everything on it is local). This is what
-  :class:`posekit.runtime.mirror.MirroredTransport` builds on.
 
 Selection: ``Node(..., transport="zenoh")`` (or ``"dds"``), else ``init(transport=...)`` of
 the context, else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names
-map to factories in a registry (:func:`register_transport`); each context creates one instance
-per name and shares it among its nodes. ``"inprocess+NET"`` (e.g. ``inprocess+zenoh``) is the
+map to factories in a registry (:func:`register_transport`); each context creates one instance per
+name and shares it among its nodes. ``"inprocess+NET"`` (e.g. ``inprocess+zenoh``) is the
 in-process bus mirrored onto the network transport ``NET``
 (:class:`~posekit.runtime.mirror.MirroredTransport`).
 """

@@ -134,8 +134,11 @@ def _ros_type(info: EndpointInfo) -> str:
     return name
 
 
-def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool) -> Qos:
-    """Cyclone QoS for a ROS profile, policy by policy as rmw_cyclonedds maps it."""
+def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool,
+                 remote_only: bool = False) -> Qos:
+    """Cyclone QoS for a ROS profile, policy by policy as rmw_cyclonedds maps it;
+    ``remote_only`` adds IGNORE_LOCAL (participant): no matching within this participant
+    (:attr:`EndpointInfo.remote_only`)."""
     keep_all = qos.history == HistoryPolicy.KEEP_ALL
     depth = max(1, qos.depth)
     history = Policy.History.KeepAll if keep_all else Policy.History.KeepLast(depth)
@@ -159,6 +162,8 @@ def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool) -> Qos:
         policies.append(Policy.Durability.Volatile)
     if writer:
         policies.append(Policy.WriterDataLifecycle(autodispose=False))
+    if remote_only:
+        policies.append(Policy.IgnoreLocal.Participant)
     return Qos(*policies)
 
 
@@ -501,7 +506,8 @@ class DdsTransport(Transport):
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
             writer = DataWriter(self.participant, topic, endpoint_qos(
-                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=True))
+                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=True,
+                remote_only=info.remote_only))
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)
             raise
@@ -531,7 +537,8 @@ class DdsTransport(Transport):
         sub = _Subscription(self, info, ros_type, sink, sourced)
         try:
             reader = DataReader(self.participant, topic, endpoint_qos(
-                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=False))
+                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=False,
+                remote_only=info.remote_only))
             sub.start(self.participant, reader)
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)

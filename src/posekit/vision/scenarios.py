@@ -3,6 +3,12 @@
 =============================  ==============================================================
 name                           nodes
 =============================  ==============================================================
+``aruco_box_camera_world``     ROSbot (with ``oak_camera``) in aruco_box_camera_world and
+                               ``overhead_camera`` (image, CameraInfo, its static frames):
+                               the world alone, for your
+                               own detector (``rosbot_gazebo aruco_box_camera_world.launch.py``)
+``aruco_box_world``            ROSbot standing in aruco_box_world and ``oak_camera``: the
+                               world alone (``rosbot_gazebo aruco_box_world.launch.py``)
 ``static_aruco_detector``      ROSbot in aruco_box_camera_world, ``overhead_camera`` (image,
                                CameraInfo, its static frames), ``static_aruco_detector``
 ``kdl_chain_demo``             the same + ``kdl_chain_demo``
@@ -113,7 +119,22 @@ def _overhead_world(params: Mapping[str, Any], seed: int) -> list[Node]:
         *_robot(params, seed, "aruco_box_camera_world", world_statics=False),
         scenario_node(OverheadCameraNode, "overhead_camera",
                       {"world": "aruco_box_camera_world", "seed": seed}, params),
+        # The robot's own camera too (it renders only while someone subscribes).
+        scenario_node(OakCameraNode, "oak_camera",
+                      {"world": "aruco_box_camera_world", "seed": seed}, params),
     ]
+
+
+def _aruco_box_camera_world(params: Mapping[str, Any], seed: int) -> LaunchDescription:
+    return LaunchDescription(_overhead_world(params, seed))
+
+
+def _aruco_box_world(params: Mapping[str, Any], seed: int) -> LaunchDescription:
+    return LaunchDescription([
+        *_robot(params, seed, "aruco_box_world"),
+        scenario_node(OakCameraNode, "oak_camera", {"world": "aruco_box_world", "seed": seed},
+                      params),
+    ])
 
 
 def _static_aruco_detector(params: Mapping[str, Any], seed: int) -> LaunchDescription:
@@ -142,6 +163,14 @@ def _dynamic_detector_listener(params: Mapping[str, Any], seed: int) -> LaunchDe
     ])
 
 
+register_scenario(
+    "aruco_box_camera_world", _aruco_box_camera_world, replace=True,
+    description="aruco_box_camera_world: ROSbot + overhead camera, no detector (run your own)",
+)
+register_scenario(
+    "aruco_box_world", _aruco_box_world, replace=True,
+    description="aruco_box_world: ROSbot standing + OAK camera, no detector (run your own)",
+)
 register_scenario(
     "static_aruco_detector", _static_aruco_detector, replace=True,
     description="aruco_box_camera_world: overhead camera + one-shot static ArUco detector",
