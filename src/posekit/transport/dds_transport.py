@@ -171,18 +171,15 @@ def wire_qos_of(qos: Qos) -> WireQoS:
         except (KeyError, TypeError):
             return None
 
-    rel = get(Policy.Reliability)
-    dur = get(Policy.Durability)
     live = get(Policy.Liveliness)
-    lease = getattr(live, "lease_duration", None)
     # RTPS discovery does not carry HISTORY: rmw reports it UNKNOWN (3), depth 0.
     return WireQoS(
-        reliability=2 if rel is not None and "BestEffort" in repr(rel) else 1,
-        durability=1 if dur is not None and "TransientLocal" in repr(dur) else 2,
+        reliability=2 if get(Policy.Reliability) == Policy.Reliability.BestEffort else 1,
+        durability=1 if get(Policy.Durability) == Policy.Durability.TransientLocal else 2,
         history=3,
         depth=0,
-        liveliness=3 if live is not None and "ManualByTopic" in repr(live) else 1,
-        liveliness_lease=_duration_pair(lease),
+        liveliness=3 if isinstance(live, Policy.Liveliness.ManualByTopic) else 1,
+        liveliness_lease=_duration_pair(getattr(live, "lease_duration", None)),
         deadline=_duration_pair(getattr(get(Policy.Deadline), "deadline", None)),
         lifespan=_duration_pair(getattr(get(Policy.Lifespan), "lifespan", None)),
     )
