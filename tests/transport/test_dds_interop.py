@@ -27,7 +27,7 @@ from posekit.msgs.registry import get_message_class
 from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.logging import LogRecord
 from posekit.runtime.node import Node
-from posekit.runtime.qos import QoSProfile
+from posekit.runtime.qos import QoSProfile, ReliabilityPolicy
 
 pytestmark = pytest.mark.slow
 
@@ -206,6 +206,7 @@ BAD_PEERS = textwrap.dedent("""
         String, "/qos_probe", QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT))
     other_type = node.create_publisher(Int32, "/type_probe", 5)
     alive = node.create_publisher(String, "/alive", 5)
+    node.create_subscription(String, "/be_from_pk", lambda m: None, 5)  # RELIABLE
     deadline = time.monotonic() + float(sys.argv[1])
     i = 0
     while time.monotonic() < deadline:
@@ -233,21 +234,29 @@ def test_incompatible_qos_and_another_type_each_log_one_reason_and_the_node_runs
         node.create_subscription(string_cls, "/qos_probe", wrong.append, QoSProfile(depth=5))
         node.create_subscription(string_cls, "/type_probe", wrong.append, 5)
         node.create_subscription(string_cls, "/alive", lambda m: alive.append(m.data), 5)
+        node.create_publisher(string_cls, "/be_from_pk", QoSProfile(
+            depth=5, reliability=ReliabilityPolicy.BEST_EFFORT))
 
         def warnings(word: str) -> list[str]:
             return [r.message for r in logs if r.name == "posekit_strict" and word in r.message]
 
         assert spin_until(executor, lambda: bool(
-            warnings("incompatible QoS") and warnings("also has endpoints of type")
+            warnings("offering incompatible QoS") and warnings("requesting incompatible QoS")
+            and warnings("also has endpoints of type")
             and len(alive) >= 3), 25), f"{[r.message for r in logs]}\n{proc.describe()}"
         spin_until(executor, lambda: False, 1.0)  # more samples from the same peers
     finally:
         proc.kill()
         context.try_shutdown()
-    qos_warnings = warnings("incompatible QoS")
+    qos_warnings = warnings("offering incompatible QoS")
     assert len(qos_warnings) == 1, qos_warnings
     assert "'/qos_probe'" in qos_warnings[0]
     assert "RELIABILITY" in qos_warnings[0]
+    # and the other way round: posekit's BEST_EFFORT publisher, a real RELIABLE subscription
+    offer_warnings = warnings("requesting incompatible QoS")
+    assert len(offer_warnings) == 1, offer_warnings
+    assert "'/be_from_pk'" in offer_warnings[0]
+    assert "RELIABILITY" in offer_warnings[0]
     type_warnings = warnings("also has endpoints of type")
     assert len(type_warnings) == 1, type_warnings
     assert "std_msgs/msg/Int32" in type_warnings[0]

@@ -17,8 +17,9 @@ blocks at most 100 ms when its readers fall behind (rmw waits forever) and then 
 sample with one logged warning, so a stalled peer never blocks a posekit node.
 
 Rejections are logged once with the reason and never stop the node: a sample that does not
-decode, a QoS incompatibility (DDS refuses the pair, like ROS 2's "incompatible QoS"
-warning) and another endpoint on the same topic with a different type.
+decode, a QoS incompatibility in either direction (DDS refuses the pair; the subscription or
+the publisher logs ROS 2's "incompatible QoS" warning) and another endpoint on the same topic
+with a different type.
 
 Environment: ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE`` (default ``LOCALHOST``),
 ``ROS_STATIC_PEERS``, ``CYCLONEDDS_URI`` (appended to posekit's configuration).
@@ -206,6 +207,7 @@ class _Publisher(PublisherEndpoint):
         self._ref = writer._ref
         self._type = info.msg_type
         self._warned_timeout = False
+        self._warned_qos: set[str] = set()
         self.alive = True
 
     def publish(self, msg: Any) -> None:
@@ -230,6 +232,19 @@ class _Publisher(PublisherEndpoint):
                 )
             elif ret != -10:
                 raise RuntimeError(f"DDS write on '{self.info.topic}' failed (code {ret})")
+
+    def report_incompatible(self) -> None:
+        """Log (once per policy) that a subscription requests QoS this writer cannot offer."""
+        status = self.writer.get_offered_incompatible_qos_status()  # type: ignore[no-untyped-call]
+        policy = _POLICY_NAMES.get(int(getattr(status, "last_policy_id", 0)), "UNKNOWN")
+        if policy in self._warned_qos:
+            return
+        self._warned_qos.add(policy)
+        self.info.logger.warning(
+            f"New subscription discovered on topic '{self.info.topic}', requesting "
+            f"incompatible QoS. No messages will be sent to it. Last incompatible policy: "
+            f"{policy}"
+        )
 
     def destroy(self) -> None:
         if self.alive:
@@ -503,6 +518,9 @@ class DdsTransport(Transport):
             self._release_node(info.node_namespace, info.node_name)
             raise
         pub = _Publisher(self, info, ros_type, writer)
+        # the graph thread reports subscriptions that request more than this writer offers
+        writer.set_status_mask(DDSStatus.OfferedIncompatibleQos)
+        self._waitset.attach(writer)
         with self._lock:
             node.writer_gids.append(pub.gid)
             self._publishers.append(pub)
@@ -555,6 +573,11 @@ class DdsTransport(Transport):
                 self._subscriptions.remove(endpoint)
             closed = self._closed
         if not closed:
+            if isinstance(endpoint, _Publisher):
+                try:
+                    self._waitset.detach(entity)
+                except Exception as exc:  # not attached (or already gone)
+                    _log.debug("detaching %r: %s", entity, exc)
             _delete(entity)
         self._release_node(info.node_namespace, info.node_name)
         self._publish_graph()
@@ -566,12 +589,20 @@ class DdsTransport(Transport):
                 self._waitset.wait(duration(seconds=1))
                 if self._closed:
                     return
+                self._check_offered_qos()
                 self._refresh()
             except Exception as exc:  # keep the graph alive whatever a peer announces
                 if self._closed:
                     return
                 _log.warning("DDS graph update failed: %s: %s", type(exc).__name__, exc)
                 time.sleep(0.1)
+
+    def _check_offered_qos(self) -> None:
+        with self._lock:
+            publishers = list(self._publishers)
+        for pub in publishers:
+            if pub.alive and pub.writer.take_status(DDSStatus.OfferedIncompatibleQos):
+                pub.report_incompatible()
 
     def _refresh(self) -> None:
         changed = False
