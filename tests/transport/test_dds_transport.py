@@ -124,3 +124,14 @@ def test_selected_by_environment_and_rejections(
         assert received[0].data == "ok"
     finally:
         context.try_shutdown()
+
+
+def test_a_service_call_on_dds_is_one_line_not_a_traceback(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    from posekit.cli.main import main
+
+    dds_domain(monkeypatch, 162)
+    assert main(["service", "call", "/reset", "std_srvs/srv/Trigger", "--transport", "dds"]) == 1
+    err = capsys.readouterr().err
+    assert err == ("posekit service call: the 'dds' transport does not carry services "
+                   "(posekit's 'inprocess' and 'zenoh' transports do)\n")
