@@ -288,10 +288,12 @@ class _Subscription(SubscriptionEndpoint):
         Python on Cyclone's threads, which deadlocks against a write holding the GIL)."""
         self.reader = reader
         self.gid = reader.guid.bytes
-        reader.set_status_mask(DDSStatus.DataAvailable | DDSStatus.RequestedIncompatibleQos)
+        # data wakes this thread; QoS reports go to the transport's graph thread
+        reader.set_status_mask(DDSStatus.RequestedIncompatibleQos)
         self._waitset = WaitSet(participant)
         self._stop = GuardCondition(participant)
-        self._waitset.attach(reader)
+        self._data = ReadCondition(reader, _ANY)
+        self._waitset.attach(self._data)
         self._waitset.attach(self._stop)
         self._thread = threading.Thread(
             target=self._run, name=f"posekit-dds {self.info.topic}", daemon=True)
@@ -300,14 +302,12 @@ class _Subscription(SubscriptionEndpoint):
     def _run(self) -> None:
         reader = self.reader
         assert reader is not None
-        ref = reader._ref
+        ref, wait, timeout = reader._ref, self._waitset.wait, duration(seconds=1)
         while self.alive:
             try:
-                self._waitset.wait(duration(seconds=1))
+                wait(timeout)
                 if not self.alive:
                     return
-                if reader.take_status(DDSStatus.RequestedIncompatibleQos):
-                    self._report_incompatible(reader)
                 self._drain(ref)
             except Exception as exc:  # keep delivering whatever arrives
                 if not self.alive:
@@ -345,7 +345,8 @@ class _Subscription(SubscriptionEndpoint):
         else:
             self._sink(msg)
 
-    def _report_incompatible(self, reader: DataReader[Any]) -> None:
+    def report_incompatible(self, reader: DataReader[Any]) -> None:
+        """Log (once per policy) that a publisher offers less than this subscription wants."""
         status = reader.get_requested_incompatible_qos_status()  # type: ignore[no-untyped-call]
         policy = _POLICY_NAMES.get(int(getattr(status, "last_policy_id", 0)), "UNKNOWN")
         self.warn_once(
@@ -518,7 +519,7 @@ class DdsTransport(Transport):
             self._release_node(info.node_namespace, info.node_name)
             raise
         pub = _Publisher(self, info, ros_type, writer)
-        # the graph thread reports subscriptions that request more than this writer offers
+        # the graph thread reports subscriptions that want more than this writer offers
         writer.set_status_mask(DDSStatus.OfferedIncompatibleQos)
         self._waitset.attach(writer)
         with self._lock:
@@ -548,6 +549,7 @@ class DdsTransport(Transport):
             reader = DataReader(self.participant, topic, endpoint_qos(
                 info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=False))
             sub.start(self.participant, reader)
+            self._waitset.attach(reader)  # incompatible-QoS reports (graph thread)
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)
             raise
@@ -573,11 +575,10 @@ class DdsTransport(Transport):
                 self._subscriptions.remove(endpoint)
             closed = self._closed
         if not closed:
-            if isinstance(endpoint, _Publisher):
-                try:
-                    self._waitset.detach(entity)
-                except Exception as exc:  # not attached (or already gone)
-                    _log.debug("detaching %r: %s", entity, exc)
+            try:
+                self._waitset.detach(entity)
+            except Exception as exc:  # not attached (or already gone)
+                _log.debug("detaching %r: %s", entity, exc)
             _delete(entity)
         self._release_node(info.node_namespace, info.node_name)
         self._publish_graph()
@@ -589,7 +590,7 @@ class DdsTransport(Transport):
                 self._waitset.wait(duration(seconds=1))
                 if self._closed:
                     return
-                self._check_offered_qos()
+                self._check_incompatible_qos()
                 self._refresh()
             except Exception as exc:  # keep the graph alive whatever a peer announces
                 if self._closed:
@@ -597,12 +598,18 @@ class DdsTransport(Transport):
                 _log.warning("DDS graph update failed: %s: %s", type(exc).__name__, exc)
                 time.sleep(0.1)
 
-    def _check_offered_qos(self) -> None:
+    def _check_incompatible_qos(self) -> None:
         with self._lock:
             publishers = list(self._publishers)
+            subscriptions = list(self._subscriptions)
         for pub in publishers:
             if pub.alive and pub.writer.take_status(DDSStatus.OfferedIncompatibleQos):
                 pub.report_incompatible()
+        for sub in subscriptions:
+            reader = sub.reader
+            if sub.alive and reader is not None and reader.take_status(
+                    DDSStatus.RequestedIncompatibleQos):
+                sub.report_incompatible(reader)
 
     def _refresh(self) -> None:
         changed = False
