@@ -99,9 +99,10 @@ REFERENCE = ROS_MSG_HELPERS + textwrap.dedent("""
         "big", [m.height, m.width, m.encoding, hashlib.sha256(bytes(m.data)).hexdigest()]), 2)
     done = []
     node.create_subscription(String, "/interop/done", lambda m: done.append(m.data), 10)
-    names = []
+    names, graph = [], {}
     deadline, next_pub = time.monotonic() + 45, 0.0
-    while time.monotonic() < deadline and not (done and len(received) == len(SPEC) + 1):
+    while time.monotonic() < deadline and not (
+            done and graph and len(received) == len(SPEC) + 1):
         rclpy.spin_once(node, timeout_sec=0.05)
         if time.monotonic() >= next_pub:
             for pub, msg in pubs:
@@ -109,8 +110,16 @@ REFERENCE = ROS_MSG_HELPERS + textwrap.dedent("""
             big_pub.publish(big)
             next_pub = time.monotonic() + 0.3
             names = node.get_node_names_and_namespaces()
+            if ["posekit_interop", "/"] in [list(n) for n in names]:
+                pubs_of = node.get_publisher_names_and_types_by_node("posekit_interop", "/")
+                subs_of = node.get_subscriber_names_and_types_by_node("posekit_interop", "/")
+                info = node.get_publishers_info_by_topic("/interop/odometry/from_pk")
+                graph = {"pubs": sorted([n, t] for n, ts in pubs_of for t in ts),
+                         "subs": sorted([n, t] for n, ts in subs_of for t in ts),
+                         "odom_pub": [[i.node_name, i.node_namespace, i.topic_type,
+                                       i.qos_profile.reliability.name] for i in info]}
     print(json.dumps({"received": received, "expected": expected, "nodes": names,
-                      "done": done}), flush=True)
+                      "graph": graph, "done": done}), flush=True)
     node.destroy_node()
     rclpy.shutdown()
 """)
@@ -166,7 +175,7 @@ def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
                 pub.publish(msg)
             big_pub.publish(big)
             seen_nodes.update(node.transport.get_node_names())  # type: ignore[attr-defined]
-            if len(got) == len(SPEC) + 1:
+            if len(got) == len(SPEC) + 1 and "/ros_interop" in seen_nodes:
                 done_pub.publish(string_cls(data="done"))
 
         assert spin_until(executor, lambda: proc.popen.poll() is not None, 50, publish_all), \
@@ -190,9 +199,16 @@ def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
         3 * BIG_W * BIG_H)).hexdigest()
     assert got["big"] == [BIG_H, BIG_W, "rgb8", digest]
     assert result["received"]["big"] == [BIG_H, BIG_W, "rgb8", digest]
-    # the graph both ways: each side lists the other's node
+    # the graph both ways: each side lists the other's node, the real one with the posekit
+    # node's publishers and subscriptions (ros_discovery_info's GIDs matched to endpoints)
     assert ["posekit_interop", "/"] in result["nodes"]
     assert "/ros_interop" in seen_nodes
+    graph = result["graph"]
+    for name, (ros_type, _values) in SPEC.items():
+        assert [f"/interop/{name}/from_pk", ros_type] in graph["pubs"], name
+        assert [f"/interop/{name}/from_ros", ros_type] in graph["subs"], name
+    assert ["/interop/done", "std_msgs/msg/String"] in graph["pubs"]
+    assert graph["odom_pub"] == [["posekit_interop", "/", "nav_msgs/msg/Odometry", "RELIABLE"]]
 
 
 BAD_PEERS = textwrap.dedent("""
