@@ -62,9 +62,8 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
 
     from posekit.cli import topic_cmd
 
-    domain = 155
+    domain = dds_domain(monkeypatch)
     talker = Proc([str(ros2_python()), "-c", TALKER, "40"], env=ros2_env(domain))
-    dds_domain(monkeypatch, domain)
     context = dds_context()
     try:
         talker.wait_line(lambda line: line.startswith("ready"), 30, "the talker")

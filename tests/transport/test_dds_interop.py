@@ -138,9 +138,9 @@ def _last_json(proc: Proc) -> Any:
 
 def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
         monkeypatch: pytest.MonkeyPatch) -> None:
-    dds_domain(monkeypatch, 151)
+    domain = dds_domain(monkeypatch)
     context = dds_context()
-    proc = _start_reference(151, REFERENCE, json.dumps(SPEC), str(BIG_W), str(BIG_H))
+    proc = _start_reference(domain, REFERENCE, json.dumps(SPEC), str(BIG_W), str(BIG_H))
     try:
         node = Node("posekit_interop", context=context)
         executor = SingleThreadedExecutor(context=context)
@@ -237,9 +237,9 @@ BAD_PEERS = textwrap.dedent("""
 
 def test_incompatible_qos_and_another_type_each_log_one_reason_and_the_node_runs_on(
         monkeypatch: pytest.MonkeyPatch, logs: list[LogRecord]) -> None:
-    dds_domain(monkeypatch, 152)
+    domain = dds_domain(monkeypatch)
     context = dds_context()
-    proc = _start_reference(152, BAD_PEERS, "25")
+    proc = _start_reference(domain, BAD_PEERS, "25")
     try:
         node = Node("posekit_strict", context=context)
         executor = SingleThreadedExecutor(context=context)
@@ -358,7 +358,7 @@ def test_late_independent_reader_gets_tf_static_from_posekit(
     from posekit.msgs.geometry_msgs import TransformStamped
     from posekit.runtime.tf2_ros import StaticTransformBroadcaster
 
-    dds_domain(monkeypatch, 153)
+    domain = dds_domain(monkeypatch)
     context = dds_context()
     try:
         node = Node("static_publisher", context=context)
@@ -374,7 +374,8 @@ def test_late_independent_reader_gets_tf_static_from_posekit(
         script = tmp_path / "tf_reader.py"
         script.write_text(INDEPENDENT_TF_READER)
         # The reader joins after the transforms were sent (transient local hands them over).
-        reader = Proc([sys.executable, "-I", str(script), "153"], env=posekit_env(153))
+        reader = Proc([sys.executable, "-I", str(script), str(domain)],
+                      env=posekit_env(domain))
         out = reader.finish(30, "the independent /tf_static reader")
     finally:
         context.try_shutdown()

@@ -34,7 +34,7 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 @pytest.fixture
 def two(monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
-    dds_domain(monkeypatch, 160)
+    dds_domain(monkeypatch)
     a, b = dds_context(), dds_context()
     yield a, b
     b.try_shutdown()
@@ -98,7 +98,7 @@ def test_two_participants_exchange_messages_latched_history_and_graph(
 
 def test_selected_by_environment_and_rejections(
         monkeypatch: pytest.MonkeyPatch, logs: list[LogRecord]) -> None:
-    dds_domain(monkeypatch, 161)
+    dds_domain(monkeypatch)
     monkeypatch.setenv("POSEKIT_TRANSPORT", "dds")
     context = Context()
     context.init()
@@ -132,7 +132,7 @@ def test_a_service_call_on_dds_is_one_line_not_a_traceback(
         monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
     from posekit.cli.main import main
 
-    dds_domain(monkeypatch, 162)
+    dds_domain(monkeypatch)
     assert main(["service", "call", "/reset", "std_srvs/srv/Trigger", "--transport", "dds"]) == 1
     err = capsys.readouterr().err
     assert err == ("posekit service call: the 'dds' transport does not carry services "
@@ -159,10 +159,10 @@ def test_discovery_range_off_keeps_a_process_out_of_the_graph(
     from _support.dds import posekit_env
     from _support.procs import Proc
 
-    dds_domain(monkeypatch, 163)
-    on = Proc([sys.executable, "-c", CHILD, "on_child", "/on_probe"], env=posekit_env(163))
+    domain = dds_domain(monkeypatch)
+    on = Proc([sys.executable, "-c", CHILD, "on_child", "/on_probe"], env=posekit_env(domain))
     off = Proc([sys.executable, "-c", CHILD, "off_child", "/off_probe"],
-               env=posekit_env(163, ROS_AUTOMATIC_DISCOVERY_RANGE="OFF"))
+               env=posekit_env(domain, ROS_AUTOMATIC_DISCOVERY_RANGE="OFF"))
     context = dds_context()
     try:
         node = Node("observer", context=context)
