@@ -76,11 +76,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     target = _COMMANDS[key][0]
     module_name, _, function_name = target.partition(":")
     function = getattr(importlib.import_module(module_name), function_name)
+    from posekit.runtime.transport import ServicesNotSupportedError, UnknownTransportError
+
     try:
         with _sigterm_as_interrupt():
             result = function(rest)
     except KeyboardInterrupt:
         return 130
+    except (ServicesNotSupportedError, UnknownTransportError) as exc:
+        # e.g. a service call on the dds transport, or --transport with a typo: one line
+        name = group if key[1] is None else f"{group} {key[1]}"
+        sys.stderr.write(f"posekit {name}: {exc}\n")
+        return 1
     return int(result or 0)
 
 

@@ -586,7 +586,7 @@ def _endpoint_block(info: Any, kind: str) -> str:
         f"Node name: {info.node_name}",
         f"Node namespace: {info.namespace}",
         f"Topic type: {info.ros_type}",
-        f"Topic type hash: {info.type_hash}",
+        f"Topic type hash: {info.type_hash or 'INVALID'}",  # ros2cli: no hash announced
         f"Endpoint type: {kind}",
         f"GID: {'.'.join(gid[i:i + 2] for i in range(0, len(gid), 2))}",
         *(_qos_lines(info) if info.qos is not None else []),
