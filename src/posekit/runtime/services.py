@@ -98,10 +98,14 @@ class Service:
         callback: Callable[[Any, Any], Any],
         qos: QoSProfile,
         callback_group: CallbackGroup,
+        given_name: str | None = None,
     ) -> None:
         self._node = node
         self.srv_type: Any = srv_type
         self._srv_name = srv_name
+        #: The name as given to ``create_service`` (rclpy's attribute; ``service_name`` is
+        #: the expanded one).
+        self.srv_name = srv_name if given_name is None else given_name
         self.callback = callback
         self.qos_profile = qos
         self.callback_group = callback_group
@@ -155,11 +159,6 @@ class Service:
         """Fully qualified (expanded, remapped) service name."""
         return self._srv_name
 
-    @property
-    def srv_name(self) -> str:
-        """Same as service_name."""
-        return self._srv_name
-
     def destroy(self) -> bool:
         """Same as ``node.destroy_service(self)``."""
         return self._node.destroy_service(self)
@@ -185,10 +184,14 @@ class Client:
         qos: QoSProfile,
         callback_group: CallbackGroup,
         endpoint: ServiceClientEndpoint,
+        given_name: str | None = None,
     ) -> None:
         self._node = node
         self.srv_type: Any = srv_type
         self._srv_name = srv_name
+        #: The name as given to ``create_client`` (rclpy's attribute; ``service_name`` is
+        #: the expanded one).
+        self.srv_name = srv_name if given_name is None else given_name
         self.qos_profile = qos
         self.callback_group = callback_group
         self._endpoint = endpoint
@@ -204,11 +207,6 @@ class Client:
     @property
     def service_name(self) -> str:
         """Fully qualified (expanded, remapped) service name."""
-        return self._srv_name
-
-    @property
-    def srv_name(self) -> str:
-        """Same as service_name."""
         return self._srv_name
 
     def _send(self, request: Any, direct: bool) -> Future:
