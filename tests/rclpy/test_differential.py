@@ -40,6 +40,12 @@ DEVIATIONS: dict[str, dict[str, str]] = {
             "durability=<DurabilityPolicy.VOLATILE: 2>)"
         ),
     },
+    "parameters": {
+        # an integer override of a DOUBLE parameter is taken as a float; rclpy raises
+        "declare int override of a double": "1.0",
+        # a YAML mapping stays text; rclpy puts the dict into the string field
+        "from string mapping": "(4, '{a: 1}')",
+    },
     "services": {
         # rclpy's single-threaded executor cannot serve the request while blocked in the
         # callback (None after the timeout); posekit serves it

@@ -11,6 +11,7 @@ import rclpy
 rclpy.init()
 node = rclpy.create_node("diff_params", parameter_overrides=[
     Parameter("over_double", value=2.5), Parameter("over_str", value="from launch"),
+    Parameter("over_int", value=1),
 ])
 
 # -- Parameter objects and types ------------------------------------------------------
@@ -32,12 +33,16 @@ for text in ["1", "1.0", "true", "yes", "abc", "[1, 2]", "[1.0, 2]", "['a', 'b']
     show(f"from string {text!r}", lambda text=text: (lambda v: (v.type, plain(
         parameter_value_to_python(v))))(get_parameter_value(text)))
 
+show("from string mapping", lambda: (lambda v: (v.type, plain(
+    parameter_value_to_python(v))))(get_parameter_value("{a: 1}")))
+
 # -- declare ---------------------------------------------------------------------------
 show("declare double", lambda: (lambda p: (p.type_, p.value))(
     node.declare_parameter("k_rho", 0.4)))
 show("declare again", lambda: node.declare_parameter("k_rho", 0.5))
 show("declare int", lambda: node.declare_parameter("count", 3).value)
 show("declare override double", lambda: node.declare_parameter("over_double", 1.0).value)
+show("declare int override of a double", lambda: node.declare_parameter("over_int", 0.5).value)
 show("declare override wrong type", lambda: node.declare_parameter("over_str", 1.0))
 show("declare ignore override", lambda: node.declare_parameter(
     "over_str", "x", ignore_override=True).value)
