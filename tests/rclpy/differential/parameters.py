@@ -43,6 +43,8 @@ show("declare again", lambda: node.declare_parameter("k_rho", 0.5))
 show("declare int", lambda: node.declare_parameter("count", 3).value)
 show("declare override double", lambda: node.declare_parameter("over_double", 1.0).value)
 show("declare int override of a double", lambda: node.declare_parameter("over_int", 0.5).value)
+if node.has_parameter("over_int"):  # only where the line above differs: keep the rest equal
+    node.undeclare_parameter("over_int")
 show("declare override wrong type", lambda: node.declare_parameter("over_str", 1.0))
 show("declare ignore override", lambda: node.declare_parameter(
     "over_str", "x", ignore_override=True).value)
