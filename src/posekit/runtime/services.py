@@ -15,9 +15,9 @@ its handling and its response happen in a reproducible order. ``call(request)`` 
 * in a thread that is not spinning the node's executor, it waits for another thread (or
   the transport) to complete the future; when the node has no executor at all, the
   response completes the future directly, so a plain script never hangs;
-* inside a callback of the executor (where rclpy's single-threaded executor deadlocks),
-  it keeps running that executor's other ready callbacks until the response arrives,
-  so a server on another node of the same executor is served. A server in the caller's own
+* inside a callback of an executor (where rclpy's single-threaded executor deadlocks), it
+  keeps running that executor's other ready callbacks until the response arrives, so a
+  server on another node of the same executor is served. A server in the caller's own
   mutually exclusive callback group cannot run meanwhile: pass ``timeout_sec``.
 """
 
@@ -249,13 +249,11 @@ class Client:
         Returns the response, or None after ``timeout_sec`` seconds without one (the request
         is then forgotten, as rclpy's ``remove_pending_request``).
         """
+        future = self._send(request, direct=True)
         executor = current_executor()
-        node_executor = self._node._executor
-        if executor is not None and executor is node_executor:
-            future = self._send(request, direct=True)
+        if executor is not None:  # inside a callback: keep that executor's work going
             executor._serve_until(future, timeout_sec)
         else:
-            future = self._send(request, direct=True)
             future.wait(timeout_sec)
         if not future.done():
             self.remove_pending_request(future)
