@@ -20,6 +20,7 @@ import xxhash
 import zenoh
 
 from _support.ports import free_port
+from _support.waiting import wait_for
 from posekit.msgs.std_srvs import SetBool
 from posekit.transport.zenoh_session import SessionOptions, ZenohSession, open_session
 from posekit.transport.zenoh_wire import WireQoS
@@ -47,13 +48,6 @@ def attachment(seq: int, gid: bytes) -> bytes:
     return struct.pack("<qqB", seq, time.time_ns(), 16) + gid
 
 
-def wait_for(cond: Callable[[], bool], timeout: float = 10.0) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if cond():
-            return True
-        time.sleep(0.01)
-    return cond()
 
 
 @pytest.fixture
