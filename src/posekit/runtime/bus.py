@@ -482,6 +482,14 @@ class InProcessBus(Transport):
             elif isinstance(endpoint, _BusClient) and endpoint in entry.clients:
                 entry.clients.remove(endpoint)
 
+    def count_services(self, service: str) -> int:
+        entry = self._services.get(service)
+        return len(entry.servers) if entry is not None else 0
+
+    def count_clients(self, service: str) -> int:
+        entry = self._services.get(service)
+        return len(entry.clients) if entry is not None else 0
+
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
         with self._lock:
             return sorted(

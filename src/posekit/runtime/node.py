@@ -17,7 +17,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent
+from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent, ParameterValue
 from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from posekit.runtime.clock import Clock, ROSClock
 from posekit.runtime.context import Context, NotInitializedException, get_default_context
@@ -32,6 +32,7 @@ from posekit.runtime.names import (
     validate_node_name,
 )
 from posekit.runtime.parameters import (
+    PARAM_REL_TOL,
     OnSetCallback,
     Parameter,
     ParameterDescriptor,
@@ -110,6 +111,9 @@ def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | N
 
 class Node:
     """A ROS 2 node (rclpy.node.Node API)."""
+
+    #: Relative tolerance of floating point range checks (rclpy's ``Node.PARAM_REL_TOL``).
+    PARAM_REL_TOL = PARAM_REL_TOL
 
     def __init__(
         self,
@@ -544,6 +548,18 @@ class Node:
         """The services node ``node_name`` in ``node_namespace`` has clients for."""
         return self._transport.get_client_names_and_types_by_node(node_name, node_namespace)
 
+    def count_services(self, service_name: str) -> int:
+        """Servers of ``service_name`` (expanded in the node's namespace, not remapped)."""
+        return self._transport.count_services(
+            self.resolve_service_name(service_name, only_expand=True)
+        )
+
+    def count_clients(self, service_name: str) -> int:
+        """Clients of ``service_name`` (expanded in the node's namespace, not remapped)."""
+        return self._transport.count_clients(
+            self.resolve_service_name(service_name, only_expand=True)
+        )
+
     def count_publishers(self, topic_name: str) -> int:
         """Publishers on ``topic_name`` (expanded and remapped like the node's own topics)."""
         return self._transport.count_publishers(self.resolve_topic_name(topic_name))
@@ -648,6 +664,17 @@ class Node:
     def describe_parameter(self, name: str) -> ParameterDescriptor:
         """The descriptor of a declared parameter."""
         return self._parameters.descriptor(name)
+
+    def set_descriptor(
+        self,
+        name: str,
+        descriptor: ParameterDescriptor,
+        alternative_value: ParameterValue | None = None,
+    ) -> ParameterValue:
+        """Give a declared parameter a new descriptor; if its value does not fit it, use
+        ``alternative_value`` (InvalidParameterValueException if that does not fit either).
+        Returns the value afterwards."""
+        return self._parameters.set_descriptor(name, descriptor, alternative_value)
 
     def describe_parameters(self, names: Sequence[str]) -> list[ParameterDescriptor]:
         """Descriptors of several declared parameters."""

@@ -778,6 +778,29 @@ class ParameterStore:
             post(plist)
         return SetParametersResult(successful=True)
 
+    def set_descriptor(
+        self, name: str, descriptor: ParameterDescriptor,
+        alternative_value: ParameterValue | None = None,
+    ) -> ParameterValue:
+        """rclpy's ``set_descriptor`` (see :meth:`posekit.runtime.node.Node.set_descriptor`)."""
+        if name not in self._params:
+            if not self.allow_undeclared:
+                raise ParameterNotDeclaredException(name)
+            return self.get(name).get_parameter_value()
+        if self._descriptors[name].read_only:
+            raise ParameterImmutableException(name)
+        current = self.get(name)
+        alternative = current if alternative_value is None else Parameter.from_parameter_msg(
+            ParameterMsg(name=name, value=alternative_value)
+        )
+        if not self._apply_descriptor(current, descriptor, False).successful:
+            result = self._apply_descriptor(alternative, descriptor, False)
+            if not result.successful:
+                raise InvalidParameterValueException(name, alternative.value, result.reason)
+            self._params[name] = alternative
+        self._descriptors[name] = descriptor
+        return self.get(name).get_parameter_value()
+
     # -- callbacks --------------------------------------------------------------------
     def add_pre_set(self, callback: PreSetCallback) -> None:
         """Register a callback that may rewrite the list before validation (newest first)."""

@@ -244,6 +244,14 @@ class Transport(ABC):
         """The services a node serves (its servers, as rcl reports them)."""
         return []
 
+    def count_services(self, service: str) -> int:
+        """Servers of a fully qualified service name."""
+        return 0
+
+    def count_clients(self, service: str) -> int:
+        """Clients of a fully qualified service name."""
+        return 0
+
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:

@@ -953,6 +953,11 @@ class ZenohGraph:
         with self._cond:
             return self.cache.endpoints(service, EntityKind.SERVICE)
 
+    def clients(self, service: str) -> list[TokenInfo]:
+        """Clients announced for ``service``."""
+        with self._cond:
+            return self.cache.endpoints(service, EntityKind.CLIENT)
+
     def service_names_and_types(self) -> list[tuple[str, list[str]]]:
         """Services (with a server or a client) and their types, sorted."""
         with self._cond:

@@ -334,6 +334,12 @@ class ZenohTransport(Transport):
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
         return self._graph.service_names_and_types()
 
+    def count_services(self, service: str) -> int:
+        return len(self._graph.services(service))
+
+    def count_clients(self, service: str) -> int:
+        return len(self._graph.clients(service))
+
     def get_service_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:

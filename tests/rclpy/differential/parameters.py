@@ -2,6 +2,7 @@ from rcl_interfaces.msg import (
     FloatingPointRange,
     IntegerRange,
     ParameterDescriptor,
+    ParameterValue,
     SetParametersResult,
 )
 from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
@@ -170,6 +171,25 @@ show("pre rewrites", lambda: (results([Parameter("count", value=53)]),
                               node.get_parameter("k_rho").value,
                               node.get_parameter("count").value))
 node.remove_pre_set_parameters_callback(pre)
+
+# -- set_descriptor ---------------------------------------------------------------------------
+def int_range(lo, hi):
+    return ParameterDescriptor(type=2, integer_range=[IntegerRange(
+        from_value=lo, to_value=hi, step=1)])
+
+
+show("set_descriptor keeps", lambda: (lambda v: (v.type, v.integer_value))(
+    node.set_descriptor("ranged", int_range(0, 100))))
+show("set_descriptor alternative", lambda: (lambda v: (v.type, v.integer_value))(
+    node.set_descriptor("ranged", int_range(50, 60), ParameterValue(type=2, integer_value=55))))
+show("set_descriptor neither", lambda: node.set_descriptor(
+    "ranged", int_range(70, 80), ParameterValue(type=2, integer_value=1)))
+show("set_descriptor untyped", lambda: node.set_descriptor("ranged", ParameterDescriptor()))
+show("set_descriptor read only", lambda: node.set_descriptor("ro", ParameterDescriptor()))
+show("set_descriptor undeclared", lambda: node.set_descriptor("nope", ParameterDescriptor()))
+show("after set_descriptor", lambda: (node.get_parameter("ranged").value,
+                                      node.describe_parameter("ranged").integer_range[0].from_value))
+show("rel tol", lambda: node.PARAM_REL_TOL)
 
 # -- describe / list / types / undeclare ---------------------------------------------------
 show("describe", lambda: (lambda d: (d.name, d.type, d.read_only, d.dynamic_typing))(

@@ -53,9 +53,24 @@ show("call true", lambda: (lambda r: (type(r).__name__, r.success, r.message))(
 show("call false", lambda: (lambda r: (r.success, r.message))(
     call(client, SetBool.Request(data=False))))
 show("calls seen", lambda: calls)
+show("counts", lambda: (client_node.count_services("/robot/flip"),
+                        client_node.count_clients("/robot/flip"),
+                        server.count_services("flip"), client_node.count_services("/none")))
 kind("wrong request type", lambda: client.call_async(Trigger.Request()))
 show("future before spin", lambda: (lambda f: (f.done(), f.result()))(
     client.call_async(SetBool.Request(data=True))))
+pending = client.call_async(SetBool.Request(data=True))
+
+
+def never(_f):
+    print("never: called")
+
+
+pending.add_done_callback(never)
+show("remove done callback", lambda: (pending.remove_done_callback(never),
+                                      pending.remove_done_callback(never)))
+executor.spin_until_future_complete(pending, timeout_sec=10.0)
+show("pending done", lambda: (pending.done(), pending.result().message))
 absent = client_node.create_client(Empty, "/nobody_serves_this")
 show("absent ready", lambda: absent.service_is_ready())
 show("absent wait", lambda: absent.wait_for_service(timeout_sec=0.2))
