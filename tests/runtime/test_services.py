@@ -244,3 +244,41 @@ def test_simulated_time_serves_requests_deterministically(ctx) -> None:
     assert first[:4] == [
         "serve True @100000000", "serve False @100000000", "a got True", "b got False",
     ]
+
+
+def test_a_transport_without_services_says_so(ctx) -> None:
+    from posekit.runtime.bus import InProcessBus
+    from posekit.runtime.transport import ServicesNotSupportedError, Transport
+
+    class TopicsOnly(Transport):
+        """Topics through a bus; services left at the contract's default."""
+
+        name = "topics_only"
+
+        def __init__(self) -> None:
+            self.bus = InProcessBus()
+
+        def advertise(self, info):
+            return self.bus.advertise(info)
+
+        def subscribe(self, info, sink):
+            return self.bus.subscribe(info, sink)
+
+        def get_topic_names_and_types(self):
+            return self.bus.get_topic_names_and_types()
+
+        def count_publishers(self, topic):
+            return self.bus.count_publishers(topic)
+
+        def count_subscribers(self, topic):
+            return self.bus.count_subscribers(topic)
+
+    node = Node("plain", context=ctx, transport=TopicsOnly())  # no parameter services: fine
+    assert node.get_service_names_and_types() == []
+    assert node.count_services("x") == 0
+    with pytest.raises(ServicesNotSupportedError, match="'topics_only' transport does not carry"):
+        node.create_service(Empty, "x", lambda q, r: r)
+    with pytest.raises(ServicesNotSupportedError):
+        node.create_client(Empty, "x")
+    node.declare_parameter("still", 1)  # parameters work; /parameter_events is a topic
+    assert node.get_parameter("still").value == 1
