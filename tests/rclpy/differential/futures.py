@@ -1,7 +1,8 @@
-import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.task import Future
+
+import rclpy
 
 f = Future()
 show("pending", lambda: (f.done(), f.cancelled(), f.result(), f.exception()))
