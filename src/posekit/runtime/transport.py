@@ -23,8 +23,11 @@ Contract for implementations:
   respond)`` once per request (an object the server owns), and the runtime calls
   ``respond(response)`` exactly once, from any thread, possibly later. A client's
   ``send_request(request, on_response)`` (:class:`ServiceClientEndpoint`) delivers the
-  request to one server and calls ``on_response(response)`` at most once. The base class
-  raises :class:`ServicesNotSupportedError` so a transport without services says so.
+  request to one server and calls ``on_response(response)`` at most once; its
+  ``server_count`` is what ``wait_for_service`` polls. ``get_service_names_and_types``,
+  ``..._by_node``, ``count_services`` and ``count_clients`` answer graph questions. The base
+  class raises :class:`ServicesNotSupportedError` from the two factories (and reports an empty
+  service graph), so a transport without services says so.
 
 Selection: ``Node(..., transport="zenoh")``, else ``init(transport=...)`` of the context,
 else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names map to
