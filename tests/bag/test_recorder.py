@@ -37,9 +37,12 @@ START_NS = 1_000_250_000_000  # conftest.START_NS: the talkers' start time
 def record_talkers(kit: Any) -> Any:
     return kit.record
 
+# /rosout and /parameter_events: every node (the recorder's too) publishes its log lines and
+# parameter changes there, as in ROS 2.
 TOPICS = ["/camera/image", "/chatter", "/imu", "/odom", "/tf", "/tf_static"]
-#: Every node publishes its parameter changes there (as in ROS 2), so "all topics" has it too.
-ALL_TOPICS = sorted([*TOPICS, "/parameter_events"])
+ALL_TOPICS = sorted([*TOPICS, "/parameter_events", "/rosout"])
+#: The talkers' topics whose every published message is compared.
+SENT_TOPICS = ["/camera/image", "/chatter", "/imu", "/odom", "/tf"]
 
 
 def _mcap_file(path: Path) -> Path:
@@ -59,7 +62,7 @@ def test_every_message_read_back_by_rosbags_with_its_receive_time(recorded: Any,
                 (timestamp, store.deserialize_cdr(data, conn.msgtype))
             )
     sent = recorded.talkers.sent
-    for topic in TOPICS[:-1]:
+    for topic in SENT_TOPICS:
         expected = [(t, m) for top, t, m in sent if top == topic]
         assert len(got[topic]) == len(expected) > 0, topic
         for (t_exp, m_exp), (t_got, m_got) in zip(expected, got[topic], strict=True):
@@ -100,7 +103,7 @@ def test_every_message_read_back_by_mcap_ros2_from_the_stored_schemas(
                 "MSG: builtin_interfaces/Time", "MSG: geometry_msgs/Quaternion"):
         assert dep in tf_schema
     sent = recorded.talkers.sent
-    for topic in TOPICS[:-1]:
+    for topic in SENT_TOPICS:
         expected = [(t, m) for top, t, m in sent if top == topic]
         assert len(decoded[topic]) == len(expected), topic
         for (t_exp, m_exp), (log_t, pub_t, m_got) in zip(expected, decoded[topic], strict=True):
@@ -225,7 +228,7 @@ def test_header_stamps_option(ctx: Context, tmp_path: Path) -> None:
     rec.close()
     stamps = {
         (m.topic, m.timestamp_ns) for m in read_messages(tmp_path / "h")
-        if m.topic != "/parameter_events"  # no header: receive times, checked elsewhere
+        if m.topic not in ("/parameter_events", "/rosout")  # no header: receive times
     }
     assert stamps == {
         ("/tf", 5_490_000_000), ("/tf", 5_990_000_000),
@@ -262,7 +265,7 @@ def test_all_topics_discovers_late_topics_skips_hidden_clock_and_foreign_types(
     node.create_timer(0.1, tick)
     executor.run_for(1.0)
     counts = rec.close()
-    assert set(counts) == {"/early", "/late", "/parameter_events"}
+    assert set(counts) == {"/early", "/late", "/parameter_events", "/rosout"}
     # /early is discovered on the first graph check (after the node existed); /late within
     # one discovery period (0.1 s) of appearing at 0.5 s, so it misses at most one message.
     assert counts["/early"] == 10

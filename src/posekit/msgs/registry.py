@@ -24,10 +24,12 @@ from posekit.msgs import (
 )
 from posekit.msgs._service import is_service_type
 from posekit.msgs.errors import UnknownMessageTypeError
+from posekit.msgs.introspection import install_introspection
 
 __all__ = [
     "MESSAGE_CLASSES",
     "SERVICE_CLASSES",
+    "find_message_class",
     "get_message_class",
     "get_service_class",
     "message_type_name",
@@ -57,6 +59,7 @@ def _collect() -> tuple[dict[str, type[Any]], dict[str, type[Any]]]:
                 services[cls.__srvtype__] = cls
             else:
                 classes[cls.__msgtype__] = cls
+                install_introspection(cls)
     return classes, services
 
 
@@ -127,3 +130,22 @@ def message_type_name(msg_or_cls: object) -> str:
             f"{type(msg_or_cls).__name__} is not a ROS message (no __msgtype__ attribute)"
         )
     return name
+
+
+def find_message_class(name: str) -> type[Any]:
+    """posekit's class for ``name``, else the class from rosbags' typestore (any ROS 2 Jazzy
+    type; rosbags is imported only here). Never imports a module named by ``name``: type
+    names often come from other peers. Raises :class:`UnknownMessageTypeError`."""
+    try:
+        return get_message_class(name)
+    except UnknownMessageTypeError:
+        full = normalize_type_name(name)
+    try:
+        from posekit.msgs.cdr import get_typestore
+
+        cls: type[Any] = get_typestore().types[full]
+    except (ImportError, KeyError):
+        raise UnknownMessageTypeError(
+            f"The passed message type '{name}' is invalid (no definition known)"
+        ) from None
+    return cls

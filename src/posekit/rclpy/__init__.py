@@ -2,7 +2,8 @@
 
 Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qos``,
 ``.executors``, ``.parameter``, ``.clock``, ``.logging``, ``.callback_groups``, ``.task``,
-``.exceptions``, ``.service``, ``.client``.
+``.exceptions``, ``.utilities``.
+``.exceptions``, ``.service``, ``.client``, ``.timer``, ``.wait_for_message``.
 """
 
 from __future__ import annotations
@@ -21,6 +22,9 @@ from posekit.rclpy import (
     service,
     task,
     time,
+    timer,
+    utilities,
+    wait_for_message,
 )
 from posekit.runtime import create_node
 from posekit.runtime.context import Context, get_default_context, init, ok, shutdown, try_shutdown
@@ -57,5 +61,8 @@ __all__ = [
     "spin_until_future_complete",
     "task",
     "time",
+    "timer",
     "try_shutdown",
+    "utilities",
+    "wait_for_message",
 ]

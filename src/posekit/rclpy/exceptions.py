@@ -17,6 +17,7 @@ from posekit.runtime.parameters import (
     ParameterNotDeclaredException,
     ParameterUninitializedException,
 )
+from posekit.runtime.rate import ROSInterruptException
 
 __all__ = [
     "InvalidNamespaceException",
@@ -32,4 +33,5 @@ __all__ = [
     "ParameterImmutableException",
     "ParameterNotDeclaredException",
     "ParameterUninitializedException",
+    "ROSInterruptException",
 ]

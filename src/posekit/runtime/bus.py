@@ -38,7 +38,9 @@ QoS on the bus
   QoS, as DDS / rmw_zenoh do).
 * TRANSIENT_LOCAL publishers keep their last ``depth`` snapshots; a TRANSIENT_LOCAL
   subscription created later receives them (oldest first, in original publish order across
-  publishers). A VOLATILE publisher does not match a TRANSIENT_LOCAL subscription.
+  publishers). A VOLATILE publisher does not match a TRANSIENT_LOCAL subscription. With a
+  ``lifespan`` in the publisher's QoS, snapshots older than it (wall time) are not delivered
+  to late subscriptions and are dropped from the history.
 
 Services on the bus
 -------------------
@@ -55,6 +57,7 @@ import copy
 import dataclasses
 import itertools
 import threading
+import time
 import typing
 from collections import deque
 from collections.abc import Callable
@@ -288,10 +291,33 @@ class _BusPublisher(PublisherEndpoint):
         self.info = info
         self.alive = True
         self.matched: tuple[_BusSubscription, ...] = ()
-        self.history: deque[tuple[int, Any]] | None = None
+        # TRANSIENT_LOCAL history: (publish sequence number, snapshot, monotonic ns when
+        # the QoS has a lifespan else 0), oldest first.
+        self.history: deque[tuple[int, Any, int]] | None = None
+        self.lifespan_ns = info.qos.lifespan_ns
         if info.qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL:
             self.history = deque(maxlen=info.qos.queue_limit)
         self._type = info.msg_type
+
+    def _keep(self, history: deque[tuple[int, Any, int]], snap: Any) -> None:
+        """Append ``snap`` to the history, first forgetting entries past their lifespan."""
+        lifespan = self.lifespan_ns
+        if lifespan is None:
+            history.append((next(self._bus._seq), snap, 0))
+            return
+        now = time.monotonic_ns()
+        while history and now - history[0][2] > lifespan:
+            history.popleft()
+        history.append((next(self._bus._seq), snap, now))
+
+    def live_history(self) -> list[tuple[int, Any, int]]:
+        """The history entries still within their lifespan."""
+        history = self.history or ()
+        lifespan = self.lifespan_ns
+        if lifespan is None:
+            return list(history)
+        now = time.monotonic_ns()
+        return [entry for entry in history if now - entry[2] <= lifespan]
 
     def _reject(self, msg: Any) -> NoReturn:
         """Raise why ``msg`` cannot be published (kept off the inlined publish checks)."""
@@ -320,7 +346,7 @@ class _BusPublisher(PublisherEndpoint):
                 sub.sink(snap if i == last else snapshot(snap))
             return
         snap = snapshot(msg)
-        history.append((next(self._bus._seq), snap))
+        self._keep(history, snap)
         for sub in subs:
             sub.sink(snapshot(snap))
 
@@ -341,7 +367,7 @@ class _BusPublisher(PublisherEndpoint):
             return
         # The history keeps the handed-over object as its snapshot; subscribers get copies
         # (which freeze its large arrays, as publish() does, before anyone shares them).
-        history.append((next(self._bus._seq), msg))
+        self._keep(history, msg)
         for sub in subs:
             sub.sink(snapshot(msg))
 
@@ -572,16 +598,16 @@ class InProcessBus(Transport):
         with self._lock:
             topic = self._topic_for(info)
             sub = _BusSubscription(self, info, sink)
-            late: list[tuple[int, Any]] = []
+            late: list[tuple[int, Any, int]] = []
             for pub in topic.publishers:
                 if self._compatible(pub, sub) and pub.history is not None and (
                     info.qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL
                 ):
-                    late.extend(pub.history)
+                    late.extend(pub.live_history())
             topic.subscriptions.append(sub)
             self._rematch(topic)
         late.sort(key=lambda item: item[0])
-        for _, snap in late:
+        for _, snap, _ in late:
             sink(snapshot(snap))
         return sub
 

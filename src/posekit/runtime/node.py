@@ -5,13 +5,17 @@ names are validated, expanded in the node's namespace and remapped (posekit.runt
 the QoS argument is a :class:`QoSProfile` or an int depth. Every node declares
 ``use_sim_time`` (default False); setting it true makes ``get_clock()`` follow ``/clock``.
 
-Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context,
-the :func:`node_defaults` scope (used by posekit.launch), then the constructor arguments.
+Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context
+(``sys.argv`` by default, as rclpy; see :mod:`posekit.runtime.arguments`), the
+:func:`node_defaults` scope (used by posekit.launch), ``cli_args``, then the constructor's
+``parameter_overrides``. Remap rules are tried in this order (the first match wins): the
+constructor's ``remappings``, ``cli_args``, the scope, the global arguments.
 """
 
 from __future__ import annotations
 
 import contextvars
+import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -47,6 +51,8 @@ from posekit.runtime.qos import (
     qos_profile_services_default,
     to_qos_profile,
 )
+from posekit.runtime.rate import Rate
+from posekit.runtime.rosout import RosoutPublisher
 from posekit.runtime.services import Client, Service
 from posekit.runtime.time_source import TimeSource
 from posekit.runtime.transport import EndpointInfo, ServiceInfo, Transport
@@ -98,15 +104,21 @@ def node_defaults(
 
 
 def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | None, str | None]:
+    """The node name and namespace remaps for ``node_name``: the first matching rule of
+    each kind wins, as in rcl."""
     name = ns = None
     for rule in rules:
         if rule.node is not None and rule.node != node_name:
             continue
-        if rule.from_name == "__node" or rule.from_name == "__name":
+        if name is None and rule.from_name in ("__node", "__name"):
             name = rule.to_name
-        elif rule.from_name == "__ns":
+        elif ns is None and rule.from_name == "__ns":
             ns = rule.to_name
     return name, ns
+
+
+def _no_callback() -> None:
+    """Placeholder timer callback a Rate replaces with its own."""
 
 
 class Node:
@@ -131,26 +143,20 @@ class Node:
         remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
         transport: str | Transport | None = None,
     ) -> None:
-        del enable_rosout  # no /rosout
         scope = _defaults.get()
         self._context = context or (scope.context if scope else None) or get_default_context()
         if not self._context.ok():
             raise NotInitializedException(f"cannot create node '{node_name}'")
         validate_node_name(node_name)
 
-        from posekit.runtime.context import parse_ros_args
+        from posekit.runtime.arguments import RosArguments, parse_arguments
 
-        cli_params, cli_remaps = parse_ros_args(cli_args)
-        rules: list[RemapRule] = []
-        overrides: dict[str, Any] = {}
-        if use_global_arguments:
-            rules.extend(self._context.global_remaps)
-            overrides.update(self._context.global_parameters)
+        local = parse_arguments(cli_args) if cli_args else RosArguments()
+        glob = self._context.arguments if use_global_arguments else RosArguments()
+        rules: list[RemapRule] = parse_remap_rules(remappings) + local.remaps
         if scope is not None:
-            rules = list(scope.remappings) + rules
-            overrides.update(scope.parameters)
-        rules = parse_remap_rules(remappings) + cli_remaps + rules
-        overrides.update(cli_params)
+            rules += scope.remappings
+        rules += glob.remaps
 
         name_remap, ns_remap = _special_remaps(rules, node_name)
         if scope is not None and scope.name:
@@ -165,6 +171,13 @@ class Node:
         self._namespace = normalize_namespace(namespace)
         self._remap_rules = [r for r in rules if not r.from_name.startswith("__")]
 
+        # Parameter overrides, weakest first: global arguments, launch scope, cli_args,
+        # then the constructor's parameter_overrides.
+        fqn = self.get_fully_qualified_name()
+        overrides: dict[str, Any] = glob.parameters_for(fqn)
+        if scope is not None:
+            overrides.update(scope.parameters)
+        overrides.update(local.parameters_for(fqn))
         if isinstance(parameter_overrides, Mapping):
             overrides.update(parameter_overrides)
         elif parameter_overrides is not None:
@@ -185,6 +198,7 @@ class Node:
         self._destroyed = False
         self.default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
         self._callback_groups: list[CallbackGroup] = [self.default_callback_group]
+        self._rate_group: CallbackGroup | None = None  # rates' own group (made on first use)
 
         self._clock = ROSClock()
         logger_name = (self._namespace.strip("/").replace("/", ".") + "." + self._name).lstrip(".")
@@ -201,6 +215,7 @@ class Node:
         self._parameters.add_post_set(self._on_parameters_set)
         self._parameters.add_on_set(self._check_use_sim_time)
         self.declare_parameter("use_sim_time", False)
+        self._rosout: RosoutPublisher | None = RosoutPublisher(self) if enable_rosout else None
         if automatically_declare_parameters_from_overrides:
             for pname, value in overrides.items():
                 if not self._parameters.has(pname):
@@ -315,6 +330,19 @@ class Node:
         del event_callbacks, qos_overriding_options
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
+        return self._subscribe(msg_type, topic, callback, qos_profile, callback_group, False)
+
+    def _subscribe(
+        self,
+        msg_type: type,
+        topic: str,
+        callback: Callable[[Any], Any],
+        qos_profile: QoSProfile | int,
+        callback_group: CallbackGroup | None,
+        with_source: bool,
+    ) -> Subscription:
+        """create_subscription; ``with_source``: the callback gets ``(msg, source)`` with the
+        sending publisher's id (see Transport.subscribe_with_source)."""
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"subscription callback must be callable, got {callback!r}")
@@ -323,8 +351,15 @@ class Node:
         group = callback_group or self.default_callback_group
         sub = Subscription(self, msg_type, full, callback, qos, group)
         self._subscriptions.append(sub)
+        info = self._info(msg_type, full, qos)
         try:
-            endpoint = self._transport.subscribe(self._info(msg_type, full, qos), sub._enqueue)
+            if with_source:
+                enqueue = sub._enqueue
+                endpoint = self._transport.subscribe_with_source(
+                    info, lambda msg, source: enqueue((msg, source))
+                )
+            else:
+                endpoint = self._transport.subscribe(info, sub._enqueue)
         except BaseException:
             self._subscriptions.remove(sub)
             raise
@@ -346,9 +381,15 @@ class Node:
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"timer callback must be callable, got {callback!r}")
-        period_ns = round(float(timer_period_sec) * 1e9)
+        period_s = float(timer_period_sec)
+        # rclpy raises ValueError for NaN, OverflowError for inf, an error for negatives.
+        if math.isnan(period_s):
+            raise ValueError(f"timer period must be a number of seconds, got {period_s}")
+        if math.isinf(period_s):
+            raise OverflowError(f"timer period must be finite, got {period_s} s")
+        period_ns = round(period_s * 1e9)
         if period_ns < 0:
-            raise ValueError(f"timer period must be >= 0 s, got {timer_period_sec}")
+            raise ValueError(f"timer period must be non-negative, got {timer_period_sec} s")
         timer = Timer(
             self,
             callback,
@@ -361,6 +402,27 @@ class Node:
         if self._executor is not None:
             self._executor._node_changed(self)
         return timer
+
+    def create_rate(self, frequency: float, clock: Clock | None = None) -> Rate:
+        """A :class:`Rate` ticking at ``frequency`` Hz on ``clock`` (default: the node clock).
+
+        ``rate.sleep()`` needs the node to be spun in another thread (posekit.runtime.rate):
+        from a callback of a single-threaded executor it blocks forever, as in rclpy.
+        """
+        if frequency <= 0:
+            raise ValueError("frequency must be > 0")
+        if self._rate_group is None:
+            from posekit.runtime.callback_groups import ReentrantCallbackGroup
+
+            self._rate_group = ReentrantCallbackGroup()
+        timer = self.create_timer(1.0 / frequency, _no_callback, self._rate_group, clock)
+        return Rate(timer, context=self._context)
+
+    def destroy_rate(self, rate: Rate) -> bool:
+        """Destroy a Rate's timer and wake its sleepers; False if the timer is unknown."""
+        success = self.destroy_timer(rate._timer)
+        rate.destroy()
+        return success
 
     def _queued_entities(self) -> list[Any]:
         """Everything whose queue the executor drains: subscriptions, servers, clients."""
@@ -448,10 +510,6 @@ class Node:
         """This node's service clients."""
         return iter(list(self._clients))
 
-    def create_rate(self, frequency: float, clock: Clock | None = None) -> Any:
-        """Not provided: sleeping in callbacks blocks executors; use a timer."""
-        raise NotImplementedError("create_rate is not supported; use create_timer")
-
     def destroy_publisher(self, publisher: Publisher) -> bool:
         """Remove a publisher; False if it is not this node's."""
         if publisher in self._publishers:
@@ -522,6 +580,8 @@ class Node:
         for client in list(self._clients):
             self.destroy_client(client)
         self._time_source.destroy()
+        if self._rosout is not None:
+            self._rosout.destroy()
         self._transport.undeclare_node(self._name, self._namespace)
         self._destroyed = True
         return True
