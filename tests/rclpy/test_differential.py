@@ -3,8 +3,9 @@
 Each script in ``tests/rclpy/differential/`` is written for rclpy (``import rclpy``,
 ``from rcl_interfaces.msg import ...``) and prints one ``label: result`` line per check,
 where a result is the repr of a return value or ``raise <Class>: <message>``. It runs in the
-reference venv (.venv-ros2, Fast DDS, loopback discovery) and, with its imports rewritten to
-``posekit.rclpy`` / ``posekit.msgs``, in posekit's venv; the printed lines must be equal.
+reference venv (.venv-ros2, Fast DDS, loopback discovery) and in posekit's venv with those
+imports resolving to ``posekit.rclpy`` / ``posekit.msgs`` (``_support.differential``); the
+printed lines must be equal.
 
 Oracle: the real rclpy. The few lines where posekit deliberately behaves otherwise are listed
 in :data:`DEVIATIONS` with posekit's expected output (and in docs/runtime.md); each must
@@ -13,13 +14,11 @@ still differ from rclpy's, so the list cannot go stale.
 
 from __future__ import annotations
 
-import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+from _support.differential import run_posekit_script
 from _support.ros2 import run_ros2_script
 
 pytestmark = pytest.mark.slow
@@ -50,7 +49,7 @@ DEVIATIONS: dict[str, dict[str, str]] = {
         "qos no depth": (
             "QoSProfile(history=<HistoryPolicy.KEEP_LAST: 1>, depth=10, "
             "reliability=<ReliabilityPolicy.RELIABLE: 1>, "
-            "durability=<DurabilityPolicy.VOLATILE: 2>)"
+            "durability=<DurabilityPolicy.VOLATILE: 2>, lifespan=None)"
         ),
     },
     "parameters": {
@@ -66,23 +65,8 @@ DEVIATIONS: dict[str, dict[str, str]] = {
     },
 }
 
-_IMPORTS = [
-    (r"^import rclpy$", "from posekit import rclpy"),
-    (r"^from rclpy\.", "from posekit.rclpy."),
-    (r"^from rcl_interfaces\.(msg|srv) import", "from posekit.msgs.rcl_interfaces import"),
-    (r"^from std_srvs\.srv import", "from posekit.msgs.std_srvs import"),
-    (r"^from std_msgs\.msg import", "from posekit.msgs.std_msgs import"),
-]
-
-
 def source(script: str) -> str:
     return (HERE / "_prelude.py").read_text() + "\n" + (HERE / f"{script}.py").read_text()
-
-
-def as_posekit(text: str) -> str:
-    for pattern, replacement in _IMPORTS:
-        text = re.sub(pattern, replacement, text, flags=re.M)
-    return text
 
 
 def lines_by_label(stdout: str) -> dict[str, str]:
@@ -95,21 +79,11 @@ def lines_by_label(stdout: str) -> dict[str, str]:
     return out
 
 
-def test_import_rewriting_covers_every_script() -> None:
-    for script in SCRIPTS:
-        rewritten = as_posekit(source(script))
-        assert not re.search(r"^(import|from) (rclpy|rcl_interfaces|std_srvs|std_msgs)\b",
-                             rewritten, flags=re.M), script
-
-
 @pytest.mark.parametrize("script", SCRIPTS)
 def test_same_output_as_the_real_rclpy(script: str) -> None:
     ros = run_ros2_script(source(script), domain_id=150 + SCRIPTS.index(script), timeout=180)
     assert ros.returncode == 0, ros.stderr[-3000:]
-    ours = subprocess.run(
-        [sys.executable, "-c", as_posekit(source(script))], capture_output=True, text=True,
-        timeout=180, stdin=subprocess.DEVNULL,
-    )
+    ours = run_posekit_script(source(script), timeout=180)
     assert ours.returncode == 0, ours.stderr[-3000:]
     expected, got = lines_by_label(ros.stdout), lines_by_label(ours.stdout)
     assert list(got) == list(expected)  # the same checks ran, in the same order
