@@ -429,8 +429,7 @@ class _BusClient(ServiceClientEndpoint):
 
     @property
     def server_count(self) -> int:
-        entry = self._bus._services.get(self.info.service)
-        return len(entry.servers) if entry is not None else 0
+        return self._bus.count_services(self.info.service)
 
     def destroy(self) -> None:
         if self.alive:
