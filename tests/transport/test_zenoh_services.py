@@ -143,3 +143,36 @@ def test_posekit_client_queries_a_hand_written_rmw_zenoh_server(sessions) -> Non
         assert struct.unpack_from("<q", att, 0)[0] == i  # sequence numbers from 1
         assert att[17:] == client.gid
     queryable.undeclare()
+
+
+def test_a_server_of_another_type_definition_is_not_counted(sessions, logs) -> None:
+    """A server announced with another type hash (another definition of SetBool) cannot
+    receive our requests (the hash is part of the key): the client does not count it and
+    says why, once."""
+    from posekit.runtime.context import Context
+    from posekit.runtime.node import Node
+    from posekit.transport.zenoh_transport import ZenohTransport
+
+    ours, peer = sessions
+    ctx = Context()
+    ctx.init()
+    try:
+        transport = ZenohTransport(session=ours)
+        node = Node("flag_client", context=ctx, transport=transport,
+                    start_parameter_services=False)
+        client = node.create_client(SetBool, "/flip")
+        other_hash = "RIHS01_" + "0" * 64
+        token = peer.session.liveliness().declare_token(
+            f"@ros2_lv/0/{peer.zid}/7/8/SS/%/%/other_server/%flip/"
+            f"std_srvs::srv::dds_::SetBool_/{other_hash}/::,10:,:,:,,"
+        )
+        assert wait_for(lambda: len(transport.graph.services("/flip")) == 1)
+        assert not client.service_is_ready()
+        assert client.wait_for_service(timeout_sec=0.1) is False
+        warned = [r.message for r in logs if "requests do not reach it" in r.message]
+        assert len(warned) == 1
+        assert "/other_server" in warned[0]
+        assert other_hash in warned[0]
+        token.undeclare()
+    finally:
+        ctx.shutdown()

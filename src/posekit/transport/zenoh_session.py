@@ -877,6 +877,7 @@ class WireServiceClient:
         self.service = service
         self.srv_type = srv_type
         self.srv_name: str = srv_type.__srvtype__
+        self.type_hash = type_hash(self.srv_name)
         self.qos = qos
         self.key = data_key(owner.domain_id, service, self.srv_name)
         self.entity_id = owner.next_entity_id()
