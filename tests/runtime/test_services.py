@@ -165,10 +165,11 @@ def test_multithreaded_executor_with_reentrant_group(ctx) -> None:
     client = node.create_client(SetBool, "set_flag", callback_group=group)
     ex = MultiThreadedExecutor(num_threads=2, context=ctx)
     ex.add_node(node)
-    futures = [client.call_async(SetBool.Request(data=i % 2 == 0)) for i in range(20)]
+    # 10 at once: the service QoS default keeps the last 10 waiting requests
+    futures = [client.call_async(SetBool.Request(data=i % 2 == 0)) for i in range(10)]
     for f in futures:
         ex.spin_until_future_complete(f, timeout_sec=5.0)
-    assert [f.result().success for f in futures] == [i % 2 == 1 for i in range(20)]
+    assert [f.result().success for f in futures] == [i % 2 == 1 for i in range(10)]
 
 
 def test_async_service_callback_is_awaited(ctx, executor: SimulatedTimeExecutor) -> None:
@@ -282,3 +283,22 @@ def test_a_transport_without_services_says_so(ctx) -> None:
         node.create_client(Empty, "x")
     node.declare_parameter("still", 1)  # parameters work; /parameter_events is a topic
     assert node.get_parameter("still").value == 1
+
+
+def test_waiting_requests_are_bounded_by_the_qos_depth(ctx) -> None:
+    from posekit.runtime.qos import QoSProfile
+
+    server = Node("server", context=ctx, start_parameter_services=False)
+    seen: list[bool] = []
+    server.create_service(SetBool, "s", lambda q, r: (seen.append(q.data), r)[1],
+                          qos_profile=QoSProfile(depth=2))
+    client_node = Node("client", context=ctx, start_parameter_services=False)
+    client = client_node.create_client(SetBool, "s")
+    futures = [client.call_async(SetBool.Request(data=i >= 3)) for i in range(5)]
+    ex = SingleThreadedExecutor(context=ctx)  # nothing ran while the requests piled up
+    ex.add_node(server)
+    ex.add_node(client_node)
+    ex.spin_until_future_complete(futures[-1], timeout_sec=5.0)
+    ex.spin_some()
+    assert seen == [True, True]  # the two newest; the three oldest were dropped
+    assert [f.done() for f in futures] == [False, False, False, True, True]

@@ -67,13 +67,13 @@ class _Queued:
     in the node's callback group, like a Subscription's."""
 
     def __init__(self, node: Node, name: str, callback_group: CallbackGroup,
-                 run: Callable[[Any], None], what: str) -> None:
+                 run: Callable[[Any], None], what: str, limit: int | None = None) -> None:
         self._node = node
         self.topic_name = name
         self.callback_group = callback_group
         self.callback = run
         self.callback_description = what
-        self.queue: deque[tuple[int, Any]] = deque()
+        self.queue: deque[tuple[int, Any]] = deque(maxlen=limit)
         self.destroyed = False
         self._seq = node.context.seq
 
@@ -109,9 +109,11 @@ class Service:
         self.callback = callback
         self.qos_profile = qos
         self.callback_group = callback_group
+        # Requests waiting for the executor: at most the QoS depth (KEEP_LAST drops the
+        # oldest, which then never gets an answer, as with rmw's request queue).
         self._queued = _Queued(
             node, srv_name, callback_group, self._handle,
-            f"service callback of '{srv_name}'",
+            f"service callback of '{srv_name}'", qos.queue_limit,
         )
         self._endpoint: ServiceServerEndpoint | None = None
 
