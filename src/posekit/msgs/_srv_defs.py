@@ -16,7 +16,8 @@ __all__ = ["SERVICE_DEFINITIONS", "service_message_definitions", "service_typede
 
 _EMPTY = "uint8 structure_needs_at_least_one_member\n"
 
-#: ``pkg/srv/Name`` -> (request text, response text).
+#: ``pkg/srv/Name`` -> (request text, response text). Services derived from actions
+#: (``pkg/action/Name_SendGoal``...) can be listed the same way: the kind chunk is kept.
 SERVICE_DEFINITIONS: dict[str, tuple[str, str]] = {
     "std_srvs/srv/Empty": ("", ""),
     "std_srvs/srv/Trigger": ("", "bool success\nstring message\n"),
@@ -75,7 +76,8 @@ def service_typedefs(srv: str) -> dict[str, Any]:
     from rosbags.typesys import get_types_from_msg
 
     texts = service_message_definitions(srv)
-    renamed = {name.replace("/srv/", "/msg/", 1): name for name in texts}
+    kind = "/" + srv.split("/")[1] + "/"  # "/srv/", or "/action/" for action services
+    renamed = {name.replace(kind, "/msg/", 1): name for name in texts}
 
     def fix(desc: Any) -> Any:
         kind, info = desc
@@ -89,8 +91,8 @@ def service_typedefs(srv: str) -> dict[str, Any]:
 
     out: dict[str, Any] = {}
     for name, text in texts.items():
-        msg_name = name.replace("/srv/", "/msg/", 1)
-        parsed = get_types_from_msg(text.replace("/srv/", "/msg/"), msg_name)
+        msg_name = name.replace(kind, "/msg/", 1)
+        parsed = get_types_from_msg(text.replace(kind, "/msg/"), msg_name)
         consts, fields = parsed[msg_name]
         out[name] = (consts, [(fname, fix(desc)) for fname, desc in fields])
     return out

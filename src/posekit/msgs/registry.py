@@ -107,7 +107,7 @@ def get_service_class(name: str) -> type[Any]:
     if len(parts) == 2 and all(parts):
         parts = [parts[0], "srv", parts[1]]
     full = "/".join(parts)
-    if len(parts) != 3 or parts[1] != "srv" or not all(parts):
+    if len(parts) != 3 or parts[1] not in ("srv", "action") or not all(parts):
         raise UnknownMessageTypeError(
             f"malformed service type name {name!r} (expected 'pkg/srv/Type')"
         )

@@ -35,8 +35,11 @@ Contract for implementations:
   respond)`` once per request (an object the server owns), and the runtime calls
   ``respond(response)`` exactly once, from any thread, possibly later. A client's
   ``send_request(request, on_response)`` (:class:`ServiceClientEndpoint`) delivers the
-  request to one server and calls ``on_response(response)`` at most once. The base class
-  raises :class:`ServicesNotSupportedError` so a transport without services says so.
+  request to one server and calls ``on_response(response)`` at most once; its
+  ``server_count`` is what ``wait_for_service`` polls. ``get_service_names_and_types``,
+  ``..._by_node``, ``count_services`` and ``count_clients`` answer graph questions. The base
+  class raises :class:`ServicesNotSupportedError` from the two factories (and reports an empty
+  service graph), so a transport without services says so.
 
 Selection: ``Node(..., transport="zenoh")`` (or ``"dds"``), else ``init(transport=...)`` of
 the context, else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names
@@ -271,6 +274,14 @@ class Transport(ABC):
     ) -> list[tuple[str, list[str]]]:
         """The services a node serves (its servers, as rcl reports them)."""
         return []
+
+    def count_services(self, service: str) -> int:
+        """Servers of a fully qualified service name."""
+        return 0
+
+    def count_clients(self, service: str) -> int:
+        """Clients of a fully qualified service name."""
+        return 0
 
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str
