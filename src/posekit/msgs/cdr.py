@@ -131,11 +131,14 @@ def _build_store() -> Any:
     from rosbags.typesys import get_typestore as rosbags_typestore
     from rosbags.typesys.base import normalize_fieldname
 
+    from posekit.msgs._action_defs import ACTION_DEFINITIONS, action_typedefs
     from posekit.msgs._srv_defs import SERVICE_DEFINITIONS, service_typedefs
 
     store = rosbags_typestore(Stores.ROS2_JAZZY)  # a fresh instance: ours to modify
     for srv in SERVICE_DEFINITIONS:  # services: rosbags' store has messages only
         store.register(service_typedefs(srv))
+    for action in ACTION_DEFINITIONS:
+        store.register(action_typedefs(action))
     _char_as_uint8(store)
     for name, cls in MESSAGE_CLASSES.items():
         ros_fields = [normalize_fieldname(f) for f, _ in store.fielddefs[name][1]]
