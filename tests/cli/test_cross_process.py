@@ -389,3 +389,96 @@ def test_array_helper_sanity() -> None:
         if any(not isinstance(getattr(default, f), np.ndarray) or getattr(default, f).size
                for f in cls.__dataclass_fields__ if not f.startswith("_")):
             assert sample != default, cls
+
+
+# -- parameters and services between processes ---------------------------------------------
+
+CMD_VEL_OBSERVER = """
+import math
+from posekit.msgs.geometry_msgs import TwistStamped
+from posekit.msgs.nav_msgs import Odometry
+from posekit.runtime.context import Context
+from posekit.runtime.executors import SingleThreadedExecutor
+from posekit.runtime.node import Node
+ctx = Context(); ctx.init()
+node = Node("cmd_vel_observer", context=ctx)
+pose = []
+def on_odom(m):
+    pose[:] = [m.pose.pose.position.x, m.pose.pose.position.y]
+def on_cmd(m):
+    if pose:
+        rho = math.hypot(5.0 - pose[0], 5.0 - pose[1])
+        print(f"v={m.twist.linear.x:.4f} rho={rho:.4f}", flush=True)
+node.create_subscription(Odometry, "/odometry/filtered", on_odom, 10)
+node.create_subscription(TwistStamped, "/cmd_vel", on_cmd, 10)
+ex = SingleThreadedExecutor(context=ctx); ex.add_node(node)
+ex.spin()
+"""
+
+
+def _v_rho(line: str) -> tuple[float, float] | None:
+    match = re.fullmatch(r"v=(\S+) rho=(\S+)\n", line)
+    return (float(match[1]), float(match[2])) if match else None
+
+
+@pytest.mark.slow
+def test_param_set_retunes_the_running_p_controller(world: World) -> None:
+    """The lecture's tip over real processes: ``posekit launch p_controller --zenoh
+    --realtime`` drives to (5, 5) at the 0.5 m/s clamp; ``posekit param set /p_controller
+    k_rho 0.02`` from another process makes the next commands v = 0.02 * rho (under the
+    clamp), seen by a third process on /cmd_vel."""
+    launch = world.cli("launch", "p_controller", "--zenoh", "--realtime")
+    observer = world.script(CMD_VEL_OBSERVER)
+    line = observer.wait_line(lambda s: (vr := _v_rho(s)) is not None and vr[0] == 0.5, 60,
+                              "the controller driving at the 0.5 m/s clamp")
+    assert launch.popen.poll() is None, line
+    listed = world.cli("param", "list", "/p_controller").finish(30, "posekit param list")
+    assert "  k_rho\n" in listed
+    assert "  goal_tolerance\n" in listed
+    got = world.cli("param", "get", "/p_controller", "k_rho").finish(30, "posekit param get")
+    assert got == "Double value is: 0.4\n"
+    setter = world.cli("param", "set", "/p_controller", "k_rho", "0.02")
+    assert setter.finish(30, "posekit param set") == "Set parameter successful\n"
+    observer.wait_line(
+        lambda s: (vr := _v_rho(s)) is not None and abs(vr[0] - 0.02 * vr[1]) < 0.005, 30,
+        "commands following the new gain (v = 0.02 * rho)",
+    )
+    refused = world.cli("param", "set", "/p_controller", "k_rho", "1")
+    assert refused.finish(30, "posekit param set") == ""
+    assert refused.err == [
+        "Setting parameter failed: Wrong parameter type, expected 'Type.DOUBLE' "
+        "got 'Type.INTEGER'\n"
+    ]
+    got = world.cli("param", "get", "/p_controller", "k_rho").finish(30, "posekit param get")
+    assert got == "Double value is: 0.02\n"
+
+
+@pytest.mark.slow
+def test_service_call_between_processes(routed: World) -> None:
+    server = routed.script("""
+from posekit.msgs.std_srvs import SetBool
+from posekit.runtime.context import Context
+from posekit.runtime.executors import SingleThreadedExecutor
+from posekit.runtime.node import Node
+ctx = Context(); ctx.init()
+node = Node("flag_server", context=ctx)
+def on_request(request, response):
+    response.success = not request.data
+    response.message = f"flipped {request.data}"
+    return response
+node.create_service(SetBool, "flip", on_request)
+ex = SingleThreadedExecutor(context=ctx); ex.add_node(node)
+print("serving", flush=True)
+ex.spin()
+""")
+    server.wait_line(lambda s: s == "serving\n", 30, "the server")
+    caller = routed.cli("service", "call", "/flip", "std_srvs/srv/SetBool", "{data: true}",
+                        "--timeout", "20")
+    printed = caller.finish(40, "posekit service call")
+    assert printed.endswith(
+        "requester: making request: std_srvs.srv.SetBool_Request(data=True)\n\n"
+        "response:\nstd_srvs.srv.SetBool_Response(success=False, message='flipped True')\n\n"
+    )
+    listed = routed.cli("service", "list", "-t").finish(30, "posekit service list")
+    assert "/flip [std_srvs/srv/SetBool]\n" in listed
+    assert "/flag_server/get_parameters [rcl_interfaces/srv/GetParameters]\n" in listed

@@ -5,6 +5,8 @@ from posekit.runtime.parameters import (
     Parameter,
     ParameterDescriptor,
     SetParametersResult,
+    get_parameter_value,
+    parameter_dict_from_yaml_file,
     parameter_value_to_python,
 )
 
@@ -13,5 +15,7 @@ __all__ = [
     "Parameter",
     "ParameterDescriptor",
     "SetParametersResult",
+    "get_parameter_value",
+    "parameter_dict_from_yaml_file",
     "parameter_value_to_python",
 ]

@@ -447,8 +447,24 @@ class InProcessBus(Transport):
     def __init__(self) -> None:
         self._topics: dict[str, _Topic] = {}
         self._services: dict[str, _ServiceName] = {}
+        self._nodes: list[tuple[str, str]] = []  # (namespace, name) per declare_node
         self._lock = threading.RLock()
         self._seq = itertools.count()
+
+    # -- nodes --------------------------------------------------------------------------
+    def declare_node(self, name: str, namespace: str = "/") -> None:
+        with self._lock:
+            self._nodes.append((namespace or "/", name))
+
+    def undeclare_node(self, name: str, namespace: str = "/") -> None:
+        with self._lock:
+            if (namespace or "/", name) in self._nodes:
+                self._nodes.remove((namespace or "/", name))
+
+    def get_node_names(self) -> list[str]:
+        """Fully qualified names of the nodes of this bus (duplicates kept), sorted."""
+        with self._lock:
+            return sorted(("" if ns == "/" else ns) + "/" + name for ns, name in self._nodes)
 
     # -- services ---------------------------------------------------------------------
     def _service_for(self, info: ServiceInfo) -> _ServiceName:

@@ -60,6 +60,8 @@ __all__ = [
     "ParameterStore",
     "ParameterUninitializedException",
     "SetParametersResult",
+    "get_parameter_value",
+    "parameter_dict_from_yaml_file",
     "parameter_value_to_python",
     "parse_parameter_value",
 ]
@@ -340,28 +342,98 @@ class Parameter:
         return hash((self._name, self._type_))
 
 
+def get_parameter_value(string_value: str) -> ParameterValue:
+    """The ParameterValue a command-line string means (rclpy's ``get_parameter_value``,
+    what ``ros2 param set`` uses): parsed as YAML; a bool, int, float or a list of one of
+    them (or of strings) keeps that type, anything else is a STRING (the text itself)."""
+    import yaml
+
+    msg = ParameterValue()
+    try:
+        parsed = yaml.safe_load(string_value)
+    except yaml.YAMLError:
+        parsed = string_value
+    if isinstance(parsed, bool):
+        msg.type, msg.bool_value = ParameterType.PARAMETER_BOOL, parsed
+    elif isinstance(parsed, int):
+        msg.type, msg.integer_value = ParameterType.PARAMETER_INTEGER, parsed
+    elif isinstance(parsed, float):
+        msg.type, msg.double_value = ParameterType.PARAMETER_DOUBLE, parsed
+    elif isinstance(parsed, list) and all(isinstance(v, bool) for v in parsed):
+        msg.type = ParameterType.PARAMETER_BOOL_ARRAY
+        msg.bool_array_value = np.array(parsed, dtype=np.bool_)
+    elif isinstance(parsed, list) and all(isinstance(v, int) for v in parsed):
+        msg.type = ParameterType.PARAMETER_INTEGER_ARRAY
+        msg.integer_array_value = np.array(parsed, dtype=np.int64)
+    elif isinstance(parsed, list) and all(isinstance(v, float) for v in parsed):
+        msg.type = ParameterType.PARAMETER_DOUBLE_ARRAY
+        msg.double_array_value = np.array(parsed, dtype=np.float64)
+    elif isinstance(parsed, list) and all(isinstance(v, str) for v in parsed):
+        msg.type, msg.string_array_value = ParameterType.PARAMETER_STRING_ARRAY, parsed
+    else:
+        msg.type = ParameterType.PARAMETER_STRING
+        msg.string_value = (
+            parsed if isinstance(parsed, str) and not isinstance(parsed, list) else string_value
+        )
+    return msg
+
+
 def parse_parameter_value(text: str) -> Any:
-    """A command-line / YAML-ish scalar: 'true' -> True, '3' -> 3, '0.5' -> 0.5, '[1, 2]'."""
-    t = text.strip()
-    low = t.lower()
-    if low in ("true", "yes", "on"):
-        return True
-    if low in ("false", "no", "off"):
-        return False
-    if t.startswith("[") and t.endswith("]"):
-        inner = t[1:-1].strip()
-        return [parse_parameter_value(p) for p in inner.split(",")] if inner else []
-    try:
-        return int(t)
-    except ValueError:
-        pass
-    try:
-        return float(t)
-    except ValueError:
-        pass
-    if len(t) >= 2 and t[0] == t[-1] and t[0] in "'\"":
-        return t[1:-1]
-    return t
+    """The Python value of a ``--ros-args -p name:=value`` / launch string (YAML, as
+    :func:`get_parameter_value`): 'true' -> True, '3' -> 3, '0.5' -> 0.5, '[1, 2]'."""
+    return parameter_value_to_python(get_parameter_value(text))
+
+
+def parameter_dict_from_yaml_file(
+    parameter_file: str, use_wildcard: bool = False, target_nodes: list[str] | None = None,
+    namespace: str = "",
+) -> dict[str, ParameterMsg]:
+    """Parameters of a ROS parameter file (``node: {ros__parameters: {...}}``) by name.
+
+    rclpy's function: every node's section unless ``target_nodes`` picks some, plus the
+    ``/**`` section with ``use_wildcard``; nested mappings become dotted names; each value
+    goes through :func:`get_parameter_value` of its ``str()``. RuntimeError for a file that
+    is not a parameter file.
+    """
+    import yaml
+
+    with open(parameter_file, encoding="utf-8") as f:
+        content = yaml.safe_load(f)
+    if not isinstance(content, dict):
+        raise RuntimeError(f"{parameter_file} is not a ROS parameter file (no node sections)")
+    keys: list[str] = []
+    if use_wildcard and "/**" in content:
+        keys.append("/**")
+    if target_nodes:
+        for node in target_nodes:
+            if node not in content:
+                raise RuntimeError(
+                    f"Param file does not contain parameters for {node},"
+                    f"only for nodes: {list(content.keys())} "
+                )
+            keys.append(node)
+    else:
+        keys.extend(sorted(set(content) - {"/**"}, key=list(content).index))
+    if not keys:
+        raise RuntimeError("Param file does not contain selected parameters")
+    flat: dict[str, Any] = {}
+    for key in keys:
+        section = content[key]
+        if not isinstance(section, dict) or "ros__parameters" not in section:
+            raise RuntimeError(f"YAML file is not a valid ROS parameter file for node {key}")
+        flat.update(section["ros__parameters"])
+
+    def unpack(prefix: str, values: dict[str, Any]) -> dict[str, ParameterMsg]:
+        out: dict[str, ParameterMsg] = {}
+        for name, value in values.items():
+            full = prefix + str(name)
+            if isinstance(value, dict):
+                out.update(unpack(full + PARAMETER_SEPARATOR_STRING, value))
+            else:
+                out[full] = ParameterMsg(name=full, value=get_parameter_value(str(value)))
+        return out
+
+    return unpack(namespace, flat)
 
 
 OnSetCallback = Callable[[list[Parameter]], SetParametersResult]

@@ -72,6 +72,8 @@ __all__ = [
     "NodeEntity",
     "SessionOptions",
     "WirePublisher",
+    "WireServiceClient",
+    "WireServiceServer",
     "WireSubscription",
     "ZenohGraph",
     "ZenohSession",
@@ -267,7 +269,9 @@ class ZenohSession:
         self._ids = itertools.count()
         self._lock = threading.Lock()
         self._tokens: dict[str, Any] = {}
-        self._entities: list[WirePublisher | WireSubscription] = []
+        self._entities: list[
+            WirePublisher | WireSubscription | WireServiceServer | WireServiceClient
+        ] = []
         self._graph: ZenohGraph | None = None
         self._closed = False
         _open_sessions.add(self)
@@ -351,6 +355,33 @@ class ZenohSession:
         with self._lock:
             self._entities.append(sub)
         return sub
+
+    def create_service_server(
+        self,
+        node: NodeEntity,
+        service: str,
+        srv_type: type[Any],
+        qos: WireQoS,
+        on_request: Callable[[Any, Callable[[Any], None]], None],
+        *,
+        warn: Callable[[str], object] | None = None,
+    ) -> WireServiceServer:
+        """Serve ``service``: ``on_request(request, respond)`` per query (zenoh thread);
+        ``respond(response)`` replies, from any thread."""
+        server = WireServiceServer(self, node, service, srv_type, qos, on_request, warn)
+        with self._lock:
+            self._entities.append(server)
+        return server
+
+    def create_service_client(
+        self, node: NodeEntity, service: str, srv_type: type[Any], qos: WireQoS,
+        *, warn: Callable[[str], object] | None = None,
+    ) -> WireServiceClient:
+        """A client of ``service`` (requests are zenoh queries)."""
+        client = WireServiceClient(self, node, service, srv_type, qos, warn)
+        with self._lock:
+            self._entities.append(client)
+        return client
 
     @property
     def graph(self) -> ZenohGraph:
@@ -648,6 +679,208 @@ class WireSubscription:
         _quiet(self._sub.undeclare)
 
 
+def _service_token(
+    owner: ZenohSession, node: NodeEntity, entity_id: int, kind: EntityKind, service: str,
+    srv_name: str, qos: WireQoS,
+) -> str:
+    return endpoint_token(
+        owner.domain_id, owner.zid, node.node_id, entity_id, kind, node.namespace, node.name,
+        service, srv_name, qos, enclave=owner.options.enclave,
+        explicit_qos=owner.options.explicit_qos,
+    )
+
+
+#: How long a client's query may wait for its reply (rmw_zenoh: no limit; zenoh needs one).
+_QUERY_TIMEOUT_S = 7 * 24 * 3600.0
+
+
+class WireServiceServer:
+    """A service server: a *complete* queryable on the service key; announced by ``SS``.
+
+    As rmw_zenoh: each query carries the request CDR and an attachment with the client's
+    sequence number and GID; the reply carries the response CDR on the service key and an
+    attachment with that same sequence number and client GID, and this side's time.
+    """
+
+    def __init__(
+        self,
+        owner: ZenohSession,
+        node: NodeEntity,
+        service: str,
+        srv_type: type[Any],
+        qos: WireQoS,
+        on_request: Callable[[Any, Callable[[Any], None]], None],
+        warn: Callable[[str], object] | None,
+    ) -> None:
+        self.service = service
+        self.srv_type = srv_type
+        self.srv_name: str = srv_type.__srvtype__
+        self.qos = qos
+        self.key = data_key(owner.domain_id, service, self.srv_name)
+        self.entity_id = owner.next_entity_id()
+        self.token_key = _service_token(
+            owner, node, self.entity_id, EntityKind.SERVICE, service, self.srv_name, qos
+        )
+        self._on_request = on_request
+        self._warn = warn or _log.warning
+        self._warned: set[str] = set()
+        self._encode = (
+            encode_attachment_legacy if owner.options.legacy_attachment else encode_attachment
+        )
+        #: Dropped queries by reason ("attachment", "cdr", "callback").
+        self.dropped: collections.Counter[str] = collections.Counter()
+        self._destroyed = False
+        session = owner.session
+        try:
+            self._queryable = session.declare_queryable(self.key, self._on_query, complete=True)
+            self._token = session.liveliness().declare_token(self.token_key)
+        except Exception as exc:
+            raise ZenohSessionError(f"cannot declare a service on {self.key}: {exc}") from exc
+
+    def _drop(self, reason: str, detail: str) -> None:
+        self.dropped[reason] += 1
+        if reason in self._warned:
+            return
+        self._warned.add(reason)
+        try:
+            self._warn(f"dropping request on {self.service}: {detail}")
+        except Exception:
+            _log.exception("warning callback failed")
+
+    def _on_query(self, query: zenoh.Query) -> None:
+        if self._destroyed:
+            return
+        try:
+            raw = query.attachment
+            if raw is None:
+                self._drop("attachment", "no attachment (rmw_zenoh requires one)")
+                return
+            try:
+                att = decode_attachment(raw.to_bytes())
+            except WireFormatError as exc:
+                self._drop("attachment", str(exc))
+                return
+            payload = query.payload
+            try:
+                request = from_cdr(
+                    payload.to_bytes() if payload is not None else b"", self.srv_type.Request
+                )
+            except CdrError as exc:
+                self._drop("cdr", str(exc))
+                return
+            key, encode = self.key, self._encode
+            answered = threading.Lock()
+
+            def respond(response: Any) -> None:
+                if self._destroyed or not answered.acquire(blocking=False):
+                    return
+                try:
+                    query.reply(
+                        key,
+                        to_cdr(response, self.srv_type.Response.__msgtype__),
+                        attachment=encode(att.sequence_number, time.time_ns(), att.gid),
+                    )
+                finally:
+                    _quiet(query.drop)  # finalizes the query: the client sees the end
+
+            self._on_request(request, respond)
+        except Exception as exc:  # never raise into zenoh
+            self._drop("callback", f"unexpected {type(exc).__name__}: {exc}")
+
+    def destroy(self) -> None:
+        """Leave the graph; no further requests are delivered."""
+        if self._destroyed:
+            return
+        self._destroyed = True
+        _quiet(self._token.undeclare)
+        _quiet(self._queryable.undeclare)
+
+
+class WireServiceClient:
+    """A service client: each request is a zenoh query (target ALL_COMPLETE, consolidation
+    LATEST, as rmw_zenoh sends it); announced by ``SC``."""
+
+    def __init__(
+        self,
+        owner: ZenohSession,
+        node: NodeEntity,
+        service: str,
+        srv_type: type[Any],
+        qos: WireQoS,
+        warn: Callable[[str], object] | None,
+    ) -> None:
+        self.service = service
+        self.srv_type = srv_type
+        self.srv_name: str = srv_type.__srvtype__
+        self.qos = qos
+        self.key = data_key(owner.domain_id, service, self.srv_name)
+        self.entity_id = owner.next_entity_id()
+        self.token_key = _service_token(
+            owner, node, self.entity_id, EntityKind.CLIENT, service, self.srv_name, qos
+        )
+        self.gid = entity_gid(self.token_key)
+        self._session = owner.session
+        self._warn = warn or _log.warning
+        self._encode = (
+            encode_attachment_legacy if owner.options.legacy_attachment else encode_attachment
+        )
+        self._seq = itertools.count(1)
+        self._destroyed = False
+        try:
+            self._token = owner.session.liveliness().declare_token(self.token_key)
+        except Exception as exc:
+            raise ZenohSessionError(f"cannot declare a client on {self.key}: {exc}") from exc
+
+    def send_request(self, request: Any, on_response: Callable[[Any], None]) -> int:
+        """Send ``request``; ``on_response(response)`` (zenoh thread) for the first matching
+        reply. Returns the request's sequence number."""
+        if self._destroyed:
+            raise ZenohSessionError(f"client of {self.service} was destroyed")
+        payload = to_cdr(request, self.srv_type.Request.__msgtype__)
+        seq = next(self._seq)
+        done = threading.Lock()
+
+        def on_reply(reply: zenoh.Reply) -> None:
+            if self._destroyed:
+                return
+            try:
+                sample = reply.ok
+                if sample is None:
+                    self._warn(f"service {self.service} answered with an error: {reply.err}")
+                    return
+                raw = sample.attachment
+                att = decode_attachment(raw.to_bytes()) if raw is not None else None
+                if att is not None and att.sequence_number != seq:
+                    return  # not the answer to this request
+                response = from_cdr(sample.payload.to_bytes(), self.srv_type.Response)
+            except (WireFormatError, CdrError) as exc:
+                self._warn(f"dropping a reply from {self.service}: {exc}")
+                return
+            if done.acquire(blocking=False):
+                try:
+                    on_response(response)
+                except Exception:
+                    _log.exception("response callback of %s raised", self.service)
+
+        self._session.get(
+            self.key,
+            on_reply,
+            target=zenoh.QueryTarget.ALL_COMPLETE,
+            consolidation=zenoh.ConsolidationMode.LATEST,
+            payload=payload,
+            attachment=self._encode(seq, time.time_ns(), self.gid),
+            timeout=_QUERY_TIMEOUT_S,
+        )
+        return seq
+
+    def destroy(self) -> None:
+        """Leave the graph; replies still in flight are ignored."""
+        if self._destroyed:
+            return
+        self._destroyed = True
+        _quiet(self._token.undeclare)
+
+
 class ZenohGraph:
     """Live view of the ROS graph of one domain from ``@ros2_lv`` liveliness tokens."""
 
@@ -714,6 +947,23 @@ class ZenohGraph:
         """Subscriptions announced on ``topic``."""
         with self._cond:
             return self.cache.endpoints(topic, EntityKind.SUBSCRIPTION)
+
+    def services(self, service: str) -> list[TokenInfo]:
+        """Servers announced for ``service``."""
+        with self._cond:
+            return self.cache.endpoints(service, EntityKind.SERVICE)
+
+    def service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Services (with a server or a client) and their types, sorted."""
+        with self._cond:
+            return self.cache.service_names_and_types()
+
+    def names_and_types_by_node(
+        self, node_name: str, namespace: str, kind: EntityKind
+    ) -> list[tuple[str, list[str]]]:
+        """Names one node announced endpoints of ``kind`` on, with types, sorted."""
+        with self._cond:
+            return self.cache.names_and_types_by_node(node_name, namespace, (kind,))
 
     def close(self) -> None:
         """Stop following the graph."""

@@ -13,6 +13,11 @@ reaches a RELIABLE subscription (logged once as a warning, since DDS would refus
 Messages published in this process reach this process's subscriptions through Zenoh too
 (serialized, so subscribers never share objects with publishers).
 
+Services are rmw_zenoh's: a server is a complete queryable on
+``<domain>/<service>/<pkg>::srv::dds_::<Srv>_/<RIHS01 hash>`` announced by an ``SS`` token, a
+request a query carrying the request CDR and the client's sequence number and GID in the
+attachment (``SC`` token), the reply the response CDR with the same sequence number and GID.
+
 Environment: ``POSEKIT_ZENOH_ROUTER`` (router endpoint, default ``tcp/127.0.0.1:7447``),
 ``POSEKIT_ZENOH_ATTACHMENT=legacy`` (77-byte attachment for Jazzy rmw_zenoh <= 0.2.3), plus
 ``ROS_DOMAIN_ID``, ``ZENOH_SESSION_CONFIG_URI`` and ``ZENOH_CONFIG_OVERRIDE``.
@@ -30,6 +35,11 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestSink,
+    ResponseSink,
+    ServiceClientEndpoint,
+    ServiceInfo,
+    ServiceServerEndpoint,
     SubscriptionEndpoint,
     Transport,
 )
@@ -38,6 +48,8 @@ from posekit.transport.zenoh_session import (
     NodeEntity,
     SessionOptions,
     WirePublisher,
+    WireServiceClient,
+    WireServiceServer,
     WireSubscription,
     ZenohGraph,
     ZenohSession,
@@ -137,6 +149,39 @@ class _Subscription(SubscriptionEndpoint):
         return len(self._owner._endpoints(self.info.topic, EntityKind.PUBLISHER))
 
 
+class _Server(ServiceServerEndpoint):
+    def __init__(self, owner: ZenohTransport, info: ServiceInfo) -> None:
+        self._owner = owner
+        self.info = info
+        self.wire: WireServiceServer | None = None
+
+    def destroy(self) -> None:
+        if self.wire is not None:
+            wire, self.wire = self.wire, None
+            self._owner._forget(wire, self.info)
+
+
+class _Client(ServiceClientEndpoint):
+    def __init__(self, owner: ZenohTransport, info: ServiceInfo, wire: WireServiceClient) -> None:
+        self._owner = owner
+        self.info = info
+        self.wire: WireServiceClient | None = wire
+
+    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+        if self.wire is None:
+            raise RuntimeError(f"client of '{self.info.service}' has been destroyed")
+        self.wire.send_request(request, on_response)
+
+    @property
+    def server_count(self) -> int:
+        return len(self._owner._graph.services(self.info.service))
+
+    def destroy(self) -> None:
+        if self.wire is not None:
+            wire, self.wire = self.wire, None
+            self._owner._forget(wire, self.info)
+
+
 @dataclass(slots=True)
 class _NodeRef:
     node: NodeEntity
@@ -147,6 +192,7 @@ class ZenohTransport(Transport):
     """Nodes' endpoints as rmw_zenoh entities on one Zenoh session."""
 
     name = "zenoh"
+    supports_services = True
 
     def __init__(
         self, options: SessionOptions | None = None, *, session: ZenohSession | None = None
@@ -257,7 +303,61 @@ class ZenohTransport(Transport):
                     )
                 return
 
-    def _forget(self, wire: WirePublisher | WireSubscription, info: EndpointInfo) -> None:
+    # -- services ----------------------------------------------------------------------
+    @staticmethod
+    def _check_service_type(info: ServiceInfo) -> None:
+        if not isinstance(getattr(info.srv_type, "__srvtype__", None), str):
+            raise TypeError(
+                f"the zenoh transport carries ROS services only; {info.srv_type!r} on "
+                f"'{info.service}' has no __srvtype__"
+            )
+
+    def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        self._check_service_type(info)
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        endpoint = _Server(self, info)
+        try:
+            endpoint.wire = self.session.create_service_server(
+                node, info.service, info.srv_type, wire_qos(info.qos), sink,
+                warn=info.logger.warning,
+            )
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        self._graph.add_local(endpoint.wire.token_key)
+        return endpoint
+
+    def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        self._check_service_type(info)
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        try:
+            wire = self.session.create_service_client(
+                node, info.service, info.srv_type, wire_qos(info.qos), warn=info.logger.warning
+            )
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        self._graph.add_local(wire.token_key)
+        return _Client(self, info, wire)
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return self._graph.service_names_and_types()
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self._graph.names_and_types_by_node(node_name, node_namespace, EntityKind.SERVICE)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self._graph.names_and_types_by_node(node_name, node_namespace, EntityKind.CLIENT)
+
+    def _forget(
+        self,
+        wire: WirePublisher | WireSubscription | WireServiceServer | WireServiceClient,
+        info: EndpointInfo | ServiceInfo,
+    ) -> None:
         wire.destroy()
         self._graph.remove_local(wire.token_key)
         self._release_node(info.node_namespace, info.node_name)

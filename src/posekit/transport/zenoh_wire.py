@@ -488,6 +488,28 @@ class GraphCache:
                 topics.setdefault(t.topic, set()).add(t.ros_type)
         return [(name, sorted(types)) for name, types in sorted(topics.items())]
 
+    def service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Sorted services (servers or clients) with their sorted type names
+        (``ros2 service list -t``)."""
+        services: dict[str, set[str]] = {}
+        for t in self._tokens.values():
+            if t.kind in (EntityKind.SERVICE, EntityKind.CLIENT) and t.topic:
+                assert t.ros_type is not None
+                services.setdefault(t.topic, set()).add(t.ros_type)
+        return [(name, sorted(types)) for name, types in sorted(services.items())]
+
+    def names_and_types_by_node(
+        self, node_name: str, namespace: str, kinds: tuple[EntityKind, ...]
+    ) -> list[tuple[str, list[str]]]:
+        """Sorted endpoint names of ``kinds`` one node announced, with their types."""
+        found: dict[str, set[str]] = {}
+        for t in self._tokens.values():
+            if t.kind in kinds and t.node_name == node_name and t.namespace == namespace:
+                assert t.topic is not None
+                assert t.ros_type is not None
+                found.setdefault(t.topic, set()).add(t.ros_type)
+        return [(name, sorted(types)) for name, types in sorted(found.items())]
+
     def endpoints(self, topic: str, kind: EntityKind) -> list[TokenInfo]:
-        """Publishers or subscriptions on a fully qualified topic."""
+        """Endpoints of ``kind`` on a fully qualified topic (or service) name."""
         return [t for t in self._tokens.values() if t.kind is kind and t.topic == topic]
