@@ -11,7 +11,6 @@ from __future__ import annotations
 import os
 import sys
 import textwrap
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -109,12 +108,12 @@ print("stopped near the last feedback",
 
 
 @pytest.fixture
-def env(tmp_path: Path) -> Iterator[dict[str, str]]:
+def env() -> dict[str, str]:
     base = {k: v for k, v in os.environ.items()
             if not k.startswith(("ZENOH_", "ROS_DOMAIN", "POSEKIT_"))}
     base.update(POSEKIT_ZENOH_ROUTER=f"tcp/127.0.0.1:{free_port()}", PYTHONUNBUFFERED="1",
                 POSEKIT_TRANSPORT="zenoh")
-    yield base
+    return base
 
 
 @pytest.mark.slow
