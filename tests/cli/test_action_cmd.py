@@ -88,6 +88,7 @@ def test_bad_input_is_one_line(live: Any) -> None:
     assert err.startswith("Failed to populate message fields: ")
     assert err.count("\n") == 1
     code, out, err = call(live, "send_goal", "/nobody_here", NAV, "--timeout", "0.5")
+    assert out == "Waiting for an action server to become available...\n"
     assert code == 1
     assert err == "action server '/nobody_here' did not become available within 0.5 s\n"
 
