@@ -5,7 +5,9 @@ typestore (:func:`posekit.msgs.cdr.get_typestore`): the messages ``Name_Goal``,
 ``Name_Result``, ``Name_Feedback``; the services ``Name_SendGoal`` (request: ``goal_id`` +
 ``goal``; response: ``accepted`` + ``stamp``) and ``Name_GetResult`` (request: ``goal_id``;
 response: ``status`` + ``result``), each with its request/response/event messages; and the
-feedback topic's ``Name_FeedbackMessage`` (``goal_id`` + ``feedback``). Cancelling and
+feedback topic's ``Name_FeedbackMessage`` (``goal_id`` + ``feedback``); and ``Name`` itself,
+the description its type hash is computed from (fields ``goal``, ``result``, ``feedback``,
+``send_goal_service``, ``get_result_service``, ``feedback_message``). Cancelling and
 status use ``action_msgs/srv/CancelGoal`` and ``action_msgs/msg/GoalStatusArray``.
 """
 
@@ -52,6 +54,12 @@ def action_message_definitions(action: str) -> dict[str, str]:
         f"{_UUID} goal_id\n",
         f"int8 status\n{action}_Result result\n",
     ))
+    # the action's own description (what its RIHS01 type hash covers)
+    texts[action] = (
+        f"{action}_Goal goal\n{action}_Result result\n{action}_Feedback feedback\n"
+        f"{action}_SendGoal send_goal_service\n{action}_GetResult get_result_service\n"
+        f"{action}_FeedbackMessage feedback_message\n"
+    )
     return texts
 
 
