@@ -59,6 +59,16 @@ ISSUE_TYPES = [
     "sensor_msgs/msg/JointState",
     "tf2_msgs/msg/TFMessage",
     "rosgraph_msgs/msg/Clock",
+    "rcl_interfaces/msg/ParameterValue",
+    "rcl_interfaces/msg/Parameter",
+    "rcl_interfaces/msg/ParameterType",
+    "rcl_interfaces/msg/FloatingPointRange",
+    "rcl_interfaces/msg/IntegerRange",
+    "rcl_interfaces/msg/ParameterDescriptor",
+    "rcl_interfaces/msg/SetParametersResult",
+    "rcl_interfaces/msg/ListParametersResult",
+    "rcl_interfaces/msg/ParameterEvent",
+    "rcl_interfaces/msg/Log",
 ]
 
 INT_RANGES = {

@@ -12,6 +12,7 @@ import dataclasses
 import json
 from typing import Any
 
+import numpy as np
 import pytest
 
 from _support.ros2 import ROS2_VENV, run_ros2_script
@@ -74,6 +75,8 @@ def _ros_expr(obj: Any) -> str:
             if f.name != "structure_needs_at_least_one_member"
         )
         return f"{ctor}({args})"
+    if isinstance(obj, np.ndarray):
+        return repr(obj.tolist())
     if isinstance(obj, list):
         return "[" + ", ".join(_ros_expr(x) for x in obj) + "]"
     return repr(obj)

@@ -66,10 +66,10 @@ def test_service_names_are_expanded_remapped_and_validated(ctx) -> None:
     assert node.create_service(Empty, "~/enable", lambda q, r: r).service_name == (
         "/robot1/cam/enable"
     )
-    assert node.create_service(Empty, "calibrate", lambda q, r: r).srv_name == (
+    assert node.create_service(Empty, "calibrate", lambda q, r: r).service_name == (
         "/robot1/calibrate"
     )
-    assert node.create_client(Empty, "reset").srv_name == "/global_reset"
+    assert node.create_client(Empty, "reset").service_name == "/global_reset"
     with pytest.raises(InvalidServiceNameException):
         node.create_service(Empty, "bad name", lambda q, r: r)
     with pytest.raises(TypeError):

@@ -149,7 +149,7 @@ def main_call(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
             out.write("waiting for service to become available...\n")
             out.flush()
             if not client.wait_for_service(timeout_sec=ns.timeout):
-                err.write(f"service '{client.srv_name}' did not become available "
+                err.write(f"service '{client.service_name}' did not become available "
                           f"within {ns.timeout:g} s\n")
                 return 1
         while session.context.ok():
@@ -159,7 +159,7 @@ def main_call(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
             future = client.call_async(request)
             session.executor.spin_until_future_complete(future, timeout_sec=ns.timeout)
             if not future.done():
-                err.write(f"no response from '{client.srv_name}' within {ns.timeout:g} s\n")
+                err.write(f"no response from '{client.service_name}' within {ns.timeout:g} s\n")
                 return 1
             out.write(f"response:\n{ros_repr(future.result())}\n\n")
             out.flush()

@@ -422,7 +422,7 @@ class Node:
         qos = to_qos_profile(qos_profile)
         info = self._service_info(srv_type, full, qos)
         group = callback_group or self.default_callback_group
-        service = Service(self, srv_type, full, callback, qos, group)
+        service = Service(self, srv_type, full, callback, qos, group, srv_name)
         service._attach(self._transport.create_service_server(info, service._receive))
         self._services.append(service)
         return service
@@ -442,7 +442,7 @@ class Node:
         info = self._service_info(srv_type, full, qos)
         group = callback_group or self.default_callback_group
         endpoint = self._transport.create_service_client(info)
-        client = Client(self, srv_type, full, qos, group, endpoint)
+        client = Client(self, srv_type, full, qos, group, endpoint, srv_name)
         self._clients.append(client)
         return client
 
@@ -643,11 +643,12 @@ class Node:
         """The parameter if declared and set, else ``alternative_value`` (or a NOT_SET one)."""
         return self._parameters.get_or(name, alternative_value)
 
-    def get_parameter_type(self, name: str) -> int:
-        """The ParameterType constant of a declared parameter."""
+    def get_parameter_type(self, name: str) -> Any:
+        """The ParameterType constant (an int) of a declared parameter; ``Type.NOT_SET``
+        for an undeclared one when undeclared parameters are allowed (as rclpy)."""
         return self._parameters.get_type(name)
 
-    def get_parameter_types(self, names: Sequence[str]) -> list[int]:
+    def get_parameter_types(self, names: Sequence[str]) -> list[Any]:
         """ParameterType constants of several declared parameters."""
         if not all(isinstance(n, str) for n in names):
             raise TypeError("All names must be instances of type str")
