@@ -46,7 +46,9 @@ def live() -> Iterator[Any]:
 
 def call(live: Any, *argv: str) -> tuple[int, str, str]:
     out, err = io.StringIO(), io.StringIO()
-    code = action_cmd.main(list(argv), context=live.context, out=out, err=err)
+    verb = {"list": action_cmd.main_list, "info": action_cmd.main_info,
+            "send_goal": action_cmd.main_send_goal}[argv[0]]
+    code = verb(list(argv[1:]), context=live.context, out=out, err=err)
     return code, out.getvalue(), err.getvalue()
 
 

@@ -22,26 +22,25 @@ import sys
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-__all__ = ["action_names_and_types", "main", "main_info", "main_list", "main_send_goal"]
+__all__ = ["action_names_and_types", "main_info", "main_list", "main_send_goal"]
 
 _FEEDBACK = "/_action/feedback"
 _SEND_GOAL = "/_action/send_goal"
 
 
 def _parser(verb: str) -> argparse.ArgumentParser:
+    from posekit.cli.topic_cmd import _add_transport_args
+
     parser = argparse.ArgumentParser(prog=f"posekit action {verb}")
-    parser.add_argument("--transport", default=None,
-                        help="posekit transport (default: $POSEKIT_TRANSPORT or zenoh)")
-    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+    _add_transport_args(parser)
     return parser
 
 
 def _session(ns: argparse.Namespace, context: Any) -> Any:
     from posekit.cli._session import ToolSession
-    from posekit.cli.topic_cmd import cli_node_name, sync_graph
+    from posekit.cli.topic_cmd import _transport, cli_node_name, sync_graph
 
-    session = ToolSession(cli_node_name(), context=context,
-                          transport="zenoh" if ns.zenoh else ns.transport,
+    session = ToolSession(cli_node_name(), context=context, transport=_transport(ns),
                           start_parameter_services=False)
     sync_graph(session, 2.0)
     return session
@@ -233,23 +232,3 @@ def _cancel(session: Any, handle: Any, out: TextIO) -> None:
     if cancel.done() and cancel.result().goals_canceling:
         out.write("Goal canceled.\n")
     out.flush()
-
-
-_VERBS = {
-    "list": (main_list, "Output a list of action names"),
-    "info": (main_info, "Print information about an action"),
-    "send_goal": (main_send_goal, "Send an action goal"),
-}
-
-
-def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
-         err: TextIO | None = None) -> int:
-    """``posekit action VERB ...``."""
-    args = list(argv)
-    if not args or args[0] not in _VERBS:
-        lines = ["usage: posekit action VERB ...", "", "verbs:"]
-        lines += [f"  {name:<10}{text}" for name, (_, text) in _VERBS.items()]
-        ok = bool(args) and args[0] in ("-h", "--help")
-        (out or sys.stdout if ok or not args else err or sys.stderr).write("\n".join(lines) + "\n")
-        return 0 if ok else 2
-    return _VERBS[args[0]][0](args[1:], context=context, out=out, err=err)
