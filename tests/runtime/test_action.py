@@ -26,6 +26,9 @@ from posekit.runtime.action import (
     InvalidGoalTransitionError,
     ServerGoalHandle,
     action_topic_names,
+    get_action_client_names_and_types_by_node,
+    get_action_names_and_types,
+    get_action_server_names_and_types_by_node,
     qos_profile_action_status_default,
 )
 from posekit.runtime.context import Context
@@ -126,6 +129,14 @@ def test_names_follow_ros2s_action_mapping(rig: Rig, ctx: Context) -> None:
             qos_profile_action_status_default.durability) == (1, DurabilityPolicy.TRANSIENT_LOCAL)
     assert rig.client.server_is_ready()
     assert rig.client.wait_for_server(timeout_sec=1.0)
+    # rclpy.action.graph
+    nav = "posekit_interfaces/action/NavigateToPose"
+    assert get_action_names_and_types(rig.client_node) == [("/navigate", [nav])]
+    assert get_action_server_names_and_types_by_node(rig.client_node, "server", "/") == [
+        ("/navigate", [nav])]
+    assert get_action_server_names_and_types_by_node(rig.client_node, "client", "/") == []
+    assert get_action_client_names_and_types_by_node(rig.client_node, "client", "/") == [
+        ("/navigate", [nav])]
 
 
 def test_goal_with_feedback_reaches_its_result(rig: Rig) -> None:

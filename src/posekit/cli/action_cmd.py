@@ -22,10 +22,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-__all__ = ["action_names_and_types", "main_info", "main_list", "main_send_goal"]
-
-_FEEDBACK = "/_action/feedback"
-_SEND_GOAL = "/_action/send_goal"
+__all__ = ["main_info", "main_list", "main_send_goal"]
 
 
 def _parser(verb: str) -> argparse.ArgumentParser:
@@ -46,24 +43,11 @@ def _session(ns: argparse.Namespace, context: Any) -> Any:
     return session
 
 
-def _strip(type_name: str, suffix: str) -> str | None:
-    return type_name[: -len(suffix)] if type_name.endswith(suffix) else None
-
-
-def action_names_and_types(node: Any) -> list[tuple[str, list[str]]]:
-    """``[(action name, [action types])]`` on the node's graph, sorted by name."""
-    found = []
-    for topic, types in node.get_topic_names_and_types():
-        if topic.endswith(_FEEDBACK):
-            actions = [a for t in types if (a := _strip(t, "_FeedbackMessage"))]
-            if actions:
-                found.append((topic[: -len(_FEEDBACK)], actions))
-    return sorted(found)
-
-
 def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
               err: TextIO | None = None) -> int:
     """``action list [-t] [-c]``."""
+    from posekit.runtime.action import get_action_names_and_types
+
     out = out or sys.stdout
     parser = _parser("list")
     parser.add_argument("-t", "--show-types", action="store_true",
@@ -72,7 +56,7 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
                         help="Only display the number of actions discovered")
     ns = parser.parse_args(list(argv))
     with _session(ns, context) as session:
-        actions = action_names_and_types(session.node)
+        actions = get_action_names_and_types(session.node)
     if ns.count_actions:
         out.write(f"{len(actions)}\n")
         return 0
@@ -85,20 +69,19 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
 def _endpoints(session: Any, action: str) -> tuple[list[tuple[str, list[str]]],
                                                    list[tuple[str, list[str]]]]:
     from posekit.cli.node_cmd import node_names
+    from posekit.runtime.action import (
+        get_action_client_names_and_types_by_node,
+        get_action_server_names_and_types_by_node,
+    )
 
-    service = action + _SEND_GOAL
     clients: list[tuple[str, list[str]]] = []
     servers: list[tuple[str, list[str]]] = []
     for fqn in sorted(set(node_names(session))):
         namespace, _, name = fqn.rpartition("/")
-        namespace = namespace or "/"
-        node = session.node
-        for found, kind in ((node.get_client_names_and_types_by_node(name, namespace), clients),
-                            (node.get_service_names_and_types_by_node(name, namespace),
-                             servers)):
-            for srv, types in found:
-                if srv == service:
-                    kind.append((fqn, [a for t in types if (a := _strip(t, "_SendGoal"))]))
+        for query, kind in ((get_action_client_names_and_types_by_node, clients),
+                            (get_action_server_names_and_types_by_node, servers)):
+            kind += [(fqn, types) for found, types in query(session.node, name, namespace or "/")
+                     if found == action]
     return clients, servers
 
 

@@ -70,6 +70,9 @@ __all__ = [
     "default_cancel_callback",
     "default_goal_callback",
     "default_handle_accepted_callback",
+    "get_action_client_names_and_types_by_node",
+    "get_action_names_and_types",
+    "get_action_server_names_and_types_by_node",
     "qos_profile_action_status_default",
 ]
 
@@ -656,3 +659,37 @@ class ActionClient:
             self._node.destroy_client(client)
         for sub in self._subscriptions:
             self._node.destroy_subscription(sub)
+
+
+# -- graph (rclpy.action.graph) ----------------------------------------------------------------
+def _actions(found: list[tuple[str, list[str]]], name_suffix: str, type_suffix: str
+             ) -> list[tuple[str, list[str]]]:
+    out = []
+    for name, types in found:
+        if name.endswith(name_suffix):
+            actions = [t[: -len(type_suffix)] for t in types if t.endswith(type_suffix)]
+            if actions:
+                out.append((name[: -len(name_suffix)], actions))
+    return sorted(out)
+
+
+def get_action_names_and_types(node: Node) -> list[tuple[str, list[str]]]:
+    """Every action on the node's graph: ``<name>/_action/feedback`` topics of a
+    ``..._FeedbackMessage`` type, as ``(name, [pkg/action/Type])``."""
+    return _actions(node.get_topic_names_and_types(), "/_action/feedback", "_FeedbackMessage")
+
+
+def get_action_server_names_and_types_by_node(
+    node: Node, remote_node_name: str, remote_node_namespace: str
+) -> list[tuple[str, list[str]]]:
+    """The actions node ``remote_node_name`` serves (its ``.../_action/send_goal`` servers)."""
+    found = node.get_service_names_and_types_by_node(remote_node_name, remote_node_namespace)
+    return _actions(found, "/_action/send_goal", "_SendGoal")
+
+
+def get_action_client_names_and_types_by_node(
+    node: Node, remote_node_name: str, remote_node_namespace: str
+) -> list[tuple[str, list[str]]]:
+    """The actions node ``remote_node_name`` has clients of."""
+    found = node.get_client_names_and_types_by_node(remote_node_name, remote_node_namespace)
+    return _actions(found, "/_action/send_goal", "_SendGoal")

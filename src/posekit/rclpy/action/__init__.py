@@ -5,6 +5,17 @@ from posekit.runtime.action import (
     ActionServer,
     CancelResponse,
     GoalResponse,
+    get_action_client_names_and_types_by_node,
+    get_action_names_and_types,
+    get_action_server_names_and_types_by_node,
 )
 
-__all__ = ["ActionClient", "ActionServer", "CancelResponse", "GoalResponse"]
+__all__ = [
+    "ActionClient",
+    "ActionServer",
+    "CancelResponse",
+    "GoalResponse",
+    "get_action_client_names_and_types_by_node",
+    "get_action_names_and_types",
+    "get_action_server_names_and_types_by_node",
+]
