@@ -37,7 +37,7 @@ DEVIATIONS: dict[str, dict[str, str]] = {
         "qos no depth": (
             "QoSProfile(history=<HistoryPolicy.KEEP_LAST: 1>, depth=10, "
             "reliability=<ReliabilityPolicy.RELIABLE: 1>, "
-            "durability=<DurabilityPolicy.VOLATILE: 2>)"
+            "durability=<DurabilityPolicy.VOLATILE: 2>, lifespan=None)"
         ),
     },
     "parameters": {
@@ -59,6 +59,7 @@ _IMPORTS = [
     (r"^from rcl_interfaces\.(msg|srv) import", "from posekit.msgs.rcl_interfaces import"),
     (r"^from std_srvs\.srv import", "from posekit.msgs.std_srvs import"),
     (r"^from std_msgs\.msg import", "from posekit.msgs.std_msgs import"),
+    (r"^from action_msgs\.(msg|srv) import", "from posekit.msgs.action_msgs import"),
 ]
 
 
@@ -85,7 +86,8 @@ def lines_by_label(stdout: str) -> dict[str, str]:
 def test_import_rewriting_covers_every_script() -> None:
     for script in SCRIPTS:
         rewritten = as_posekit(source(script))
-        assert not re.search(r"^(import|from) (rclpy|rcl_interfaces|std_srvs|std_msgs)\b",
+        assert not re.search(r"^(import|from) (rclpy|rcl_interfaces|std_srvs|std_msgs|"
+                             r"action_msgs)\b",
                              rewritten, flags=re.M), script
 
 
