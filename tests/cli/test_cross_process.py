@@ -9,15 +9,11 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
 import shutil
 import signal
 import subprocess
-import sys
-import textwrap
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -26,62 +22,12 @@ import pytest
 import yaml
 from scipy.spatial.transform import Rotation
 
-from _support.ports import free_port
-from _support.procs import Proc
+from _support.world import World
 from posekit.msgs.registry import MESSAGE_CLASSES
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 REPO = Path(__file__).resolve().parents[2]
-
-
-class World:
-    """Starts processes that share one router endpoint and kills them all at the end."""
-
-    def __init__(self, endpoint: str, tmp: Path) -> None:
-        self.endpoint = endpoint
-        self.tmp = tmp
-        self.procs: list[Proc] = []
-        self.env = {k: v for k, v in os.environ.items()
-                    if not k.startswith(("ZENOH_", "ROS_DOMAIN", "POSEKIT_"))}
-        self.env.update(POSEKIT_ZENOH_ROUTER=endpoint, PYTHONUNBUFFERED="1")
-
-    def cli(self, *args: str) -> Proc:
-        return self._start([sys.executable, "-m", "posekit.cli.main", *args])
-
-    def script(self, source: str, *args: str, transport_env: bool = True) -> Proc:
-        env = dict(self.env)
-        if transport_env:
-            env["POSEKIT_TRANSPORT"] = "zenoh"
-        return self._start([sys.executable, "-c", textwrap.dedent(source), *args], env)
-
-    def _start(self, args: list[str], env: dict[str, str] | None = None) -> Proc:
-        proc = Proc(args, env or self.env, cwd=self.tmp)
-        self.procs.append(proc)
-        return proc
-
-    def close(self) -> None:
-        for proc in reversed(self.procs):
-            proc.kill()
-        for proc in self.procs:
-            for stream in (proc.popen.stdout, proc.popen.stderr):
-                if stream is not None:
-                    stream.close()
-
-
-@pytest.fixture
-def world(tmp_path: Path) -> Iterator[World]:
-    w = World(f"tcp/127.0.0.1:{free_port()}", tmp_path)
-    try:
-        yield w
-    finally:
-        w.close()
-
-
-@pytest.fixture
-def routed(world: World) -> World:
-    """A world with ``posekit router`` running on its endpoint."""
-    router = world.cli("router", "--listen", world.endpoint)
-    router.wait_line(lambda s: "listening on" in s, 15, "the router to listen")
-    return world
 
 
 # -- runtime processes (POSEKIT_TRANSPORT=zenoh, no transport named in the code) ---------------
@@ -280,7 +226,8 @@ def test_tf_static_then_tf_echo_prints_the_tf2_echo_block(routed: World) -> None
     out = echo.finish(30, "posekit tf echo")
     # static transforms are looked up at time 0: tf2_echo prints "At time 0.0"
     assert out == "At time 0.0\n" + SPEC_BLOCK, echo.describe()
-    # the spec's block is tf2's output; check it against scipy as well (rounded to 3 places)
+    # docs/specs/tf2.md's block is tf2's output; check it against scipy as well (rounded to 3
+    # places)
     R = Rotation.from_euler("xyz", [0.1, -0.2, 3.0])
     q = R.as_quat()
     assert f"[{q[0]:.3f}, {q[1]:.3f}, {q[2]:.3f}, {q[3]:.3f}]" in out

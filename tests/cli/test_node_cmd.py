@@ -1,7 +1,8 @@
 """posekit node list / topic list over real Zenoh sessions, including rmw_zenoh's own tokens.
 
 The "ROS 2 node" here is a plain zenoh session declaring liveliness tokens in rmw_zenoh's
-exact format (spec §2 worked example), sharing no code with posekit's token builders.
+exact format (docs/specs/rmw_zenoh.md §2 worked example), sharing no code with posekit's token
+builders.
 """
 
 from __future__ import annotations
@@ -22,9 +23,11 @@ from posekit.runtime.context import Context
 from posekit.runtime.node import Node
 from posekit.transport.zenoh_transport import ZenohTransport
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 ROS_ZID = "1234567890abcdef1234567890abcdef"
 TF_HASH = "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"
-ROS_TOKENS = [  # spec §2, verbatim, plus a hidden ROS node
+ROS_TOKENS = [  # docs/specs/rmw_zenoh.md §2, verbatim, plus a hidden ROS node
     f"@ros2_lv/0/{ROS_ZID}/0/0/NN/%/%/zbridge",
     f"@ros2_lv/0/{ROS_ZID}/0/1/MP/%/%/zbridge/%tf/tf2_msgs::msg::dds_::TFMessage_/{TF_HASH}"
     "/::,100:,:,:,,",

@@ -316,3 +316,14 @@ def test_dispatcher_routes_topic_and_node(capsys: pytest.CaptureFixture[str]) ->
     text = capsys.readouterr().out
     for verb in ("topic list", "topic echo", "topic hz", "topic pub", "node list", "router"):
         assert verb in text
+
+
+@pytest.mark.parametrize("rate", ["nan", "inf", "0", "-5"])
+def test_pub_refuses_a_rate_that_is_no_positive_finite_number(ctx: Context, rate: str) -> None:
+    """One line on stderr and exit 2, no timer created (rclpy would raise on NaN/inf)."""
+    err = io.StringIO()
+    code = topic_cmd.main(["pub", "/cmd_vel", "geometry_msgs/msg/Twist", "{}", f"--rate={rate}"],
+                          context=ctx, out=io.StringIO(), err=err)
+    assert code == 2
+    assert err.getvalue().count("\n") == 1
+    assert "rate must be a positive finite number" in err.getvalue()

@@ -1,4 +1,5 @@
-"""CDR bytes against rosbags' own serializer (independent typestore), round trips, the spec's
+"""CDR bytes against rosbags' own serializer (independent typestore), round trips,
+docs/specs/rmw_zenoh.md's
 worked TFMessage, and malformed input."""
 
 from __future__ import annotations

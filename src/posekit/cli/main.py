@@ -6,9 +6,12 @@ byte), so this module only routes and imports a tool when it is used.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import signal
 import sys
-from collections.abc import Sequence
+import threading
+from collections.abc import Iterator, Sequence
 
 __all__ = ["main"]
 
@@ -44,6 +47,7 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("bag", "record"): ("posekit.cli.bag_cmd:record", "record topics to a ROS 2 bag (MCAP)"),
     ("bag", "play"): ("posekit.cli.bag_cmd:play", "play a bag back on sim time"),
     ("bag", "info"): ("posekit.cli.bag_cmd:info", "summarise a bag like ros2 bag info"),
+    ("bag", "reindex"): ("posekit.cli.bag_cmd:reindex", "recover a bag whose recorder died"),
     ("view", None): ("posekit.cli.view_cmd:main", "serve the browser viewer (RViz2's role)"),
     ("plot", "odometry"): ("posekit.cli.plot_cmd:main_odometry", "plot odometry vs truth"),
     ("launch", None): ("posekit.cli.launch_cmd:main", "run a scenario or a launch file"),
@@ -76,10 +80,32 @@ def main(argv: Sequence[str] | None = None) -> int:
     module_name, _, function_name = target.partition(":")
     function = getattr(importlib.import_module(module_name), function_name)
     try:
-        result = function(rest)
+        with _sigterm_as_interrupt():
+            result = function(rest)
     except KeyboardInterrupt:
         return 130
     return int(result or 0)
+
+
+@contextlib.contextmanager
+def _sigterm_as_interrupt() -> Iterator[None]:
+    """SIGTERM (``timeout``, systemd, ``docker stop``) stops a tool as Ctrl-C does, so it
+    finishes its work (a bag's index and metadata.yaml) instead of dying mid-write."""
+    if threading.current_thread() is not threading.main_thread() or (
+        signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
+    ):
+        yield
+        return
+
+    def interrupt(signum: int, frame: object) -> None:
+        del signum, frame
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 if __name__ == "__main__":

@@ -45,13 +45,11 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
                         help="display all nodes even hidden ones")
     parser.add_argument("-c", "--count-nodes", action="store_true",
                         help="only display the number of nodes discovered")
-    parser.add_argument("--transport", default=None)
-    parser.add_argument("--zenoh", action="store_true")
+    from posekit.cli._session import ToolSession, add_transport_option, transport_option
+
+    add_transport_option(parser)
     ns = parser.parse_args(list(argv))
-
-    from posekit.cli._session import ToolSession
-
-    transport = "zenoh" if ns.zenoh else ns.transport
+    transport = transport_option(ns)
     with ToolSession(cli_node_name(), context=context, transport=transport) as session:
         sync_graph(session)
         own = session.node.get_fully_qualified_name()

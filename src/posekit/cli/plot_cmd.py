@@ -25,6 +25,12 @@ def main_odometry(argv: Sequence[str]) -> int:
     ns = parser.parse_args(list(argv))
     if (ns.recording is None) == (ns.scenario is None):
         parser.error("give either a recording file or --scenario NAME")
+    from posekit.cli._extras import require
+
+    problem = require("posekit plot", [("plotting", "plot")])
+    if problem:  # before a scenario runs
+        print(problem, file=sys.stderr)
+        return 2
 
     from posekit.robot.plot import PlotError, plot_odometry_file
 

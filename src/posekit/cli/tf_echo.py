@@ -1,5 +1,8 @@
 """``posekit tf echo SOURCE TARGET [RATE] [--count N]``: tf2_echo with its exact output.
 
+``--use-sim-time`` / ``--wall-time`` choose the clock (default: the simulation's ``/clock``
+when one is published, as tf2_echo with ``use_sim_time``).
+
 As in tf2_ros, the FIRST argument is tf2's target frame: ``posekit tf echo map base`` prints
 the pose of ``base`` in ``map`` (the transform that takes data from ``base`` into ``map``).
 """
@@ -81,10 +84,13 @@ def format_echo_block(sec: int, nanosec: int, translation: Sequence[float],
     return "\n".join(lines) + "\n"
 
 
-def _split_options(argv: Sequence[str]) -> tuple[list[str], int | None, str | None]:
+def _split_options(
+    argv: Sequence[str],
+) -> tuple[list[str], int | None, str | None, bool | None]:
     positional: list[str] = []
     count: int | None = None
     transport: str | None = None
+    use_sim_time: bool | None = None  # None: follow /clock when a simulation publishes it
     it = iter(argv)
     for token in it:
         if token == "--count":
@@ -95,9 +101,11 @@ def _split_options(argv: Sequence[str]) -> tuple[list[str], int | None, str | No
             transport = next(it, None)
         elif token == "--zenoh":
             transport = "zenoh"
+        elif token in ("--use-sim-time", "--wall-time"):
+            use_sim_time = token == "--use-sim-time"
         else:
             positional.append(token)
-    return positional, count, transport
+    return positional, count, transport, use_sim_time
 
 
 def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
@@ -105,7 +113,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     """Run tf2_echo; ``context`` lets tests and launch files share a posekit context."""
     out = out or sys.stdout
     err = err or sys.stderr
-    positional, count, transport = _split_options(argv)
+    positional, count, transport, use_sim_time = _split_options(argv)
     if len(positional) not in (2, 3):
         out.write(USAGE)
         return 1
@@ -123,6 +131,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     from posekit.time import Time
 
     with ToolSession("tf2_echo", context=context, transport=transport) as session:
+        session.follow_sim_time(use_sim_time)  # "Failure at" times in sim time, as tf2_echo
         buffer = Buffer()
         session.listen_tf(buffer)
         deadline = None if timeout_s is None else time.monotonic() + timeout_s

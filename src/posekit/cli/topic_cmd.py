@@ -315,17 +315,20 @@ def _list_element_class(msg_cls: type, field_name: str) -> type | None:
     return None
 
 
-def _now_msg() -> Any:
+def _now_msg(now_ns: Callable[[], int] | None = None) -> Any:
     from posekit.msgs.builtin_interfaces import Time
 
-    ns = time.time_ns()
+    ns = (now_ns or time.time_ns)()
     return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
 
 
-def set_message_fields(msg: Any, values: Any, *, path: str = "") -> None:
+def set_message_fields(msg: Any, values: Any, *, path: str = "",
+                       now_ns: Callable[[], int] | None = None) -> None:
     """Assign a parsed YAML mapping to ``msg`` field by field, converting like ros2cli.
 
-    ``header: auto`` -> stamp now and empty frame id; ``stamp: now`` (any Time field) -> now.
+    ``header: auto`` -> stamp now and empty frame id; ``stamp: now`` (any Time field) -> now,
+    read from ``now_ns`` (default the wall clock; ``topic pub`` passes its node clock, which
+    is the simulation's time when one runs).
     Raises :class:`MessageFieldError` naming the field on unknown fields or bad values.
     """
     if values is None:
@@ -342,21 +345,22 @@ def set_message_fields(msg: Any, values: Any, *, path: str = "") -> None:
                 f"{type(msg).__name__} has no field {where!r} (fields: {', '.join(sorted(names))})"
             )
         current = getattr(msg, name)
-        setattr(msg, name, _converted(type(msg), name, current, value, where))
+        setattr(msg, name, _converted(type(msg), name, current, value, where, now_ns))
 
 
-def _converted(owner: type, name: str, current: Any, value: Any, where: str) -> Any:
+def _converted(owner: type, name: str, current: Any, value: Any, where: str,
+               now_ns: Callable[[], int] | None = None) -> Any:
     msgtype = getattr(current, "__msgtype__", "")
     if msgtype == "std_msgs/msg/Header" and value == "auto":
         header = type(current)()
-        header.stamp = _now_msg()
+        header.stamp = _now_msg(now_ns)
         return header
     if msgtype == "builtin_interfaces/msg/Time" and value == "now":
-        return _now_msg()
+        return _now_msg(now_ns)
     try:
         if _is_message(current):
             fresh = type(current)()
-            set_message_fields(fresh, value, path=where)
+            set_message_fields(fresh, value, path=where, now_ns=now_ns)
             return fresh
         if isinstance(current, np.ndarray):
             arr = np.asarray(value, dtype=current.dtype)
@@ -374,7 +378,7 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str) -> 
             out = []
             for i, item in enumerate(value):
                 child = elem()
-                set_message_fields(child, item, path=f"{where}[{i}]")
+                set_message_fields(child, item, path=f"{where}[{i}]", now_ns=now_ns)
                 out.append(child)
             return out
         if isinstance(current, bool):
@@ -396,21 +400,9 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str) -> 
 
 def message_class(type_name: str) -> type:
     """posekit's class for a ROS type, else the rosbags class (any ROS 2 Jazzy type)."""
-    from posekit.msgs.errors import UnknownMessageTypeError
-    from posekit.msgs.registry import get_message_class, normalize_type_name
+    from posekit.msgs.registry import find_message_class
 
-    try:
-        return get_message_class(type_name)
-    except UnknownMessageTypeError:
-        full = normalize_type_name(type_name)
-    try:
-        from posekit.msgs.cdr import get_typestore
-
-        return typing.cast(type, get_typestore().types[full])
-    except (ImportError, KeyError):
-        raise UnknownMessageTypeError(
-            f"The passed message type '{type_name}' is invalid (no definition known)"
-        ) from None
+    return find_message_class(type_name)
 
 
 # ---------------------------------------------------------------------------------------
@@ -424,12 +416,7 @@ def cli_node_name() -> str:
 
 def sync_graph(session: Any, timeout: float = 5.0) -> None:
     """Complete the transport's graph snapshot (liveliness query on Zenoh; no-op otherwise)."""
-    transport = session.node.transport
-    sync = getattr(transport, "sync_graph", None)
-    if sync is not None:
-        sync(timeout)
-    else:
-        session.spin_for(0.0)
+    session.sync_graph(timeout)
 
 
 def is_hidden_name(name: str) -> bool:
@@ -500,13 +487,24 @@ def adapted_qos(session: Any, topic: str, out: TextIO) -> Any:
 
 
 def _add_transport_args(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--transport", default=None,
-                        help="posekit transport (default: $POSEKIT_TRANSPORT or zenoh)")
-    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+    from posekit.cli._session import add_transport_option
+
+    add_transport_option(parser)
+
+
+def _uses_now(values: Any) -> bool:
+    """Whether parsed VALUES ask for the current time (``header: auto`` / ``stamp: now``)."""
+    if isinstance(values, dict):
+        return any(_uses_now(v) for v in values.values())
+    if isinstance(values, list):
+        return any(_uses_now(v) for v in values)
+    return values in ("auto", "now")
 
 
 def _transport(ns: argparse.Namespace) -> str | None:
-    return "zenoh" if ns.zenoh else ns.transport
+    from posekit.cli._session import transport_option
+
+    return transport_option(ns)
 
 
 def _session(ns: argparse.Namespace, context: Any) -> Any:
@@ -560,12 +558,12 @@ def _qos_lines(info: Any) -> list[str]:
             return "Infinite"
         return f"{value[0] * 1_000_000_000 + value[1]} nanoseconds"
 
-    history = "KEEP_ALL" if qos.history == 2 else "KEEP_LAST"
+    history = {2: "KEEP_ALL", 3: "UNKNOWN"}.get(qos.history, "KEEP_LAST")
     liveliness = {1: "AUTOMATIC", 3: "MANUAL_BY_TOPIC"}.get(qos.liveliness, "UNKNOWN")
     return [
         "QoS profile:",
         f"  Reliability: {'RELIABLE' if qos.reliable else 'BEST_EFFORT'}",
-        f"  History (Depth): {history} ({qos.depth})",
+        f"  History (Depth): {history}" + ("" if history == "UNKNOWN" else f" ({qos.depth})"),
         f"  Durability: {'TRANSIENT_LOCAL' if qos.transient_local else 'VOLATILE'}",
         f"  Lifespan: {duration(qos.lifespan)}",
         f"  Deadline: {duration(qos.deadline)}",
@@ -577,7 +575,9 @@ def _qos_lines(info: Any) -> list[str]:
 def _endpoint_block(info: Any, kind: str) -> str:
     from posekit.transport.zenoh_wire import entity_gid
 
-    gid = entity_gid(info.keyexpr).hex() if info.keyexpr else ""
+    own_gid = getattr(info, "gid", None)  # DDS endpoints carry their GUID
+    gid = (own_gid.hex() if isinstance(own_gid, bytes)
+           else entity_gid(info.keyexpr).hex() if info.keyexpr else "")
     lines = [
         f"Node name: {info.node_name}",
         f"Node namespace: {info.namespace}",
@@ -694,6 +694,7 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
     """``topic hz TOPIC [--window N] [--count N]``: receive rate, reported once a second."""
     from collections import deque
 
+    from posekit.cli._session import add_sim_time_args
     from posekit.runtime.qos import qos_profile_sensor_data
 
     out = out or sys.stdout
@@ -705,6 +706,7 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
     parser.add_argument("--count", type=int, default=None,
                         help="exit after N reports (posekit addition)")
     _add_transport_args(parser)
+    add_sim_time_args(parser)
     ns = parser.parse_args(list(argv))
     if ns.window < 1:
         err.write("--window must be at least 1\n")
@@ -715,13 +717,17 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
         if type_name is None:
             err.write(f"Could not determine the type for the passed topic '{topic}'\n")
             return 1
+        # Rates per simulated second while a simulation publishes /clock, as ros2 topic hz
+        # measures with its node's ROS clock; the reports come once a wall second.
+        stamp_ns = (session.node.get_clock().now_ns if session.follow_sim_time(ns.use_sim_time)
+                    else time.monotonic_ns)
         deltas: deque[int] = deque(maxlen=ns.window)
         last_ns: list[int] = []
         printed_at = [-1]
         reports = [0]
 
         def on_message(_msg: Any) -> None:
-            now = time.monotonic_ns()
+            now = stamp_ns()
             if last_ns:
                 deltas.append(now - last_ns[0])
                 last_ns[0] = now
@@ -741,7 +747,9 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
 
         session.node.create_subscription(message_class(type_name), topic, on_message,
                                          qos_profile_sensor_data)
-        session.node.create_timer(1.0, report)
+        from posekit.runtime.clock import Clock, ClockType
+
+        session.node.create_timer(1.0, report, clock=Clock(clock_type=ClockType.STEADY_TIME))
         deadline = None if timeout_s is None else time.monotonic() + timeout_s
         while session.context.ok() and (ns.count is None or reports[0] < ns.count):
             if deadline is not None and time.monotonic() > deadline:
@@ -767,6 +775,7 @@ def parse_values(text: str) -> Any:
 def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
              err: TextIO | None = None, sleep: Callable[[float], None] | None = None) -> int:
     """``topic pub TOPIC TYPE [VALUES] [-r R] [-1] [-t N] [-w N] [-p N] [--keep-alive S]``."""
+    from posekit.cli._session import add_sim_time_args
     from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
     out = out or sys.stdout
@@ -793,10 +802,11 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
                         default="reliable")
     parser.add_argument("--qos-depth", type=int, default=10)
     _add_transport_args(parser)
+    add_sim_time_args(parser)
     ns = parser.parse_args(list(argv))
     times = 1 if ns.once else ns.times
-    if ns.rate <= 0:
-        err.write("rate must be positive\n")
+    if not ns.rate > 0 or ns.rate == math.inf:  # NaN fails the first test
+        err.write(f"rate must be a positive finite number of Hz, got {ns.rate}\n")
         return 2
     try:
         msg_cls = message_class(ns.message_type)
@@ -824,6 +834,9 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
                      else ReliabilityPolicy.RELIABLE),
     )
     with _session(ns, context) as session:
+        if ns.use_sim_time or (ns.use_sim_time is None and _uses_now(values)):
+            session.follow_sim_time(ns.use_sim_time)  # header: auto stamps sim time
+        now_ns = session.node.get_clock().now_ns
         topic = _resolve(session, ns.topic_name)
         pub = session.node.create_publisher(msg_cls, topic, qos)
         waited = 0
@@ -840,7 +853,7 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
         while session.context.ok():
             # header: auto / stamp: now are re-evaluated for every message, as ros2 does
             fresh = msg_cls()
-            set_message_fields(fresh, values)
+            set_message_fields(fresh, values, now_ns=now_ns)
             pub.publish(fresh)
             count += 1
             if ns.print_nth and count % ns.print_nth == 0:

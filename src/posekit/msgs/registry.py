@@ -33,6 +33,7 @@ __all__ = [
     "ACTION_CLASSES",
     "MESSAGE_CLASSES",
     "SERVICE_CLASSES",
+    "find_message_class",
     "get_action_class",
     "get_message_class",
     "get_service_class",
@@ -143,6 +144,25 @@ def message_type_name(msg_or_cls: object) -> str:
             f"{type(msg_or_cls).__name__} is not a ROS message (no __msgtype__ attribute)"
         )
     return name
+
+
+def find_message_class(name: str) -> type[Any]:
+    """posekit's class for ``name``, else the class from rosbags' typestore (any ROS 2 Jazzy
+    type; rosbags is imported only here). Never imports a module named by ``name``: type
+    names often come from other peers. Raises :class:`UnknownMessageTypeError`."""
+    try:
+        return get_message_class(name)
+    except UnknownMessageTypeError:
+        full = normalize_type_name(name)
+    try:
+        from posekit.msgs.cdr import get_typestore
+
+        cls: type[Any] = get_typestore().types[full]
+    except (ImportError, KeyError):
+        raise UnknownMessageTypeError(
+            f"The passed message type '{name}' is invalid (no definition known)"
+        ) from None
+    return cls
 
 
 #: Every posekit action class keyed by its full ROS 2 type name

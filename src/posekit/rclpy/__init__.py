@@ -2,6 +2,7 @@
 
 Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qos``,
 ``.executors``, ``.parameter``, ``.clock``, ``.logging``, ``.callback_groups``, ``.task``,
+``.exceptions``, ``.utilities``.
 ``.exceptions``, ``.service``, ``.client``, ``.timer``, ``.wait_for_message``.
 """
 
@@ -22,6 +23,7 @@ from posekit.rclpy import (
     task,
     time,
     timer,
+    utilities,
     wait_for_message,
 )
 from posekit.runtime import create_node
@@ -61,5 +63,6 @@ __all__ = [
     "time",
     "timer",
     "try_shutdown",
+    "utilities",
     "wait_for_message",
 ]

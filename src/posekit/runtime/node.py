@@ -5,13 +5,17 @@ names are validated, expanded in the node's namespace and remapped (posekit.runt
 the QoS argument is a :class:`QoSProfile` or an int depth. Every node declares
 ``use_sim_time`` (default False); setting it true makes ``get_clock()`` follow ``/clock``.
 
-Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context,
-the :func:`node_defaults` scope (used by posekit.launch), then the constructor arguments.
+Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context
+(``sys.argv`` by default, as rclpy; see :mod:`posekit.runtime.arguments`), the
+:func:`node_defaults` scope (used by posekit.launch), ``cli_args``, then the constructor's
+``parameter_overrides``. Remap rules are tried in this order (the first match wins): the
+constructor's ``remappings``, ``cli_args``, the scope, the global arguments.
 """
 
 from __future__ import annotations
 
 import contextvars
+import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -99,13 +103,15 @@ def node_defaults(
 
 
 def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | None, str | None]:
+    """The node name and namespace remaps for ``node_name``: the first matching rule of
+    each kind wins, as in rcl."""
     name = ns = None
     for rule in rules:
         if rule.node is not None and rule.node != node_name:
             continue
-        if rule.from_name == "__node" or rule.from_name == "__name":
+        if name is None and rule.from_name in ("__node", "__name"):
             name = rule.to_name
-        elif rule.from_name == "__ns":
+        elif ns is None and rule.from_name == "__ns":
             ns = rule.to_name
     return name, ns
 
@@ -139,19 +145,14 @@ class Node:
             raise NotInitializedException(f"cannot create node '{node_name}'")
         validate_node_name(node_name)
 
-        from posekit.runtime.context import parse_ros_args
+        from posekit.runtime.arguments import RosArguments, parse_arguments
 
-        cli_params, cli_remaps = parse_ros_args(cli_args)
-        rules: list[RemapRule] = []
-        overrides: dict[str, Any] = {}
-        if use_global_arguments:
-            rules.extend(self._context.global_remaps)
-            overrides.update(self._context.global_parameters)
+        local = parse_arguments(cli_args) if cli_args else RosArguments()
+        glob = self._context.arguments if use_global_arguments else RosArguments()
+        rules: list[RemapRule] = parse_remap_rules(remappings) + local.remaps
         if scope is not None:
-            rules = list(scope.remappings) + rules
-            overrides.update(scope.parameters)
-        rules = parse_remap_rules(remappings) + cli_remaps + rules
-        overrides.update(cli_params)
+            rules += scope.remappings
+        rules += glob.remaps
 
         name_remap, ns_remap = _special_remaps(rules, node_name)
         if scope is not None and scope.name:
@@ -166,6 +167,13 @@ class Node:
         self._namespace = normalize_namespace(namespace)
         self._remap_rules = [r for r in rules if not r.from_name.startswith("__")]
 
+        # Parameter overrides, weakest first: global arguments, launch scope, cli_args,
+        # then the constructor's parameter_overrides.
+        fqn = self.get_fully_qualified_name()
+        overrides: dict[str, Any] = glob.parameters_for(fqn)
+        if scope is not None:
+            overrides.update(scope.parameters)
+        overrides.update(local.parameters_for(fqn))
         if isinstance(parameter_overrides, Mapping):
             overrides.update(parameter_overrides)
         elif parameter_overrides is not None:
@@ -318,6 +326,19 @@ class Node:
         del event_callbacks, qos_overriding_options
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
+        return self._subscribe(msg_type, topic, callback, qos_profile, callback_group, False)
+
+    def _subscribe(
+        self,
+        msg_type: type,
+        topic: str,
+        callback: Callable[[Any], Any],
+        qos_profile: QoSProfile | int,
+        callback_group: CallbackGroup | None,
+        with_source: bool,
+    ) -> Subscription:
+        """create_subscription; ``with_source``: the callback gets ``(msg, source)`` with the
+        sending publisher's id (see Transport.subscribe_with_source)."""
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"subscription callback must be callable, got {callback!r}")
@@ -326,8 +347,15 @@ class Node:
         group = callback_group or self.default_callback_group
         sub = Subscription(self, msg_type, full, callback, qos, group)
         self._subscriptions.append(sub)
+        info = self._info(msg_type, full, qos)
         try:
-            endpoint = self._transport.subscribe(self._info(msg_type, full, qos), sub._enqueue)
+            if with_source:
+                enqueue = sub._enqueue
+                endpoint = self._transport.subscribe_with_source(
+                    info, lambda msg, source: enqueue((msg, source))
+                )
+            else:
+                endpoint = self._transport.subscribe(info, sub._enqueue)
         except BaseException:
             self._subscriptions.remove(sub)
             raise
@@ -349,9 +377,15 @@ class Node:
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"timer callback must be callable, got {callback!r}")
-        period_ns = round(float(timer_period_sec) * 1e9)
+        period_s = float(timer_period_sec)
+        # rclpy raises ValueError for NaN, OverflowError for inf, an error for negatives.
+        if math.isnan(period_s):
+            raise ValueError(f"timer period must be a number of seconds, got {period_s}")
+        if math.isinf(period_s):
+            raise OverflowError(f"timer period must be finite, got {period_s} s")
+        period_ns = round(period_s * 1e9)
         if period_ns < 0:
-            raise ValueError(f"timer period must be >= 0 s, got {timer_period_sec}")
+            raise ValueError(f"timer period must be non-negative, got {timer_period_sec} s")
         timer = Timer(
             self,
             callback,

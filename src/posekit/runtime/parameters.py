@@ -45,6 +45,7 @@ from posekit.msgs.rcl_interfaces import (
     SetParametersResult,
 )
 from posekit.msgs.rcl_interfaces import Parameter as ParameterMsg
+from posekit.runtime.arguments import parse_parameter_value
 
 __all__ = [
     "PARAMETER_SEPARATOR_STRING",
@@ -372,12 +373,6 @@ def get_parameter_value(string_value: str) -> ParameterValue:
             parsed if isinstance(parsed, str) and not isinstance(parsed, list) else string_value
         )
     return msg
-
-
-def parse_parameter_value(text: str) -> Any:
-    """The Python value of a ``--ros-args -p name:=value`` / launch string (YAML, as
-    :func:`get_parameter_value`): 'true' -> True, '3' -> 3, '0.5' -> 0.5, '[1, 2]'."""
-    return parameter_value_to_python(get_parameter_value(text))
 
 
 def parameter_dict_from_yaml_file(

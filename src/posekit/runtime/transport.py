@@ -18,6 +18,12 @@ Contract for implementations:
   Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
+* ``crosses_processes`` says whether the endpoints are visible to other processes (a network
+  transport). A :class:`~posekit.runtime.executors.SimulatedTimeExecutor` publishes
+  ``/clock`` exactly when one of its nodes sits on such a transport.
+* ``subscribe_with_source(info, sink)`` is ``subscribe`` whose sink also gets an opaque id of
+  the sending publisher (bytes, e.g. rmw_zenoh's GID) or None when the transport cannot tell;
+  nodes following ``/clock`` use it to ignore a second clock source. The default passes None.
 * Services are an optional capability (``supports_services``). ``create_service_server(info,
   sink)`` returns a :class:`ServiceServerEndpoint`; the transport calls ``sink(request,
   respond)`` once per request (an object the server owns), and the runtime calls
@@ -26,9 +32,9 @@ Contract for implementations:
   request to one server and calls ``on_response(response)`` at most once. The base class
   raises :class:`ServicesNotSupportedError` so a transport without services says so.
 
-Selection: ``Node(..., transport="zenoh")``, else ``init(transport=...)`` of the context,
-else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names map to
-factories in a registry (:func:`register_transport`); each context creates one instance per
+Selection: ``Node(..., transport="zenoh")`` (or ``"dds"``), else ``init(transport=...)`` of
+the context, else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names
+map to factories in a registry (:func:`register_transport`); each context creates one instance per
 name and shares it among its nodes.
 """
 
@@ -55,6 +61,7 @@ __all__ = [
     "ServiceInfo",
     "ServiceServerEndpoint",
     "ServicesNotSupportedError",
+    "SourcedMessageSink",
     "SubscriptionEndpoint",
     "TopicTypeMismatchError",
     "Transport",
@@ -68,6 +75,8 @@ __all__ = [
 ENV_TRANSPORT = "POSEKIT_TRANSPORT"
 
 MessageSink = Callable[[Any], None]
+#: ``sink(msg, source)``: ``source`` identifies the sending publisher (bytes) or is None.
+SourcedMessageSink = Callable[[Any, bytes | None], None]
 #: ``on_response(response)``: a client's reply sink.
 ResponseSink = Callable[[Any], None]
 #: ``sink(request, respond)``: a server's request sink; ``respond(response)`` answers it.
@@ -196,6 +205,8 @@ class Transport(ABC):
     """Carries messages between endpoints (see the module docstring for the contract)."""
 
     name: str = "abstract"
+    #: Whether other processes see (and can talk to) this transport's endpoints.
+    crosses_processes: bool = False
 
     @abstractmethod
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
@@ -204,6 +215,13 @@ class Transport(ABC):
     @abstractmethod
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
         """Create a subscription endpoint delivering to ``sink``."""
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """:meth:`subscribe`, calling ``sink(msg, source)`` with the sending publisher's id
+        (default: None, the transport cannot tell publishers apart)."""
+        return self.subscribe(info, lambda msg: sink(msg, None))
 
     @abstractmethod
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
@@ -263,8 +281,9 @@ class Transport(ABC):
 TransportFactory = Callable[[], Transport]
 _registry: dict[str, TransportFactory | str] = {
     "inprocess": "posekit.runtime.bus:InProcessBus",
-    # Registered lazily by name so importing the runtime never imports zenoh.
+    # Registered lazily by name so importing the runtime never imports zenoh or cyclonedds.
     "zenoh": "posekit.transport.zenoh:ZenohTransport",
+    "dds": "posekit.transport.dds_transport:DdsTransport",
 }
 
 

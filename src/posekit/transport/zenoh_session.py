@@ -17,9 +17,12 @@ subscriptions AdvancedSubscribers with history and late-publisher detection, as 
 does. Every entity is announced by an rmw_zenoh liveliness token.
 
 Received samples that do not decode (no or malformed attachment, type-hash mismatch, bad
-CDR) are dropped; the first drop per (publisher, reason) is logged with the reason, and all
-are counted in :attr:`WireSubscription.dropped`. Exceptions from user callbacks are logged,
-never propagated into zenoh's threads.
+CDR) are dropped and counted in :attr:`WireSubscription.dropped`; each subscription logs at
+most one line per second per reason (with how many were suppressed), whatever GIDs or key
+expressions the senders use, and tracks sequence numbers for at most
+:data:`MAX_TRACKED_PUBLISHERS` publishers. The graph keeps at most
+:data:`~posekit.transport.zenoh_wire.MAX_GRAPH_TOKENS` liveliness tokens. Exceptions from
+user callbacks are logged, never propagated into zenoh's threads.
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ import zenoh.ext as zext
 from posekit.msgs.cdr import from_cdr, to_cdr
 from posekit.msgs.errors import CdrError
 from posekit.msgs.registry import normalize_type_name
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.transport.zenoh_wire import (
     LIVELINESS_PREFIX,
     Attachment,
@@ -69,6 +73,7 @@ __all__ = [
     "ENV_CONFIG_OVERRIDE",
     "ENV_CONFIG_URI",
     "ENV_DOMAIN_ID",
+    "MAX_TRACKED_PUBLISHERS",
     "NodeEntity",
     "SessionOptions",
     "WirePublisher",
@@ -86,6 +91,9 @@ __all__ = [
 _log = logging.getLogger("posekit.transport.zenoh")
 _PUT = zenoh.SampleKind.PUT
 _CHANNEL_CAPACITY = 4096
+#: Publishers (GIDs) whose sequence numbers a subscription tracks for lost-message counts;
+#: the least recently heard is forgotten first, so senders cannot grow the table.
+MAX_TRACKED_PUBLISHERS = 1024
 
 DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"
 ENV_CONFIG_URI = "ZENOH_SESSION_CONFIG_URI"
@@ -543,14 +551,17 @@ class WireSubscription:
         self.key = data_key(owner.domain_id, topic, ros_type)
         self._match_key = f"{owner.domain_id}/{topic_chunk(topic)}/{dds_type_name(ros_type)}/*"
         self._callback = callback
-        self._warn = warn or _log.warning
-        self._warned: set[tuple[str, str]] = set()
+        warn_fn = warn or _log.warning
+        # Keyed by posekit's reason, never by what the sender chose (GID, key expression):
+        # at most one line per second per reason, with the count of those suppressed.
+        self._warn = RateLimitedLog(lambda line: warn_fn(f"dropping samples on {topic}: {line}"))
         #: Dropped samples by reason ("attachment", "type_hash", "cdr", "callback").
         self.dropped: collections.Counter[str] = collections.Counter()
         self.received = 0
-        #: Sequence-number gaps seen per publisher GID (ROS's MESSAGE_LOST).
+        #: Sequence-number gaps seen per publisher GID (ROS's MESSAGE_LOST), for the
+        #: :data:`MAX_TRACKED_PUBLISHERS` publishers heard from most recently.
         self.lost: collections.Counter[bytes] = collections.Counter()
-        self._last_seq: dict[bytes, int] = {}
+        self._last_seq: collections.OrderedDict[bytes, int] = collections.OrderedDict()
         self._destroyed = False
         self.entity_id = owner.next_entity_id()
         self.token_key = endpoint_token(
@@ -605,19 +616,18 @@ class WireSubscription:
         while not self._destroyed:
             try:
                 sample = recv()
+                while sample is not None:
+                    on_sample(sample)
+                    if self._destroyed:  # the callback destroyed its own subscription
+                        return
+                    sample = try_recv()
             except Exception:  # the channel closed: undeclared or session closed
                 return
-            while sample is not None:
-                on_sample(sample)
-                sample = try_recv()
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
-        if (source, reason) in self._warned:
-            return
-        self._warned.add((source, reason))
         try:
-            self._warn(f"dropping sample on {self.topic} from {source}: {detail}")
+            self._warn(reason, f"from {source[:160]}: {detail[:300]}")
         except Exception:  # a broken logger must not kill zenoh's thread
             _log.exception("warning callback failed")
 
@@ -658,11 +668,17 @@ class WireSubscription:
             self._drop("cdr", att.gid.hex(), str(exc))
             return
         gid, seq = att.gid, att.sequence_number
-        last = self._last_seq.get(gid)
+        last_seq = self._last_seq
+        last = last_seq.get(gid)
         if last is None or seq > last:
             if last is not None and seq > last + 1:
                 self.lost[gid] += seq - last - 1
-            self._last_seq[gid] = seq
+            last_seq[gid] = seq
+            if last is None and len(last_seq) > MAX_TRACKED_PUBLISHERS:
+                gone, _ = last_seq.popitem(last=False)  # the longest silent one
+                self.lost.pop(gone, None)
+        if last is not None:
+            last_seq.move_to_end(gid)
         self.received += 1
         try:
             self._callback(msg, att)

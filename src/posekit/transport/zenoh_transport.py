@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import os
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -40,6 +41,7 @@ from posekit.runtime.transport import (
     ServiceClientEndpoint,
     ServiceInfo,
     ServiceServerEndpoint,
+    SourcedMessageSink,
     SubscriptionEndpoint,
     Transport,
 )
@@ -192,6 +194,7 @@ class ZenohTransport(Transport):
     """Nodes' endpoints as rmw_zenoh entities on one Zenoh session."""
 
     name = "zenoh"
+    crosses_processes = True
     supports_services = True
 
     def __init__(
@@ -259,13 +262,32 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        def deliver(endpoint: _Subscription, msg: Any, _att: Attachment) -> None:
+            if endpoint.alive:
+                sink(msg)
+
+        return self._subscribe(info, deliver)
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """:meth:`subscribe` whose sink also gets the sending publisher's GID (16 bytes)."""
+
+        def deliver(endpoint: _Subscription, msg: Any, att: Attachment) -> None:
+            if endpoint.alive:
+                sink(msg, att.gid)
+
+        return self._subscribe(info, deliver)
+
+    def _subscribe(
+        self, info: EndpointInfo, deliver_to: Callable[[_Subscription, Any, Attachment], None]
+    ) -> SubscriptionEndpoint:
         _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Subscription(self, info)
 
-        def deliver(msg: Any, _att: Attachment) -> None:
-            if endpoint.alive:
-                sink(msg)
+        def deliver(msg: Any, att: Attachment) -> None:
+            deliver_to(endpoint, msg, att)
 
         qos = wire_qos(info.qos)
         self._check_qos(info, qos, EntityKind.SUBSCRIPTION)
