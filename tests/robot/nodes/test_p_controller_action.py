@@ -120,3 +120,15 @@ def test_new_goal_preempts_and_bad_goals_are_rejected(operator: Operator) -> Non
     assert second.accepted
     assert not operator.send(1.0, 1.0, 0.0, frame="map").accepted
     assert not operator.send(math.nan, 1.0, 0.0).accepted
+
+
+def test_without_services_the_controller_runs_without_the_action(ctx: Any) -> None:
+    from posekit.robot.nodes import PControllerNode
+    from posekit.runtime.bus import InProcessBus
+
+    class TopicsOnly(InProcessBus):  # like the DDS transport: topics, no services
+        supports_services = False
+
+    node = PControllerNode(context=ctx, transport=TopicsOnly())
+    assert node.navigate_action is None
+    assert node.controller.goal is None  # still a working (idle) controller
