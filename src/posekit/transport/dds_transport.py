@@ -159,6 +159,8 @@ def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool) -> Qos:
         policies.append(Policy.Durability.Volatile)
     if writer:
         policies.append(Policy.WriterDataLifecycle(autodispose=False))
+        if qos.lifespan_ns is not None:  # /rosout's 10 s, as rcl asks for it
+            policies.append(Policy.Lifespan(lifespan=qos.lifespan_ns))
     return Qos(*policies)
 
 
