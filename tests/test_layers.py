@@ -26,6 +26,7 @@ LAYERS: dict[str, int] = {
     "msgs": 0,
     "time": 1,
     "geometry": 1,
+    "cv_bridge": 1,  # msgs <-> OpenCV arrays (OpenCV loaded only to convert colours)
     "tf2": 2,
     "kdl": 2,
     "runtime": 3,

@@ -101,3 +101,51 @@ class Proc:
         except subprocess.TimeoutExpired:
             os.killpg(self.popen.pid, signal.SIGKILL)
             self.popen.wait(5)
+
+
+def stop_all(procs: list[Proc]) -> None:
+    """Kill ``procs`` newest first (each one this test started) and close their pipes."""
+    for proc in reversed(procs):
+        proc.kill()
+    for proc in procs:
+        for stream in (proc.popen.stdout, proc.popen.stderr):
+            if stream is not None:
+                stream.close()
+
+
+#: Environment variables that would point a test's Zenoh sessions somewhere else.
+ZENOH_ENV_PREFIXES = ("ZENOH_", "ROS_DOMAIN", "POSEKIT_")
+
+
+def use_zenoh_endpoint(monkeypatch: Any, endpoint: str) -> None:
+    """Point this test process's Zenoh sessions at ``endpoint`` only (pytest monkeypatch)."""
+    for name in list(os.environ):
+        if name.startswith(ZENOH_ENV_PREFIXES):
+            monkeypatch.delenv(name)
+    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", endpoint)
+
+
+class ProcGroup:
+    """Processes sharing one Zenoh router endpoint (``POSEKIT_ZENOH_ROUTER``) and a clean
+    environment (no inherited ZENOH_/ROS_DOMAIN/POSEKIT_ variables); ``close()`` kills them
+    all."""
+
+    def __init__(self, endpoint: str, cwd: Path) -> None:
+        self.endpoint = endpoint
+        self.cwd = cwd
+        self.procs: list[Proc] = []
+        self.env = {k: v for k, v in os.environ.items() if not k.startswith(ZENOH_ENV_PREFIXES)}
+        self.env.update(POSEKIT_ZENOH_ROUTER=endpoint, PYTHONUNBUFFERED="1")
+
+    def start(self, args: list[str], env: dict[str, str] | None = None) -> Proc:
+        proc = Proc(args, {**self.env, **(env or {})}, cwd=self.cwd)
+        self.procs.append(proc)
+        return proc
+
+    def posekit(self, *args: str) -> Proc:
+        import sys
+
+        return self.start([sys.executable, "-m", "posekit.cli.main", *args])
+
+    def close(self) -> None:
+        stop_all(self.procs)

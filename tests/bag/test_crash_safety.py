@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 
 from _support.ports import free_port
-from _support.procs import Proc
+from _support.procs import Proc, stop_all
 
 pytest.importorskip("zenoh")
 mcap_reader = pytest.importorskip("mcap.reader")
@@ -66,12 +66,7 @@ class Procs:
         return self.start("-m", "posekit.cli.main", *args)
 
     def close(self) -> None:
-        for proc in reversed(self.procs):
-            proc.kill()
-        for proc in self.procs:
-            for stream in (proc.popen.stdout, proc.popen.stderr):
-                if stream is not None:
-                    stream.close()
+        stop_all(self.procs)
 
 
 @pytest.fixture

@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from _support.ports import free_port
+from _support.procs import ProcGroup, use_zenoh_endpoint
 from _support.world import World
 
 
@@ -31,3 +32,15 @@ def routed(world: World) -> World:
     router = world.cli("router", "--listen", world.endpoint)
     router.wait_line(lambda s: "listening on" in s, 15, "the router to listen")
     return world
+
+
+@pytest.fixture
+def group(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[ProcGroup]:
+    """Processes on a fresh loopback router endpoint, which this test process uses too;
+    all killed at the end."""
+    g = ProcGroup(f"tcp/127.0.0.1:{free_port()}", tmp_path)
+    use_zenoh_endpoint(monkeypatch, g.endpoint)
+    try:
+        yield g
+    finally:
+        g.close()

@@ -31,7 +31,8 @@ def test_every_checked_extra_exists_in_pyproject() -> None:
      "--viewer"),
     (["launch", "p_controller", "--until-sim-time", "1", "--zenoh"], "zenoh", "zenoh",
      "--zenoh"),
-    (["launch", "p_controller", "--until-sim-time", "1", "--record", "run1"], "rosbags", "bag",
+    (["launch", "p_controller", "--until-sim-time", "1", "--isolated", "--record", "run1"],
+     "rosbags", "bag",
      "--record"),
     (["plot", "odometry", "--scenario", "p_controller"], "matplotlib", "plot", "plotting"),
     (["view", "--scenario", "empty_world", "--port", "0"], "aiohttp", "viewer",
@@ -52,3 +53,20 @@ def test_missing_extra_is_one_line_before_the_run(
     assert f"{what} needs {module}" in lines[0]
     assert lines[0].endswith(f"pip install 'posekit[{extra}]'")
     assert list(tmp_path.iterdir()) == []  # no plot, no bag written
+
+
+def test_vision_scenarios_name_their_extra(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str],
+) -> None:
+    import posekit.vision.scenarios  # noqa: F401 - registers them
+    from posekit.demos.scenarios import SCENARIO_EXTRAS, scenario_names
+    from posekit.robot.scenarios import get_scenario
+
+    vision = {n for n in scenario_names()
+              if get_scenario(n).factory.__module__ == "posekit.vision.scenarios"}
+    assert set(SCENARIO_EXTRAS) == vision
+    monkeypatch.setitem(sys.modules, "cv2", None)
+    assert cli.main(["launch", "dynamic_detector", "--until-sim-time", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == ("posekit launch: scenario dynamic_detector needs cv2, which is not installed: "
+                   "pip install 'posekit[vision]'")

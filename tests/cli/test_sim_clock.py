@@ -13,6 +13,7 @@ wall clock (sim times are far below it).
 from __future__ import annotations
 
 import json
+import re
 import time
 from collections.abc import Callable
 from typing import Any
@@ -46,6 +47,7 @@ rclpy.spin(node)
 
 OBSERVER = """
 import json
+import re
 from posekit import rclpy
 from posekit.rclpy.node import Node
 from posekit.msgs.geometry_msgs import TwistStamped
@@ -172,3 +174,21 @@ def test_cli_commands_are_stamped_in_sim_time_and_the_robot_stops(routed: World)
     warnings = [line for line in sim.err if "stamped in the future" in line]
     assert len(warnings) == 1, warnings
     assert "use_sim_time" in warnings[0]
+
+
+def test_tools_detect_sim_time_for_frame_ages_and_rates(routed: World) -> None:
+    _simulation(routed)
+    tree = routed.cli("tf", "tree", "-t", "1.5")
+    text = tree.finish(60, "tf tree")
+    ages = [float(age) for age in re.findall(r"([0-9.]+) s ago", text)]
+    assert ages, text  # dynamic frames (odom -> base_link, the wheels) were listed
+    assert max(ages) < 2.0, text  # sim-time ages, not "1.8e9 s ago"
+    wall_tree = routed.cli("tf", "tree", "-t", "1.5", "--wall-time")
+    wall_ages = [float(a) for a in re.findall(r"([0-9.]+) s ago",
+                                              wall_tree.finish(60, "tf tree --wall-time"))]
+    assert wall_ages
+    assert min(wall_ages) > 1e9  # the stamps are sim time: the wall clock is far ahead
+    hz = routed.cli("topic", "hz", "/imu/data", "--count", "2")
+    rates = [float(r) for r in re.findall(r"average rate: ([0-9.]+)", hz.finish(60, "hz"))]
+    assert len(rates) == 2
+    assert all(15.0 < r < 35.0 for r in rates), rates  # 25 Hz per simulated second

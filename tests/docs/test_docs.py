@@ -8,7 +8,8 @@ A shell block is marked by an HTML comment right above it::
     <!-- runnable until="REGEX" -->          a command that runs until stopped: wait for
                                              REGEX in its output, then Ctrl-C it
     <!-- runnable background expect="RE" --> "terminal 1": start it, wait for RE, leave it
-                                             running for the blocks below; stopped at the end
+                                             running for the blocks below; stopped by the
+                                             next background block or at the end
 
 Blocks run with bash (``set -e``) in a temporary directory that links ``examples`` and
 ``docs`` of the repository, with the test's virtual environment first on PATH, and with
@@ -73,8 +74,8 @@ def runnable_blocks(doc: Path, text: str | None = None) -> list[Block]:
     return blocks
 
 
-def _python_blocks() -> list[str]:
-    return re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
+def _python_blocks(doc: Path = README) -> list[str]:
+    return re.findall(r"```python\n(.*?)```", doc.read_text(encoding="utf-8"), re.S)
 
 
 def test_readme_python_examples_run() -> None:
@@ -92,6 +93,31 @@ def test_readme_python_examples_run() -> None:
     np.testing.assert_allclose(T_odom_cam.translation, expected, atol=1e-12)
     translations = namespace["translations"]
     assert np.shape(translations) == (1000, 3)
+
+
+def test_tutorial_python_examples_run() -> None:
+    namespace: dict[str, Any] = {}
+    tutorial = REPO / "docs" / "tutorial.md"
+    blocks = _python_blocks(tutorial)
+    assert len(blocks) >= 3
+    for block in blocks:
+        exec(compile(block, str(tutorial), "exec"), namespace)
+    # The lecture's exercise and table (closed form: cos/sin of half the angle).
+    h = np.sqrt(0.5)
+    np.testing.assert_allclose([namespace[k] for k in "wxyz"], [h, h, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(namespace["yaw_left"], [h, 0, 0, h], atol=1e-12)
+    np.testing.assert_allclose(np.abs(namespace["half_turn"]), [0, 0, 0, 1], atol=1e-12)
+    np.testing.assert_allclose(namespace["pitch_up"], [np.cos(np.pi / 8), 0, np.sin(np.pi / 8), 0],
+                               atol=1e-12)
+    # World-frame vs body-frame composition differ (matrix products, by hand).
+    Rz = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]])
+    Rx = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0.0]])
+    np.testing.assert_allclose(namespace["about_world_x"].as_matrix(), Rx @ Rz, atol=1e-12)
+    np.testing.assert_allclose(namespace["about_body_x"].as_matrix(), Rz @ Rx, atol=1e-12)
+    assert namespace["definition"].startswith("std_msgs/Header header\nstring child_frame_id")
+    # tf2's lookup equals the hand-made chain T1 * T2 * T3.
+    p = namespace["p"]
+    np.testing.assert_allclose([p.x, p.y, p.z], namespace["by_hand"].translation, atol=1e-12)
 
 
 def test_the_tour_and_the_tutorial_are_runnable() -> None:
@@ -141,6 +167,9 @@ def test_runnable_shell_blocks(doc: Path, tmp_path: Path) -> None:
         for block in runnable_blocks(doc):
             script = "set -e\n" + block.body
             if block.background:
+                for proc in background:  # a new "terminal 1" replaces the previous one
+                    proc.interrupt_group()
+                background.clear()
                 proc = _start(script, env, tmp_path)
                 background.append(proc)
                 _wait_for(proc, block.expect or ".", 60.0, block)

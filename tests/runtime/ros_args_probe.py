@@ -1,7 +1,7 @@
 """Prints, one JSON line per case, what rclpy makes of command-line ROS arguments.
 
-Run by tests/runtime/test_arguments.py twice: under the real ROS 2 Jazzy rclpy and, with
-``PROBE_SIDE=posekit``, under posekit.rclpy; the test compares the two outputs.
+Run by tests/runtime/test_arguments.py twice (tests/_support/differential.py): under the real
+ROS 2 Jazzy rclpy and under posekit.rclpy; the test compares the two outputs.
 """
 
 import json
@@ -9,17 +9,11 @@ import os
 import sys
 import tempfile
 
-if os.environ.get("PROBE_SIDE") == "posekit":
-    from posekit import rclpy
-    from posekit.rclpy.logging import get_logger
-    from posekit.rclpy.node import Node
-    from posekit.rclpy.utilities import remove_ros_args
-else:
-    from rclpy.logging import get_logger
-    from rclpy.node import Node
-    from rclpy.utilities import remove_ros_args
+from rclpy.logging import get_logger
+from rclpy.node import Node
+from rclpy.utilities import remove_ros_args
 
-    import rclpy
+import rclpy
 
 
 def val(v):
@@ -41,6 +35,7 @@ def node_view(node):
         "ns": node.get_namespace(),
         "params": ps,
         "chatter": node.resolve_topic_name("chatter"),
+        "srv": node.resolve_service_name("chatter"),
         "abs": node.resolve_topic_name("/abs/topic"),
         "priv": node.resolve_topic_name("~/priv"),
     }
@@ -159,6 +154,12 @@ run("remap-ns-rel", ["prog", "--ros-args", "-r", "__ns:=rel"])
 run("remap-bad-node", ["prog", "--ros-args", "-r", "__node:=1bad"])
 run("remap-bad-topic", ["prog", "--ros-args", "-r", "chatter:=bad name"])
 run("remap-rostopic", ["prog", "--ros-args", "-r", "rostopic://chatter:=x"])
+run("node-param-ns", ["prog", "--ros-args", "-p", "talker:x:=1", "-p", "other:w:=4"],
+    namespace="/ns0")
+run("node-param-slash", ["prog", "--ros-args", "-p", "/ns0/talker:y:=2"])
+run("node-param-wildcard", ["prog", "--ros-args", "-p", "*:z:=3"])
+run("remap-rosservice", ["prog", "--ros-args", "-r", "rosservice://chatter:=svc"])
+run("remap-node-rostopic", ["prog", "--ros-args", "-r", "talker:rostopic://chatter:=t"])
 run("enclave", ["prog", "--ros-args", "-e", "/foo", "--enclave", "/bar"])
 run(
     "misc-flags",
@@ -185,7 +186,8 @@ run(
 run("no-section", ["prog", "-p", "a:=1"])
 run("params-missing", ["prog", "--ros-args", "--params-file", "/nonexistent/params.yaml"])
 run("trail-params", ["prog", "--ros-args", "--params-file"])
-d = os.environ.get("PROBE_DIR") or tempfile.mkdtemp()
+d = tempfile.mkdtemp()
+print(json.dumps({"case": "tmpdir", "dir": d}), flush=True)
 
 
 def yfile(name, text):

@@ -252,3 +252,27 @@ def test_publish_clock_switch(ctx) -> None:
     ex.publish_clock = True
     ex.run_until(4.0)
     assert stamps == [3, 4]
+
+
+def test_paced_run_falling_behind_logs_its_real_time_factor_once(ctx, logs) -> None:
+    """Oracle: a 10 ms sim timer whose callback sleeps 5 ms wall cannot run faster than 2x
+    real time, so a run paced at 10x falls behind: one warning (rate-limited) reports a
+    measured real-time factor below the target."""
+    import time as _time
+
+    from posekit.runtime.executors import SimulatedTimeExecutor
+    from posekit.runtime.node import Node
+
+    executor = SimulatedTimeExecutor(context=ctx, real_time_factor=10.0, publish_clock=False)
+    node = Node("slow", context=ctx)
+    executor.add_node(node)
+    node.create_timer(0.01, lambda: _time.sleep(0.005))
+    assert executor.measured_real_time_factor is None
+    executor.run_for(5.0)
+    rtf = executor.measured_real_time_factor
+    assert rtf is not None
+    assert rtf < 2.0 + 1e-6
+    behind = [r for r in logs if "falling behind real time" in r.message]
+    assert len(behind) == 1, [r.message for r in behind]
+    assert "target 10" in behind[0].message
+    assert behind[0].name == "posekit.simulation"

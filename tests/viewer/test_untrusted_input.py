@@ -293,3 +293,62 @@ def test_allow_lists_widen_the_checks() -> None:
         asyncio.run(scenario())
     finally:
         g.close()
+
+
+def test_far_future_stamps_and_endless_frames_in_the_tap(graph: Graph,
+                                                         warnings: list[LogRecord]) -> None:
+    """The tap applies TransformListener's guards: a /tf sample stamped a year ahead of its
+    clock does not freeze the frame (tf2 alone would refuse every later sample as
+    TF_OLD_DATA), and frames beyond MAX_FRAMES are forgotten least recently updated first.
+    Oracle: what a plain Buffer does with the same samples, and counts."""
+    from posekit.tf2 import Buffer
+    from posekit.viewer.taps import MAX_FRAMES
+
+    graph.dynamic.sendTransform(_tf("odom", "probe", 0.0))  # make /tf known to the tap
+    graph.tap.refresh()
+    now = time.time_ns()
+    year = 365 * 24 * 3600 * 10**9
+
+    def at(ns: int, child: str = "base_link", x: float = 0.0) -> TransformStamped:
+        t = _tf("odom", child, x)
+        t.header.stamp.sec, t.header.stamp.nanosec = divmod(ns, 10**9)
+        return t
+
+    graph.dynamic.sendTransform(at(now + year, x=9.0))
+    for k in range(1, 4):
+        graph.dynamic.sendTransform(at(now + k * 10**8, x=float(k)))
+    rows = {r[0]: r for r in graph.tap.frames_in("odom")[1]}
+    assert rows["base_link"][2] == 3.0
+    assert any("far in the future" in r.message for r in warnings)
+    plain = Buffer()
+    assert plain.set_transform(at(now + year), "peer")
+    assert not plain.set_transform(at(now + 10**8), "peer")  # what the guard prevents
+
+    for batch in range(MAX_FRAMES // 100 * 3 // 2):
+        graph.dynamic.sendTransform(
+            [at(now + batch, f"junk_{batch}_{i}") for i in range(100)]
+            + [at(now + batch, "base_link", 5.0)])
+    assert len(graph.tap.tree()) <= MAX_FRAMES
+    assert len(graph.tap.buffer.get_all_frame_names()) <= MAX_FRAMES + 1  # plus "odom"
+    assert {r["name"] for r in graph.tap.tree()} >= {"base_link"}
+
+
+def test_the_tap_follows_a_bounded_number_of_topics(graph: Graph) -> None:
+    """A peer announcing hundreds of topics: the tap subscribes to at most
+    MAX_SUBSCRIBED_TOPICS (each is a subscription and, over Zenoh, a thread), /tf first, and
+    lists the rest with the reason. Oracle: the transport's own subscriber counts."""
+    from posekit.msgs.std_msgs import String
+    from posekit.viewer.taps import MAX_SUBSCRIBED_TOPICS
+
+    pubs = [graph.node.create_publisher(String, f"/aa_flood_{i:03d}", 1)
+            for i in range(MAX_SUBSCRIBED_TOPICS + 50)]
+    graph.dynamic.sendTransform(_tf("odom", "base_link", 1.0))  # /tf sorts after /aa_...
+    graph.tap.refresh()
+    transport = graph.ctx.transport()
+    followed = [p.topic_name for p in pubs if transport.count_subscribers(p.topic_name)]
+    assert len(followed) <= MAX_SUBSCRIBED_TOPICS
+    assert transport.count_subscribers("/tf") == 1
+    rows = {t["name"]: t for t in graph.tap.topics()}
+    refused = [n for n, t in rows.items() if "at most" in t["error"]]
+    assert len(followed) + len(refused) == len(pubs)
+    assert refused

@@ -6,8 +6,9 @@ published when the clock reads ``t``, and ``/clock`` carries that time, so nodes
 recorded run. Two ways to drive it:
 
 * :meth:`Player.run_simulated` steps a :class:`~posekit.runtime.SimulatedTimeExecutor`
-  (which publishes ``/clock``): it jumps the executor to the bag's start, then runs it to each
-  message's time and publishes the message there, so subscribers' callbacks, timers and tf
+  (which publishes ``/clock`` when its nodes are visible to other processes): it jumps the
+  executor to the bag's start, then runs it to each message's time and publishes the
+  message there, so subscribers' callbacks, timers and tf
   lookups happen at exactly the recorded times, deterministically and as fast as the CPU
   allows (``paced=True`` follows the wall clock at ``rate``).
 * :meth:`Player.play` follows the wall clock (``ros2 bag play``): messages go out when

@@ -16,7 +16,7 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "vision": ("cv2",),
     "zenoh": ("zenoh", "rosbags"),
     "dds": ("cyclonedds", "rosbags"),
-    "bag": ("rosbags",),
+    "bag": ("rosbags", "mcap"),
     "foxglove": ("foxglove", "rosbags"),
 }
 
@@ -30,7 +30,7 @@ def _installed(module: str) -> bool:
 
 def missing_extra(extra: str) -> list[str]:
     """The modules of ``extra`` that are not installed (empty: the extra is complete)."""
-    return [m for m in EXTRA_MODULES[extra] if not _installed(m)]
+    return [m for m in EXTRA_MODULES.get(extra, ()) if not _installed(m)]
 
 
 def require(command: str, needs: Iterable[tuple[str, str]]) -> str | None:

@@ -21,7 +21,7 @@ from posekit.runtime.parameters import Parameter
 from posekit.runtime.transport import ENV_TRANSPORT
 
 __all__ = ["TRANSPORT_CHOICES", "ToolSession", "add_sim_time_args", "add_transport_option",
-           "tool_transport", "transport_option"]
+           "empty_graph_hint", "tool_transport", "transport_option"]
 
 #: What ``--transport`` accepts on every tool (``--zenoh`` stays as an alias).
 TRANSPORT_CHOICES = ("inprocess", "zenoh", "dds")
@@ -60,6 +60,19 @@ def transport_option(ns: argparse.Namespace) -> str | None:
     return "zenoh" if getattr(ns, "zenoh", False) else getattr(ns, "transport", None)
 
 
+def empty_graph_hint(what: str, transport: Any) -> str:
+    """The one line a tool prints when it finds no ``what`` (topics, nodes) on the graph."""
+    where = f"the {getattr(transport, 'name', 'selected')} transport"
+    session = getattr(transport, "session", None)
+    if session is not None and hasattr(session, "domain_id"):
+        endpoint = getattr(getattr(session, "options", None), "router_endpoint", "?")
+        hosted = " (hosted by this tool: no router was running)" if session.hosts_router else ""
+        where = f"zenoh domain {session.domain_id} via router {endpoint}{hosted}"
+    return (f"no {what} found on {where}; check that a launch or node is running (posekit "
+            "launch NAME, not --isolated) with the same ROS_DOMAIN_ID, POSEKIT_ZENOH_ROUTER "
+            "and POSEKIT_TRANSPORT\n")
+
+
 class ToolSession:
     """Owns a context (unless one is given), one node named like the ROS tool, an executor."""
 
@@ -70,6 +83,8 @@ class ToolSession:
             context = Context()
             context.init(args=[], transport=tool_transport(transport))
         self.context = context
+        # As ros2cli's node: no parameter services (a tool is not a parameter server).
+        node_kwargs.setdefault("start_parameter_services", False)
         self.node = Node(node_name, context=context, **node_kwargs)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)

@@ -1,12 +1,29 @@
-"""``posekit launch SCENARIO|FILE.py``: run a named scenario or a launch file in one process.
+"""``posekit launch SCENARIO|FILE.py|PACKAGE FILE.launch.py``: run a scenario or a launch file.
+
+Options and ``name:=value`` assignments may come in any order
+(``posekit launch p_controller --until-sim-time 30 k_rho:=1.0``).
+
+Targets: a scenario name (``posekit launch --list``), the lecture's launch files
+(``posekit launch rosbot_gazebo empty_world.launch.py``, ``posekit launch robot_control_demo
+p_controller.launch.py``), or your own launch file ``FILE.py`` (its folder is importable).
+
+Visibility: by default the launch's nodes keep their deterministic in-process delivery *and*
+are visible on the network transport (Zenoh unless ``--transport`` or $POSEKIT_TRANSPORT
+says otherwise), so ``posekit topic list``, ``node list``, ``tf echo`` or your own node in
+another terminal see and talk to them; the run then also publishes ``/clock``.
+``--isolated`` (or POSEKIT_TRANSPORT=inprocess) keeps everything in this process: no
+network, no ``/clock``, the fastest mode.
 
 Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:=value``
 reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds),
-``--realtime`` (pace to the wall clock; default is as fast as possible), ``--transport
-zenoh|dds`` (nodes on the Zenoh or DDS transport so other processes, ``posekit`` tools and, over
-DDS, real ROS 2 nodes see them; ``--zenoh`` is ``--transport zenoh``), ``--record DIR`` (a
-ROS 2 bag), ``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot),
-``--save-images DIR`` (debug images as PNG, rqt_image_view's role).
+``--realtime`` (pace to the wall clock; default is as fast as possible; a paced run that
+falls behind logs its real-time factor), ``--transport zenoh|dds`` (the network the
+launch is visible on, default zenoh; over DDS real ROS 2 nodes see it too; ``--zenoh`` is
+``--transport zenoh``; ``--isolated``: no network), ``--record DIR`` (a ROS 2 bag),
+``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot), ``--save-images DIR``
+(debug images as PNG, rqt_image_view's role), ``--show-args`` (the parameters and their defaults, as
+``ros2 launch -s`` lists launch arguments). Every option applies to launch files as well
+(``--seed`` as the file's ``seed`` launch argument).
 """
 
 from __future__ import annotations
@@ -18,33 +35,34 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["main"]
+__all__ = ["main", "network_transport"]
 
 
-def _parse_assignment(text: str) -> tuple[str, Any]:
-    from posekit.runtime.parameters import parse_parameter_value
+class _UsageError(Exception):
+    """A user mistake reported as one line."""
 
-    if ":=" not in text:
-        raise argparse.ArgumentTypeError(f"parameters look like name:=value, got {text!r}")
-    name, value = text.split(":=", 1)
-    return name, parse_parameter_value(value)
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> Any:
+        raise _UsageError(message)
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="posekit launch", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("target", help="scenario name, or a launch file (FILE.py)")
-    parser.add_argument("assignments", nargs="*", type=_parse_assignment,
-                        help="name:=value parameters (scenario) or launch arguments (file)")
-    parser.add_argument("--param", "-p", action="append", default=[], type=_parse_assignment,
-                        metavar="NAME:=VALUE")
-    parser.add_argument("--seed", type=int, default=0)
+    parser = _Parser(prog="posekit launch", description=__doc__,
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("words", nargs="*", metavar="TARGET [name:=value ...]",
+                        help="scenario, FILE.py or PACKAGE FILE.launch.py, then name:=value "
+                             "parameters / launch arguments")
+    parser.add_argument("--param", "-p", action="append", default=[], metavar="NAME:=VALUE")
+    parser.add_argument("--seed", type=int, default=None)
     parser.add_argument("--until-sim-time", type=float, default=None, metavar="SECONDS")
     parser.add_argument("--realtime", action="store_true")
+    parser.add_argument("--isolated", action="store_true",
+                        help="no network: nodes in this process only, no /clock (fastest)")
+    parser.add_argument("--transport", default=None, metavar="NAME",
+                        help="network transport to be visible on (default: "
+                             "$POSEKIT_TRANSPORT or zenoh)")
     parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
-    parser.add_argument("--transport", default=None, choices=("inprocess", "zenoh", "dds"),
-                        help="carry the nodes' messages over this transport (dds: join ROS 2 "
-                             "systems on DDS)")
     parser.add_argument("--record", default=None, metavar="DIR")
     parser.add_argument("--viewer", action="store_true")
     parser.add_argument("--host", default="127.0.0.1")
@@ -52,8 +70,37 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--plot", default=None, metavar="PNG")
     parser.add_argument("--save-images", default=None, metavar="DIR",
                         help="write the debug and camera images as PNG files into DIR")
+    parser.add_argument("--show-args", "-s", action="store_true",
+                        help="list the parameters / launch arguments with defaults and exit")
     parser.add_argument("--list", action="store_true", help="list the scenarios and exit")
     return parser
+
+
+def _parse_assignment(text: str) -> tuple[str, Any]:
+    from posekit.runtime.parameters import parse_parameter_value
+
+    name, sep, value = text.partition(":=")
+    if not sep or not name:
+        raise _UsageError(f"parameters look like name:=value, got {text!r}")
+    return name, parse_parameter_value(value)
+
+
+def network_transport(ns: argparse.Namespace) -> str | None:
+    """The network transport a launch is visible on, or None (isolated)."""
+    if ns.isolated:
+        return None
+    if ns.zenoh:
+        return "zenoh"
+    chosen = ns.transport or os.environ.get("POSEKIT_TRANSPORT", "").strip() or "zenoh"
+    chosen = chosen.rpartition("+")[2]
+    if chosen == "inprocess":
+        return None
+    from posekit.runtime.transport import registered_transports
+
+    if chosen not in registered_transports():
+        raise _UsageError(f"unknown transport {chosen!r}; known: "
+                          f"{', '.join(registered_transports())}")
+    return chosen
 
 
 def _hooks(ns: argparse.Namespace, servers: list[Any]) -> list[Callable[[Any], Any]]:
@@ -79,59 +126,146 @@ def _hooks(ns: argparse.Namespace, servers: list[Any]) -> list[Callable[[Any], A
     return hooks
 
 
+def _show_args(arguments: list[tuple[str, Any, str]]) -> None:
+    """Print like ``ros2 launch -s``."""
+    if not arguments:
+        sys.stdout.write("No arguments.\n")
+        return
+    lines = ["Arguments (pass arguments as '<name>:=<value>'):", ""]
+    for name, default, description in arguments:
+        lines.append(f"    '{name}':")
+        lines.append(f"        {description or 'no description given'}")
+        lines.append("        (default: " + ("no default" if default is None
+                                             else f"'{_format_value(default)}'") + ")")
+        lines.append("")
+    sys.stdout.write("\n".join(lines))
+
+
+def _format_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_format_value(v) for v in value) + "]"
+    return str(value)
+
+
+def _scenario_arguments(name: str, params: dict[str, Any], seed: int) -> list[tuple[str, Any,
+                                                                                    str]]:
+    """Every parameter the scenario's nodes declare (``node.name`` where defaults differ)."""
+    from posekit.launch import start
+    from posekit.robot.scenarios import get_scenario
+    from posekit.runtime.context import Context
+
+    run = start(get_scenario(name).factory(params, seed), context=Context(),
+                transport="inprocess", publish_clock=False)
+    try:
+        declared: dict[str, list[tuple[str, Any]]] = {}
+        for node in run.nodes:
+            for pname, param in sorted(node.get_parameters_by_prefix("").items()):
+                if pname != "use_sim_time":
+                    declared.setdefault(pname, []).append((node.get_name(), param.value))
+    finally:
+        run.shutdown()
+    out: list[tuple[str, Any, str]] = []
+    for pname, owners in sorted(declared.items()):
+        values = {repr(v) for _, v in owners}
+        if len(values) == 1:
+            out.append((pname, owners[0][1],
+                        "parameter of " + ", ".join(n for n, _ in owners)))
+        else:
+            out.extend((f"{n}.{pname}", v, f"parameter of {n}") for n, v in owners)
+    return out
+
+
 def main(argv: Sequence[str]) -> int:
     """Run ``posekit launch``; returns the exit code."""
-    argv = list(argv)
+    try:
+        return _main(list(argv))
+    except _UsageError as exc:
+        sys.stderr.write(f"posekit launch: {exc}\n")
+        return 2
+
+
+def _main(argv: list[str]) -> int:
     if "--list" in argv:
         from posekit.demos.scenarios import get_scenario, scenario_names
 
         for name in scenario_names():
-            sys.stdout.write(f"{name:<28}{get_scenario(name).description}\n")
+            sys.stdout.write(f"{name:<38}{get_scenario(name).description}\n")
         return 0
-    ns = _parser().parse_args(argv)
+    ns = _parser().parse_intermixed_args(argv)
+    words = [w for w in ns.words if ":=" not in w or w.startswith("/") or w.endswith(".py")]
+    assignments = [_parse_assignment(w) for w in ns.words if w not in words]
+    params = dict(assignments + [_parse_assignment(p) for p in ns.param])
+    if not words:
+        raise _UsageError("which scenario? (posekit launch --list names them)")
+    network = network_transport(ns)
     from posekit.cli._extras import require
+    from posekit.demos.scenarios import SCENARIO_EXTRAS
 
+    network_label = ("--zenoh" if ns.zenoh else f"--transport {network}" if ns.transport
+                     else f"a launch visible on {network} (the default; --isolated: not)")
+    target = words[0] if len(words) == 1 else " ".join(words)
+    scenario_extra = SCENARIO_EXTRAS.get(words[0]) if len(words) == 1 else None
     problem = require("posekit launch", [
-        (flag, extra) for flag, extra, given in (
+        *([(f"scenario {target}", scenario_extra)] if scenario_extra else []),
+        *((flag, extra) for flag, extra, given in (
             ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
-            ("--zenoh", "zenoh", ns.zenoh), ("--transport dds", "dds", ns.transport == "dds"),
-            ("--transport zenoh", "zenoh", ns.transport == "zenoh"), ("--record", "bag", ns.record),
+            (network_label, network or "", network is not None), ("--record", "bag", ns.record),
             ("--save-images", "vision", ns.save_images),
-        ) if given
+        ) if given),
     ])
     if problem:  # before anything runs, not after a whole simulation
         sys.stderr.write(problem + "\n")
         return 2
-    if ns.zenoh or ns.transport:
-        os.environ["POSEKIT_TRANSPORT"] = "zenoh" if ns.zenoh else ns.transport
-    params = dict(ns.assignments + ns.param)
+    transport = "inprocess" if network is None else f"inprocess+{network}"
 
-    if ns.target.endswith(".py") or Path(ns.target).is_file():
-        from posekit.launch import LaunchDescriptionError, run_launch_file
+    if len(words) == 1 and (words[0].endswith(".py") or Path(words[0]).is_file()) and (
+        Path(words[0]).is_file() or not words[0].endswith(".launch.py")
+    ):
+        return _launch_file(ns, words[0], params, transport, network)
 
-        try:
-            run_launch_file(ns.target, duration=ns.until_sim_time, sim_time=True,
-                            real_time_factor=1.0 if ns.realtime else None,
-                            launch_arguments=params)
-        except LaunchDescriptionError as exc:
-            sys.stderr.write(f"posekit launch: {exc}\n")
-            return 2
-        return 0
-
-    from posekit.demos.scenarios import run_scenario
+    import posekit.demos.scenarios  # noqa: F401 - registers every scenario
+    from posekit.demos.lecture import resolve_launch
     from posekit.robot.scenarios import ScenarioError
 
+    try:
+        name = resolve_launch(words)
+        if ns.show_args:
+            _show_args(_scenario_arguments(name, params, ns.seed or 0))
+            return 0
+        return _launch_scenario(ns, name, params, transport, network)
+    except ScenarioError as exc:
+        sys.stderr.write(f"posekit launch: {exc}\n")
+        return 2
+
+
+def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
+                     transport: str, network: str | None) -> int:
+    from posekit.demos.scenarios import get_scenario, run_scenario
+    from posekit.robot.scenarios import ScenarioError
+
+    seed = ns.seed or 0
+    if get_scenario(name).follows_clock:
+        if network is None:
+            raise ScenarioError(f"'{name}' runs against a running world (start one in another "
+                                "terminal, e.g. posekit launch empty_world --realtime); it "
+                                "needs the network, not --isolated")
+        for option in ("plot", "realtime"):
+            if getattr(ns, option):
+                raise ScenarioError(f"--{option.replace('_', '-')} applies to a launch that "
+                                    f"runs a simulation; '{name}' follows a running world's "
+                                    "clock")
+        return _follow(ns, name, params, seed, transport)
     servers: list[Any] = []
     try:
         # A viewer is for watching: pace the run to the wall clock.
         result = run_scenario(
-            ns.target, params, seed=ns.seed, until_sim_time=ns.until_sim_time,
+            name, params, seed=seed, until_sim_time=ns.until_sim_time,
             realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
             record=ns.plot is not None,  # odometry is kept in memory only for the plot
+            transport=transport,
         )
-    except ScenarioError as exc:
-        sys.stderr.write(f"posekit launch: {exc}\n")
-        return 2
     finally:
         for server in servers:
             server.stop()
@@ -148,4 +282,103 @@ def main(argv: Sequence[str]) -> int:
     if ns.save_images:
         lines.append(f"images: {ns.save_images}")
     sys.stdout.write("\n".join(lines) + "\n")
+    return 0
+
+
+def _follow(ns: argparse.Namespace, name: str, params: dict[str, Any], seed: int,
+            transport: str) -> int:
+    """A demo against a running world: its nodes follow that world's /clock."""
+    from posekit.robot.scenarios import start_scenario
+
+    run = start_scenario(name, params, seed, record=False, transport=transport)
+    _run_started(ns, run, before=_wait_for_clock)
+    return 0
+
+
+def _run_started(ns: argparse.Namespace, run: Any,
+                 before: Callable[[Any], None] | None = None) -> None:
+    """Attach the option hooks (recorder, image saver, viewer) to a started launch, run it
+    until ``--until-sim-time`` (or Ctrl-C) and shut everything down."""
+    from posekit.launch.runner import run_until
+
+    servers: list[Any] = []
+    try:
+        for hook in _hooks(ns, servers):
+            hook(run)
+        if before is not None:
+            before(run)
+        run_until(run, ns.until_sim_time, sim_time=True)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        for server in servers:
+            server.stop()
+        run.shutdown()
+
+
+CLOCK_HINT_AFTER_S = 5.0
+
+
+def _wait_for_clock(run: Any) -> None:
+    """Spin until the first node's clock moves; after a few seconds say what is missing."""
+    import time
+
+    clock = run.nodes[0].get_clock()
+    hinted = False
+    start = time.monotonic()
+    while run.context.ok() and clock.now().nanoseconds == 0:
+        run.executor.spin_once(timeout_sec=0.1)
+        if not hinted and time.monotonic() - start > CLOCK_HINT_AFTER_S:
+            hinted = True
+            sys.stderr.write("posekit launch: no /clock yet: these nodes follow a running "
+                             "world's sim time; start one in another terminal (posekit launch "
+                             "empty_world --realtime) on the same network\n")
+            sys.stderr.flush()
+
+
+def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], transport: str,
+                 network: str | None) -> int:
+    from posekit.launch import (
+        DeclareLaunchArgument,
+        LaunchDescriptionError,
+        load_launch_file,
+        start,
+    )
+    from posekit.launch import Node as LaunchNode
+    from posekit.runtime.executors import ClockConflictError
+
+    try:
+        description = load_launch_file(path)
+    except LaunchDescriptionError as exc:
+        sys.stderr.write(f"posekit launch: {exc}\n")
+        return 2
+    declared = {e.name: e for e in description.entities if isinstance(e, DeclareLaunchArgument)}
+    if ns.show_args:
+        _show_args([(a.name, a.default_value, a.description) for a in declared.values()])
+        return 0
+    if ns.seed is not None:
+        if "seed" not in declared:
+            raise _UsageError(f"--seed: {path} declares no 'seed' launch argument (a launch "
+                              "file seeds its nodes through its own arguments)")
+        params.setdefault("seed", ns.seed)
+    recorder_node: Any = None
+    if ns.plot:
+        from posekit.robot.nodes import OdometryRecorder
+
+        description.add_action(LaunchNode(OdometryRecorder, name="odometry_recorder"))
+    try:
+        run = start(description, sim_time=True,
+                    real_time_factor=1.0 if ns.realtime or ns.viewer else None,
+                    launch_arguments=params, transport=transport)
+    except (LaunchDescriptionError, ClockConflictError) as exc:
+        sys.stderr.write(f"posekit launch: {exc}\n")
+        return 2
+    if ns.plot:
+        recorder_node = run.node("odometry_recorder")
+    _run_started(ns, run)
+    if recorder_node is not None:
+        from posekit.robot.plot import plot_odometry
+
+        written = plot_odometry(recorder_node.recording(), ns.plot, title=Path(path).name)
+        sys.stdout.write(f"odometry plot: {written}\n")
     return 0

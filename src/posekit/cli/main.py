@@ -51,6 +51,7 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("view", None): ("posekit.cli.view_cmd:main", "serve the browser viewer (RViz2's role)"),
     ("plot", "odometry"): ("posekit.cli.plot_cmd:main_odometry", "plot odometry vs truth"),
     ("launch", None): ("posekit.cli.launch_cmd:main", "run a scenario or a launch file"),
+    ("run", None): ("posekit.cli.run_cmd:main", "run PACKAGE EXECUTABLE like ros2 run"),
     ("demo", None): ("posekit.demos.main:main", "run the main demo"),
 }
 

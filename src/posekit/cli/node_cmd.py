@@ -54,6 +54,10 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
         sync_graph(session)
         own = session.node.get_fully_qualified_name()
         names = [n for n in node_names(session) if n != own and (ns.all or not is_hidden_name(n))]
+        if not names:
+            from posekit.cli._session import empty_graph_hint
+
+            err.write(empty_graph_hint("nodes", session.node.transport))
     if ns.count_nodes:
         out.write(f"{len(names)}\n")
         return 0

@@ -541,6 +541,11 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
             (name, types) for name, types in session.node.get_topic_names_and_types()
             if ns.include_hidden_topics or not is_hidden_name(name)
         ]
+        # The tool's own node publishes /rosout (as ros2cli's does): not a sign of a system.
+        if not [name for name, _ in topics if name not in ("/rosout", "/parameter_events")]:
+            from posekit.cli._session import empty_graph_hint
+
+            (err or sys.stderr).write(empty_graph_hint("topics", session.node.transport))
     if ns.count_topics:
         out.write(f"{len(topics)}\n")
     for name, types in [] if ns.count_topics else topics:

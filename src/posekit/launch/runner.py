@@ -2,7 +2,11 @@
 
 ``launch(description, duration=60.0)`` runs in simulated time by default (a
 SimulatedTimeExecutor: as fast as the CPU allows, deterministic); ``sim_time=False`` spins a
-wall-clock executor. ``run_launch_file(path)`` loads ``FILE.py`` whose
+wall-clock executor; ``own_clock=False`` (with sim time) runs the nodes on sim time that
+*another* process owns: a wall-clock executor, every node ``use_sim_time`` following
+``/clock`` (a demo started against a running world, as in ROS). ``transport`` names the
+context's transport (e.g. ``"inprocess+zenoh"``); a run that owns its clock never takes
+``/clock`` from other processes. ``run_launch_file(path)`` loads ``FILE.py`` whose
 ``generate_launch_description()`` returns a :class:`LaunchDescription`; :func:`main` is the
 entry point the ``posekit launch`` CLI calls.
 """
@@ -28,6 +32,7 @@ from posekit.runtime.executors import (
 )
 from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.parameters import parse_parameter_value
+from posekit.runtime.time_source import CLOCK_TOPIC
 
 __all__ = ["LaunchRun", "launch", "load_launch_file", "main", "run_launch_file", "start"]
 
@@ -73,6 +78,8 @@ def start(
     context: Context | None = None,
     multithreaded: bool = False,
     publish_clock: bool | None = None,
+    own_clock: bool = True,
+    transport: str | None = None,
 ) -> LaunchRun:
     """Create every node of ``description`` in a fresh (or given) context and add them to one
     executor; nothing runs until the caller spins/steps ``run.executor``.
@@ -82,14 +89,23 @@ def start(
     (a network transport), after :meth:`SimulatedTimeExecutor.claim_clock` made sure no
     other simulation publishes ``/clock`` there (else :class:`ClockConflictError`, with the
     run shut down). The run's own nodes get the time from the executor either way (they do
-    not follow ``/clock``), so only outside observers need it."""
+    not follow ``/clock``), so only outside observers need it.
+
+    ``own_clock=False``: see the module docstring. ``transport``: the transport name given to
+    a context this function initialises."""
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
     ctx = context or Context()
     if not ctx.ok():
-        ctx.init(args=[])  # a launch's nodes get their arguments from the description
+        # A launch's nodes get their arguments from the description, not sys.argv.
+        ctx.init(args=[], transport=transport)
+    owns_clock = sim_time and own_clock
+    if owns_clock:
+        own_topic = getattr(ctx.transport(), "own_topic", None)
+        if own_topic is not None:
+            own_topic(CLOCK_TOPIC)
     executor: Executor
-    if sim_time:
+    if owns_clock:
         executor = SimulatedTimeExecutor(
             context=ctx, real_time_factor=real_time_factor, publish_clock=publish_clock
         )
@@ -140,10 +156,12 @@ def launch(
     context: Context | None = None,
     shutdown: bool = True,
     publish_clock: bool | None = None,
+    own_clock: bool = True,
+    transport: str | None = None,
 ) -> LaunchRun:
     """Start ``description`` and run it for ``duration`` seconds (sim seconds in sim time;
     ``None`` = until shutdown / Ctrl-C). Returns the run (already shut down if ``shutdown``).
-    ``publish_clock``: see :func:`start`."""
+    ``publish_clock``, ``own_clock``, ``transport``: see :func:`start`."""
     run = start(
         description,
         sim_time=sim_time,
@@ -151,20 +169,11 @@ def launch(
         launch_arguments=launch_arguments,
         context=context,
         publish_clock=publish_clock,
+        own_clock=own_clock,
+        transport=transport,
     )
     try:
-        executor = run.executor
-        if isinstance(executor, SimulatedTimeExecutor):
-            if duration is None:
-                executor.spin()
-            else:
-                executor.run_for(duration)
-        elif duration is None:
-            executor.spin()
-        else:
-            end = time.monotonic() + duration
-            while run.context.ok() and time.monotonic() < end:
-                executor.spin_once(timeout_sec=max(0.0, end - time.monotonic()))
+        run_until(run, duration, sim_time=sim_time)
     except KeyboardInterrupt:
         pass
     finally:
@@ -173,20 +182,59 @@ def launch(
     return run
 
 
+def run_until(run: LaunchRun, duration: float | None, *, sim_time: bool = True) -> None:
+    """Run a started launch for ``duration`` seconds (None: until the context shuts down).
+
+    On a :class:`SimulatedTimeExecutor` these are simulated seconds it steps through; with
+    nodes following another process's ``/clock`` (``own_clock=False``), simulated seconds as
+    the first node's clock shows them (waiting for the clock to reach ``duration``); else
+    wall seconds."""
+    executor = run.executor
+    if isinstance(executor, SimulatedTimeExecutor):
+        if duration is None:
+            executor.spin()
+        else:
+            executor.run_for(duration)
+        return
+    if duration is None:
+        executor.spin()
+    elif sim_time and run.nodes:
+        clock = run.nodes[0].get_clock()
+        while run.context.ok() and clock.now().nanoseconds < duration * 1e9:
+            executor.spin_once(timeout_sec=0.05)
+    else:
+        end = time.monotonic() + duration
+        while run.context.ok() and time.monotonic() < end:
+            executor.spin_once(timeout_sec=max(0.0, end - time.monotonic()))
+
+
 def load_launch_file(path: str | Path) -> LaunchDescription:
-    """Import ``path`` and call its ``generate_launch_description()``."""
+    """Import ``path`` and call its ``generate_launch_description()``.
+
+    The file's folder goes first on ``sys.path`` (as for ``python FILE.py``), so a launch file
+    can import node modules next to it, now and when its nodes are created. An error raised
+    while importing the file or generating the description becomes a one-line
+    :class:`LaunchDescriptionError` naming the file."""
     p = Path(path)
     if not p.is_file():
         raise LaunchDescriptionError(f"launch file {p} does not exist")
+    folder = str(p.resolve().parent)
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
     spec = importlib.util.spec_from_file_location(f"posekit_launch_{p.stem}", p)
     if spec is None or spec.loader is None:
         raise LaunchDescriptionError(f"cannot load {p} as Python")
     module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    generate = getattr(module, "generate_launch_description", None)
-    if generate is None:
-        raise LaunchDescriptionError(f"{p} has no generate_launch_description() function")
-    description = generate()
+    try:
+        spec.loader.exec_module(module)
+        generate = getattr(module, "generate_launch_description", None)
+        if generate is None:
+            raise LaunchDescriptionError(f"{p} has no generate_launch_description() function")
+        description = generate()
+    except LaunchDescriptionError:
+        raise
+    except Exception as exc:
+        raise LaunchDescriptionError(f"{p}: {type(exc).__name__}: {exc}") from exc
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(
             f"{p}: generate_launch_description() returned {type(description).__name__}, "

@@ -95,20 +95,25 @@ class Scenario:
     name: str
     factory: ScenarioFactory
     description: str = ""
+    #: True for a demo that runs against a running world in another process: its nodes
+    #: follow that world's ``/clock`` and it starts no simulation of its own.
+    follows_clock: bool = False
 
 
 _REGISTRY: dict[str, Scenario] = {}
 
 
 def register_scenario(
-    name: str, factory: ScenarioFactory, *, description: str = "", replace: bool = False
+    name: str, factory: ScenarioFactory, *, description: str = "", replace: bool = False,
+    follows_clock: bool = False,
 ) -> Scenario:
-    """Register ``factory`` under ``name`` (ScenarioError if taken, unless ``replace``)."""
+    """Register ``factory`` under ``name`` (ScenarioError if taken, unless ``replace``);
+    ``follows_clock``: see :attr:`Scenario.follows_clock`."""
     if not name or not isinstance(name, str):
         raise ScenarioError(f"scenario names must be non-empty strings, got {name!r}")
     if name in _REGISTRY and not replace:
         raise ScenarioError(f"scenario '{name}' is already registered")
-    scenario = Scenario(name, factory, description)
+    scenario = Scenario(name, factory, description, follows_clock)
     _REGISTRY[name] = scenario
     return scenario
 
@@ -259,6 +264,7 @@ def start_scenario(
     record: bool = True,
     publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
+    transport: str | None = None,
 ) -> LaunchRun:
     """Build and start scenario ``name`` in a fresh context; nothing has run yet (step
     ``run.executor``, a :class:`SimulatedTimeExecutor`, then ``run.shutdown()``).
@@ -268,9 +274,21 @@ def start_scenario(
     run's nodes are visible to other processes, and refuses to start (ScenarioError) when
     another simulation already publishes ``/clock`` there; True/False force it. Nodes of the
     run get the time from the executor directly either way.
+    ``transport`` names the context's transport (default: the in-process bus, or
+    $POSEKIT_TRANSPORT); ``"inprocess+zenoh"`` keeps in-process delivery and makes the run
+    visible to other processes.
+
+    A :attr:`Scenario.follows_clock` scenario (a demo against a running world) gets a
+    wall-clock executor instead, its nodes following ``/clock`` from another process; its
+    transport must reach that process (ScenarioError otherwise).
     """
     params = dict(params or {})
     scenario = get_scenario(name)
+    if scenario.follows_clock and (transport or "inprocess") == "inprocess":
+        raise ScenarioError(
+            f"'{name}' runs against a running world in another process (it starts no "
+            "simulation); it needs a network transport, not the isolated in-process bus"
+        )
     description = scenario.factory(params, int(seed))
     if record:
         description.add_action(Node(OdometryRecorder, name="odometry_recorder"))
@@ -283,6 +301,8 @@ def start_scenario(
             real_time_factor=1.0 if realtime else None,
             context=Context(),
             publish_clock=publish_clock,
+            own_clock=not scenario.follows_clock,
+            transport=transport,
         )
     except (ParameterException, ValueError, TypeError, ClockConflictError) as exc:
         raise ScenarioError(f"scenario '{name}' cannot start: {exc}") from exc
@@ -346,6 +366,7 @@ def run_scenario(
     step: float = 0.1,
     on_start: Sequence[Callable[[LaunchRun], Any]] = (),
     max_log_records: int = 10_000,
+    transport: str | None = None,
 ) -> ScenarioResult:
     """Run scenario ``name`` and return a :class:`ScenarioResult`.
 
@@ -365,6 +386,7 @@ def run_scenario(
         max_log_records: log records kept for :attr:`ScenarioResult.logs` (the newest; a
             long run keeps memory flat). ``record=True`` keeps every odometry sample, so
             leave it off for long runs that need no plot.
+        transport: see :func:`start_scenario`.
     """
     if until_sim_time is not None and not until_sim_time >= 0.0:
         raise ScenarioError(f"until_sim_time must be >= 0 s, got {until_sim_time}")
@@ -381,9 +403,13 @@ def run_scenario(
         record=record,
         publish_clock=publish_clock,
         extra_nodes=extra_nodes,
+        transport=transport,
     )
     executor = run.executor
-    assert isinstance(executor, SimulatedTimeExecutor)
+    if not isinstance(executor, SimulatedTimeExecutor):
+        run.shutdown()
+        raise ScenarioError(f"'{name}' follows another process's clock: start it with "
+                            "start_scenario() and spin its executor")
     try:
         for hook in on_start:
             hook(run)

@@ -7,10 +7,12 @@ between ``--ros-args`` and ``--`` (or the end; a later ``--ros-args`` opens anot
 flag                                   meaning
 =====================================  ====================================================
 ``-p/--param [node:]name:=value``      parameter override; ``value`` is a YAML value typed
-                                       as rcl types it (see :func:`parse_parameter_value`)
+                                       as rcl types it (see :func:`parse_parameter_value`);
+                                       ``node`` is a plain name (root namespace only)
 ``--params-file FILE``                 ROS 2 parameter YAML (``/**:``, ``node:``,
                                        ``/ns/node:``, wildcards, ``ros__parameters``)
-``-r/--remap [node:]from:=to``         topic/service remapping; ``__node:=`` /
+``-r/--remap [node:]from:=to``         topic and service remapping (``rostopic://``
+                                       / ``rosservice://`` for one kind); ``__node:=`` /
                                        ``__name:=`` rename the node, ``__ns:=`` moves it
 ``--log-level LEVEL``                  default logger level; ``name:=LEVEL`` one logger
 ``-e/--enclave NAME``                  accepted (posekit has no security enclaves)
@@ -298,9 +300,10 @@ def _parse_remap(spec: str) -> RemapRule:
     match = re.fullmatch(r"([A-Za-z_][A-Za-z0-9_]*):(?!//)(.+)", lhs)
     if match and not lhs.startswith(("rostopic://", "rosservice://")):
         node, lhs = match.group(1), match.group(2)
+    kind: str | None = None
     for scheme in ("rostopic://", "rosservice://"):
         if lhs.startswith(scheme):
-            lhs = lhs[len(scheme):]
+            lhs, kind = lhs[len(scheme):], scheme[3:-3]
     try:
         if lhs in ("__node", "__name"):
             validate_node_name(rhs)
@@ -311,7 +314,7 @@ def _parse_remap(spec: str) -> RemapRule:
             validate_topic_name(rhs)
     except NameValidationError as exc:
         raise RCLError(exc.reason) from None
-    return RemapRule(lhs, rhs, node)
+    return RemapRule(lhs, rhs, node, kind)
 
 
 def _parse_param(spec: str, out: RosArguments) -> None:
@@ -321,7 +324,14 @@ def _parse_param(spec: str, out: RosArguments) -> None:
     node = "/**"
     if ":" in lhs:
         node_name, lhs = lhs.split(":", 1)
-        node = "/" + node_name.strip("/")
+        if "*" in node_name:
+            raise RCLError(f"wildcards are not implemented in '{node_name}:' (use a "
+                           "parameter file for them)")
+        try:
+            validate_node_name(node_name)
+        except NameValidationError as exc:
+            raise RCLError(f"'{node_name}' before ':' must be a node name: {exc.reason}") from None
+        node = "/" + node_name  # as rcl: matches that name in the root namespace only
     if not lhs:
         raise RCLError("expected a parameter name before :=")
     out._add_parameter(node, lhs, parse_parameter_value(value))

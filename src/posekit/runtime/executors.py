@@ -35,6 +35,7 @@ from __future__ import annotations
 import functools
 import heapq
 import inspect
+import math
 import os
 import threading
 import time
@@ -48,6 +49,7 @@ from posekit.runtime.callback_groups import CallbackGroup
 from posekit.runtime.clock import ROSClock
 from posekit.runtime.context import Context, get_default_context
 from posekit.runtime.entities import Subscription, Timer
+from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
 from posekit.runtime.qos import QoSProfile
@@ -572,6 +574,18 @@ def _to_ns(t: float | int | Time | Duration) -> int:
     return round(float(t) * 1e9)
 
 
+#: Wall seconds over which a paced run's real-time factor is measured.
+RTF_WINDOW_S = 1.0
+#: A paced run this far behind its schedule at the end of a window is "falling behind".
+BEHIND_LAG_S = 0.25
+#: At most one "falling behind" warning per this many wall seconds.
+BEHIND_LOG_PERIOD_S = 10.0
+
+
+def _sim_log() -> Any:
+    return get_logger("posekit.simulation")
+
+
 class SimulatedTimeExecutor(Executor):
     """A stepped executor that owns simulated ROS time (see the module docstring).
 
@@ -603,6 +617,11 @@ class SimulatedTimeExecutor(Executor):
         self._clock_node: Node | None = None
         self._clock_pub: Any = None
         self._anchor: tuple[float, int] | None = None
+        self._rtf_window: tuple[float, int] | None = None
+        self._behind_logged = -math.inf
+        #: Simulated seconds per wall second over the last :data:`RTF_WINDOW_S` of a paced
+        #: run (None before the first window, and when not paced).
+        self.measured_real_time_factor: float | None = None
         #: Callbacks executed so far.
         self.callbacks_run = 0
         self._time_sources: list[TimeSource] = []
@@ -757,11 +776,42 @@ class SimulatedTimeExecutor(Executor):
             delay = due - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
+            self._watch_pace(ns, -delay)
         self._now_ns = ns
         for source in self._time_sources:
             source.set_time_ns(ns)
         if self._publish_clock:
             self._publish_clock_msg()
+
+    def _watch_pace(self, ns: int, lag_s: float) -> None:
+        """The watchdog of a paced run, ``lag_s`` seconds behind its schedule (< 0: ahead).
+
+        Measures the real-time factor over windows of :data:`RTF_WINDOW_S` wall seconds
+        (:attr:`measured_real_time_factor`); once a window ends more than
+        :data:`BEHIND_LAG_S` behind, logs one warning with the factor (at most every
+        :data:`BEHIND_LOG_PERIOD_S`) and re-anchors the pace there, so a run that cannot
+        keep up goes on at the speed it can (as Gazebo does) instead of racing to catch up."""
+        now = time.monotonic()
+        window = self._rtf_window
+        if window is None or window[1] > ns:
+            self._rtf_window = (now, ns)
+            return
+        wall0, sim0 = window
+        if now - wall0 < RTF_WINDOW_S:
+            return
+        rtf = (ns - sim0) / 1e9 / (now - wall0)
+        self.measured_real_time_factor = rtf
+        self._rtf_window = (now, ns)
+        if lag_s <= BEHIND_LAG_S:
+            return
+        self._anchor = (now, ns)
+        if now - self._behind_logged >= BEHIND_LOG_PERIOD_S:
+            self._behind_logged = now
+            _sim_log().warning(
+                f"simulation is falling behind real time: real-time factor {rtf:.2f} "
+                f"(target {self.real_time_factor:g}) at t = {ns / 1e9:.1f} s sim, "
+                f"{lag_s:.1f} s behind"
+            )
 
     # -- timer schedule ---------------------------------------------------------------
     # Timers on their node's own ROS clock (sim time: every node clock of this executor

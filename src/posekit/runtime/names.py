@@ -225,11 +225,14 @@ def expand_topic_name(name: str, node_name: str, namespace: str) -> str:
 
 @dataclass(frozen=True, slots=True)
 class RemapRule:
-    """One ``[node:]from:=to`` rule. ``node`` None means every node."""
+    """One ``[node:]from:=to`` rule. ``node`` None means every node; ``kind`` ``"topic"`` or
+    ``"service"`` limits it to names of that kind (``rostopic://`` / ``rosservice://``
+    prefixes on the command line), None applies to both."""
 
     from_name: str
     to_name: str
     node: str | None = None
+    kind: str | None = None
 
 
 def parse_remap_rules(

@@ -269,12 +269,14 @@ class Node:
 
     def resolve_topic_name(self, topic: str, *, only_expand: bool = False) -> str:
         """Expand (and unless ``only_expand``, remap) a topic name as this node would."""
-        rules: Sequence[RemapRule] = () if only_expand else self._remap_rules
+        rules: Sequence[RemapRule] = () if only_expand else [
+            r for r in self._remap_rules if r.kind != "service"]
         return resolve_topic_name(topic, self._name, self._namespace, rules)
 
     def resolve_service_name(self, service: str, *, only_expand: bool = False) -> str:
         """Expand (and unless ``only_expand``, remap) a service name as this node would."""
-        rules: Sequence[RemapRule] = () if only_expand else self._remap_rules
+        rules: Sequence[RemapRule] = () if only_expand else [
+            r for r in self._remap_rules if r.kind != "topic"]
         return resolve_service_name(service, self._name, self._namespace, rules)
 
     # -- entities ---------------------------------------------------------------------

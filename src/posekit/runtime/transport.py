@@ -31,11 +31,19 @@ Contract for implementations:
   ``send_request(request, on_response)`` (:class:`ServiceClientEndpoint`) delivers the
   request to one server and calls ``on_response(response)`` at most once. The base class
   raises :class:`ServicesNotSupportedError` so a transport without services says so.
+* ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*
+  processes/sessions only. A remote-only publisher is not delivered to this process's
+  subscriptions, a remote-only subscription does not receive this process's publications,
+  and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
+  in-process bus ignores it (everything on it is local). This is what
+  :class:`posekit.runtime.mirror.MirroredTransport` builds on.
 
 Selection: ``Node(..., transport="zenoh")`` (or ``"dds"``), else ``init(transport=...)`` of
 the context, else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names
-map to factories in a registry (:func:`register_transport`); each context creates one instance per
-name and shares it among its nodes.
+map to factories in a registry (:func:`register_transport`); each context creates one instance
+per name and shares it among its nodes. ``"inprocess+NET"`` (e.g. ``inprocess+zenoh``) is the
+in-process bus mirrored onto the network transport ``NET``
+(:class:`~posekit.runtime.mirror.MirroredTransport`).
 """
 
 from __future__ import annotations
@@ -113,6 +121,8 @@ class EndpointInfo:
     node_name: str
     node_namespace: str
     logger: RcutilsLogger
+    #: Match endpoints of other processes only (see the module docstring).
+    remote_only: bool = False
 
     @property
     def type_name(self) -> str:
@@ -306,6 +316,12 @@ def selected_transport_name(explicit: str | None = None) -> str:
 
 def create_transport(name: str) -> Transport:
     """Instantiate the transport registered as ``name``."""
+    local_name, plus, network_name = name.partition("+")
+    if plus and local_name == "inprocess" and network_name and network_name != "inprocess":
+        from posekit.runtime.bus import InProcessBus
+        from posekit.runtime.mirror import MirroredTransport
+
+        return MirroredTransport(InProcessBus(), create_transport(network_name))
     factory = _registry.get(name)
     if factory is None:
         raise UnknownTransportError(

@@ -73,6 +73,8 @@ __all__ = [
     "ENV_CONFIG_OVERRIDE",
     "ENV_CONFIG_URI",
     "ENV_DOMAIN_ID",
+    "GRAPH_SETTLE_S",
+    "GRAPH_SILENT_PEER_S",
     "MAX_TRACKED_PUBLISHERS",
     "NodeEntity",
     "SessionOptions",
@@ -96,6 +98,10 @@ _CHANNEL_CAPACITY = 4096
 MAX_TRACKED_PUBLISHERS = 1024
 
 DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"
+#: :meth:`ZenohSession.sync_graph`: the connected peers must not change for this long (s).
+GRAPH_SETTLE_S = 0.05
+#: :meth:`ZenohSession.sync_graph`: longest wait (s) for a connected peer's first token.
+GRAPH_SILENT_PEER_S = 0.5
 ENV_CONFIG_URI = "ZENOH_SESSION_CONFIG_URI"
 ENV_CONFIG_OVERRIDE = "ZENOH_CONFIG_OVERRIDE"
 ENV_DOMAIN_ID = "ROS_DOMAIN_ID"
@@ -321,29 +327,60 @@ class ZenohSession:
             _quiet(token.undeclare)
 
     def sync_graph(self, timeout: float = 2.0) -> int:
-        """Query every live token of the domain now and add it to :attr:`graph`.
+        """Complete :attr:`graph` with every live token of the domain; returns how many
+        tokens the graph holds.
 
-        Returns the number of tokens received. Unlike the liveliness subscriber's history,
-        the query has an end, so a command-line tool knows when its graph snapshot is
-        complete (bounded by ``timeout`` seconds).
+        A liveliness query alone is not enough: peers find each other by gossip after the
+        session opens, and tokens travel over those direct peer links (the router does not
+        relay one peer's tokens to another). A query sent before the links are up (the
+        first tens of milliseconds, longer on a loaded machine) is answered with nothing
+        at all, which made one ``posekit topic list`` in five print an empty graph. So
+        this queries, then waits for the graph's liveliness subscriber (which receives
+        each peer's tokens as soon as its link is up) until the set of connected peers has
+        been stable for :data:`GRAPH_SETTLE_S` and every connected peer has announced
+        tokens; a peer without any (a bare zenoh session, a process still starting) is
+        waited for at most :data:`GRAPH_SILENT_PEER_S`. Bounded by ``timeout`` seconds.
         """
         graph = self.graph
+        start = time.monotonic()
+        deadline = start + max(0.05, timeout)
+        self._query_tokens(graph, deadline - start)
+        stable_since = time.monotonic()
+        peers: set[str] = set()
+        while True:
+            now = time.monotonic()
+            current = {str(z) for z in self.session.info.peers_zid()}
+            if current != peers:
+                peers, stable_since = current, now
+            announced = {t.zid for t in graph.entities()}
+            silent = peers - announced
+            settled = now - stable_since >= GRAPH_SETTLE_S
+            if settled and (not silent or now - start >= GRAPH_SILENT_PEER_S):
+                break
+            if now >= deadline:
+                break
+            graph.wait_until(lambda _cache: False, min(0.005, deadline - now))
+        if silent and peers:  # a late link: ask once more now that it is up
+            self._query_tokens(graph, max(0.05, deadline - time.monotonic()))
+        return len(graph.entities())
+
+    def _query_tokens(self, graph: ZenohGraph, timeout: float) -> None:
         replies = self.session.liveliness().get(
             f"{LIVELINESS_PREFIX}/{int(self.domain_id)}/**", timeout=max(0.05, timeout)
         )
-        count = 0
         for reply in replies:
             ok = reply.ok
             if ok is not None:
                 graph.add_remote(str(ok.key_expr))
-                count += 1
-        return count
 
     def create_publisher(
-        self, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS
+        self, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS, *,
+        remote_only: bool = False,
     ) -> WirePublisher:
-        """A publisher of ``ros_type`` on the fully qualified ``topic``."""
-        pub = WirePublisher(self, node, topic, normalize_type_name(ros_type), qos)
+        """A publisher of ``ros_type`` on the fully qualified ``topic`` (``remote_only``: its
+        samples reach other sessions only, never this session's subscribers)."""
+        pub = WirePublisher(self, node, topic, normalize_type_name(ros_type), qos,
+                            remote_only=remote_only)
         with self._lock:
             self._entities.append(pub)
         return pub
@@ -357,9 +394,12 @@ class ZenohSession:
         callback: Callable[[Any, Attachment], None],
         *,
         warn: Callable[[str], object] | None = None,
+        remote_only: bool = False,
     ) -> WireSubscription:
-        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)`` (zenoh thread)."""
-        sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn)
+        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)`` (zenoh thread);
+        ``remote_only``: only samples published by other sessions."""
+        sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn,
+                               remote_only=remote_only)
         with self._lock:
             self._entities.append(sub)
         return sub
@@ -446,7 +486,8 @@ class WirePublisher:
     """Publishes CDR + attachment on the data key; announced by an ``MP`` token."""
 
     def __init__(
-        self, owner: ZenohSession, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS
+        self, owner: ZenohSession, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS,
+        *, remote_only: bool = False,
     ) -> None:
         self.topic = topic
         self.ros_type = ros_type
@@ -479,6 +520,7 @@ class WirePublisher:
             else zenoh.CongestionControl.DROP
         )
         session = owner.session
+        destination = zenoh.Locality.REMOTE if remote_only else zenoh.Locality.ANY
         try:
             if qos.transient_local:
                 self._pub: Any = zext.declare_advanced_publisher(
@@ -493,10 +535,12 @@ class WirePublisher:
                     ),
                     reliability=reliability,
                     congestion_control=congestion,
+                    allowed_destination=destination,
                 )
             else:
                 self._pub = session.declare_publisher(
-                    self.key, reliability=reliability, congestion_control=congestion
+                    self.key, reliability=reliability, congestion_control=congestion,
+                    allowed_destination=destination,
                 )
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
@@ -539,6 +583,8 @@ class WireSubscription:
         qos: WireQoS,
         callback: Callable[[Any, Attachment], None],
         warn: Callable[[str], object] | None,
+        *,
+        remote_only: bool = False,
     ) -> None:
         ros_type = normalize_type_name(
             msg_type if isinstance(msg_type, str) else msg_type.__msgtype__
@@ -579,12 +625,14 @@ class WireSubscription:
             explicit_qos=owner.options.explicit_qos,
         )
         session = owner.session
+        origin = zenoh.Locality.REMOTE if remote_only else zenoh.Locality.ANY
         try:
             if qos.transient_local:
                 self._sub: Any = zext.declare_advanced_subscriber(
                     session,
                     self._match_key,
                     self._on_sample,
+                    allowed_origin=origin,
                     history=zext.HistoryConfig(
                         detect_late_publishers=True, max_samples=max(1, qos.depth)
                     ),
@@ -598,7 +646,8 @@ class WireSubscription:
             else:
                 # A channel drained by our own thread rather than a callback: see _drain().
                 self._sub = session.declare_subscriber(
-                    self._match_key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY)
+                    self._match_key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY),
+                    allowed_origin=origin,
                 )
                 threading.Thread(
                     target=self._drain, name=f"posekit-zenoh {topic}", daemon=True

@@ -130,7 +130,7 @@ class _Publisher(PublisherEndpoint):
 
     @property
     def subscription_count(self) -> int:
-        return len(self._owner._endpoints(self.info.topic, EntityKind.SUBSCRIPTION))
+        return self._owner._count(self.info, EntityKind.SUBSCRIPTION)
 
 
 class _Subscription(SubscriptionEndpoint):
@@ -148,7 +148,7 @@ class _Subscription(SubscriptionEndpoint):
 
     @property
     def publisher_count(self) -> int:
-        return len(self._owner._endpoints(self.info.topic, EntityKind.PUBLISHER))
+        return self._owner._count(self.info, EntityKind.PUBLISHER)
 
 
 class _Server(ServiceServerEndpoint):
@@ -253,7 +253,9 @@ class ZenohTransport(Transport):
         type_name = _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
-            wire = self.session.create_publisher(node, info.topic, type_name, wire_qos(info.qos))
+            wire = self.session.create_publisher(
+                node, info.topic, type_name, wire_qos(info.qos), remote_only=info.remote_only
+            )
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)
             raise
@@ -262,38 +264,45 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
-        def deliver(endpoint: _Subscription, msg: Any, _att: Attachment) -> None:
-            if endpoint.alive:
-                sink(msg)
+        def deliverer(endpoint: _Subscription) -> Callable[[Any, Attachment], None]:
+            def deliver(msg: Any, _att: Attachment) -> None:
+                if endpoint.alive:
+                    sink(msg)
 
-        return self._subscribe(info, deliver)
+            return deliver
+
+        return self._subscribe(info, deliverer)
 
     def subscribe_with_source(
         self, info: EndpointInfo, sink: SourcedMessageSink
     ) -> SubscriptionEndpoint:
         """:meth:`subscribe` whose sink also gets the sending publisher's GID (16 bytes)."""
 
-        def deliver(endpoint: _Subscription, msg: Any, att: Attachment) -> None:
-            if endpoint.alive:
-                sink(msg, att.gid)
+        def deliverer(endpoint: _Subscription) -> Callable[[Any, Attachment], None]:
+            def deliver(msg: Any, att: Attachment) -> None:
+                if endpoint.alive:
+                    sink(msg, att.gid)
 
-        return self._subscribe(info, deliver)
+            return deliver
+
+        return self._subscribe(info, deliverer)
 
     def _subscribe(
-        self, info: EndpointInfo, deliver_to: Callable[[_Subscription, Any, Attachment], None]
+        self,
+        info: EndpointInfo,
+        deliverer: Callable[[_Subscription], Callable[[Any, Attachment], None]],
     ) -> SubscriptionEndpoint:
         _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Subscription(self, info)
-
-        def deliver(msg: Any, att: Attachment) -> None:
-            deliver_to(endpoint, msg, att)
+        deliver = deliverer(endpoint)
 
         qos = wire_qos(info.qos)
         self._check_qos(info, qos, EntityKind.SUBSCRIPTION)
         try:
             endpoint.wire = self.session.create_subscription(
-                node, info.topic, info.msg_type, qos, deliver, warn=info.logger.warning
+                node, info.topic, info.msg_type, qos, deliver, warn=info.logger.warning,
+                remote_only=info.remote_only,
             )
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)
@@ -383,6 +392,15 @@ class ZenohTransport(Transport):
         wire.destroy()
         self._graph.remove_local(wire.token_key)
         self._release_node(info.node_namespace, info.node_name)
+
+    def _count(self, info: EndpointInfo, kind: EntityKind) -> int:
+        """Matched endpoints of ``kind`` on ``info``'s topic (other sessions' only when
+        ``info.remote_only``)."""
+        found = self._endpoints(info.topic, kind)
+        if info.remote_only:
+            own = self.session.zid
+            return sum(1 for e in found if e.zid != own)
+        return len(found)
 
     def _endpoints(self, topic: str, kind: EntityKind) -> list[TokenInfo]:
         if kind is EntityKind.PUBLISHER:

@@ -11,7 +11,10 @@ What is tapped (topics are matched fully qualified):
 
 * ``/tf`` and ``/tf_static`` (tf2_msgs/TFMessage) into a :class:`posekit.tf2.Buffer`, plus
   per frame: parent, last stamp, update rate from the stamps (tf2's ``allFramesAsYAML``
-  rate: samples per stamp span), static or not;
+  rate: samples per stamp span), static or not; with TransformListener's guards: ``/tf``
+  stamps more than 10 s ahead of the run's clock (``clock_ns``, else ``/clock``, else the
+  wall clock) are ignored (one warning per second), and at most :data:`MAX_FRAMES` frames
+  are kept (least recently updated forgotten);
 * ``/clock`` (rosgraph_msgs/Clock): "now" for frame ages when a run is on sim time, else the
   wall clock; a backward jump of the clock (a restarted run) clears the tf buffer;
 * Odometry displays (nav_msgs/Odometry): :data:`ODOMETRY_TOPICS` by default; each keeps the
@@ -26,7 +29,8 @@ What is tapped (topics are matched fully qualified):
 
 Topics are discovered with ``transport.get_topic_names_and_types()`` (call :meth:`refresh`
 periodically); the tap subscribes only to topics that have a publisher, so it never creates
-a topic of its own in the graph.
+a topic of its own in the graph, and to at most :data:`MAX_SUBSCRIBED_TOPICS` of them (the
+others are listed with the reason).
 """
 
 from __future__ import annotations
@@ -48,6 +52,7 @@ from posekit.runtime.qos import (
     ReliabilityPolicy,
 )
 from posekit.runtime.ratelimit import RateLimitedLog
+from posekit.runtime.tf2_ros import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
 from posekit.runtime.transport import (
     EndpointInfo,
     SubscriptionEndpoint,
@@ -85,6 +90,14 @@ TRAIL_ANGLE_TOLERANCE_RAD = 0.1
 _BACKWARD_JUMP_NS = NS // 2
 #: Stamps kept per frame for its rate.
 _FRAME_STAMPS = 100
+#: Frames shown at most; beyond that the least recently updated are forgotten (a peer can
+#: announce any number of frames).
+MAX_FRAMES = DEFAULT_MAX_FRAMES
+#: Topics the tap subscribes to at most (each costs a subscription; a peer can announce any
+#: number): /tf, /tf_static, /clock and the odometry displays first, then graph order.
+MAX_SUBSCRIBED_TOPICS = 200
+#: /tf stamps further ahead of "now" are ignored (as TransformListener does).
+_MAX_FUTURE_NS = DEFAULT_MAX_FUTURE.nanoseconds
 
 # A subscription that every publisher matches (best effort + volatile request).
 _ANY_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
@@ -247,6 +260,9 @@ class ViewerTap:
         except Exception as exc:  # a transport failing a graph query must not kill the viewer
             self.logger.warning(f"viewer: graph query failed: {exc}")
             return
+        # The topics the page draws first: a graph with endless topics must not crowd them out.
+        shown = {"/tf", "/tf_static", "/clock", *self.odometry_topics, self.ground_truth_topic}
+        names_and_types = sorted(names_and_types, key=lambda nt: nt[0] not in shown)
         for name, types in names_and_types:
             type_name = types[0] if types else ""
             with self._lock:
@@ -256,6 +272,10 @@ class ViewerTap:
             if info.subscribed or info.error:
                 continue
             if self.transport.count_publishers(name) <= 0:
+                continue
+            if len(self._endpoints) >= MAX_SUBSCRIBED_TOPICS:
+                info.error = (f"not subscribed: the viewer follows at most "
+                              f"{MAX_SUBSCRIBED_TOPICS} topics")
                 continue
             self._subscribe(info)
 
@@ -320,7 +340,26 @@ class ViewerTap:
 
     # -- sinks ------------------------------------------------------------------------------
     def _on_tf(self, msg: Any, is_static: bool) -> None:
+        horizon = None
+        if not is_static:
+            # The run's clock if there is one, else the wall clock (not now_ns()'s guess
+            # from the stamps themselves, which a sample could steer).
+            if self._clock_fn is not None:
+                now = int(self._clock_fn())
+            elif self._clock_ns is not None:
+                now = self._clock_ns
+            else:
+                now = time.time_ns()
+            horizon = now + _MAX_FUTURE_NS if now > 0 else None
+        stale: list[str] = []
         for t in msg.transforms:
+            if horizon is not None and _stamp_ns(t.header.stamp) > horizon:
+                # What TransformListener does: one sample stamped years ahead would make
+                # every later real sample of the frame TF_OLD_DATA in the buffer.
+                self.rejected_transforms += 1
+                self._warn("viewer: ignoring transforms stamped far in the future",
+                           f"frame {t.child_frame_id[:120]!r}")
+                continue
             if is_static:
                 ok = self.buffer.set_transform_static(t, "posekit_viewer")
             else:
@@ -330,9 +369,13 @@ class ViewerTap:
                 continue
             child = t.child_frame_id.lstrip("/")
             with self._lock:
-                info = self._frames.get(child)
+                info = self._frames.pop(child, None)  # re-inserted last: least recent first
                 if info is None or info.static != is_static:
-                    info = self._frames[child] = FrameInfo(child, "", is_static)
+                    info = FrameInfo(child, "", is_static)
+                self._frames[child] = info
+                if len(self._frames) > MAX_FRAMES:
+                    for _ in range(MAX_FRAMES // 10):
+                        stale.append(self._frames.pop(next(iter(self._frames))).name)
                 info.parent = t.header.frame_id.lstrip("/")
                 stamp = _stamp_ns(t.header.stamp)
                 if not is_static and (
@@ -342,6 +385,8 @@ class ViewerTap:
                 if not info.stamps_ns or stamp != info.stamps_ns[-1]:
                     info.stamps_ns.append(stamp)
                 self._tf_version += 1
+        if stale:
+            self.buffer.forget_frames(stale)
 
     def _on_clock(self, msg: Any) -> None:
         ns = _stamp_ns(msg.clock)

@@ -98,7 +98,7 @@ class WorldSimulation(Node):
     Attributes for tests and tools: ``world`` (the loaded :class:`World`), ``base`` (the
     :class:`RosbotBase`), ``rejected`` (``(t_ns, reason)`` of the last refused commands)
     and ``rejected_count``. Refused commands are logged at most once per second of the node's
-    clock, with the number suppressed in between.
+    clock, with the number suppressed in between; future-stamped ones once per run of them.
     """
 
     def __init__(self, node_name: str = "world_simulation", **kwargs: Any) -> None:

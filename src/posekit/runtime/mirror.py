@@ -1,0 +1,382 @@
+"""A process's own nodes on the in-process bus, mirrored onto a network transport.
+
+``MirroredTransport(local, network)`` is what ``posekit launch`` uses by default: every
+endpoint is created on ``local`` (the deterministic, zero-serialization
+:class:`~posekit.runtime.bus.InProcessBus`) *and* announced on ``network`` (Zenoh, or any
+transport honouring :attr:`EndpointInfo.remote_only`), so ``posekit topic list``,
+``node list``, ``tf echo`` or a user's node in another terminal see the launch's nodes and
+endpoints and talk to them, while the launch's nodes keep talking to each other exactly as
+they do with no network at all.
+
+Delivery rules:
+
+* Between the process's own nodes: the local bus only (the network endpoints are
+  ``remote_only``, so a message never comes back in through the network).
+* Out: a message published here is also sent on the network when some *other* process
+  subscribes to its topic (demand is polled every :data:`DEMAND_POLL_S`), and always for
+  TRANSIENT_LOCAL publishers (``/tf_static``: late remote subscribers get the latched
+  samples from the network transport's cache). Sending is done by one forwarder thread
+  from a bounded queue per publisher: the publishing thread (the simulator) never
+  serializes large messages or waits on the network, and a slow or vanished remote
+  subscriber can only make the forwarder drop (counted in :attr:`MirroredTransport.dropped`;
+  a KEEP_LAST queue keeps its newest ``depth`` messages as that QoS promises, a KEEP_ALL
+  queue holds :data:`FORWARD_QUEUE_LIMIT` and logs once when it must drop), never stall
+  the run.
+* In: messages published by other processes reach the local subscriptions of their topic,
+  except on topics this process *owns* (:meth:`MirroredTransport.own_topic`; a simulation
+  owns ``/clock``): those are never taken from the network.
+
+Services: a server is created on both (requests from this process arrive through the local
+bus, from others through the network); a client calls a server of this process on the local
+bus when there is one, else over the network.
+
+Graph questions (topic names, node names, endpoint counts) are answered by the network
+transport, which knows this process's endpoints and every other process's.
+``get_subscription_count()`` of a publisher counts local subscriptions plus remote ones
+(known within one demand poll), so nodes that publish only while someone listens (lazy
+cameras, ``/tf`` when nobody subscribes) work for remote subscribers too.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import threading
+import time
+from collections import deque
+from typing import Any
+
+from posekit.runtime.bus import snapshot
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy
+from posekit.runtime.transport import (
+    EndpointInfo,
+    MessageSink,
+    PublisherEndpoint,
+    RequestSink,
+    ResponseSink,
+    ServiceClientEndpoint,
+    ServiceInfo,
+    ServiceServerEndpoint,
+    SubscriptionEndpoint,
+    Transport,
+)
+
+__all__ = ["DEMAND_POLL_S", "FORWARD_QUEUE_LIMIT", "MirroredTransport"]
+
+_log = logging.getLogger("posekit.runtime.mirror")
+
+#: Seconds between polls of "does another process subscribe to this topic?".
+DEMAND_POLL_S = 0.1
+#: Messages waiting to be sent per KEEP_ALL publisher before the oldest are dropped
+#: (KEEP_LAST publishers keep their QoS depth).
+FORWARD_QUEUE_LIMIT = 1000
+
+
+class _MirrorPublisher(PublisherEndpoint):
+    __slots__ = ("_mirror", "always", "info", "local", "pending", "remote", "remote_count")
+
+    def __init__(self, mirror: MirroredTransport, info: EndpointInfo,
+                 local: PublisherEndpoint, remote: PublisherEndpoint) -> None:
+        self._mirror = mirror
+        self.info = info
+        self.local = local
+        self.remote = remote
+        self.always = info.qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL
+        limit = (FORWARD_QUEUE_LIMIT if info.qos.history == HistoryPolicy.KEEP_ALL
+                 else max(1, info.qos.depth))
+        self.pending: deque[Any] = deque(maxlen=limit)
+        #: Remote subscriptions seen at the last demand poll.
+        self.remote_count = 0
+
+    def publish(self, msg: Any) -> None:
+        self.local.publish(msg)
+        if self.always or self.remote_count:
+            self._mirror._forward(self, snapshot(msg))
+
+    def publish_transfer(self, msg: Any) -> None:
+        # Snapshot before the local bus hands ``msg`` itself to a subscriber that may edit it.
+        if self.always or self.remote_count:
+            self._mirror._forward(self, snapshot(msg))
+        self.local.publish_transfer(msg)
+
+    def destroy(self) -> None:
+        self._mirror._drop_publisher(self)
+        self.local.destroy()
+        self.remote.destroy()
+
+    @property
+    def subscription_count(self) -> int:
+        return self.local.subscription_count + self.remote_count
+
+
+class _MirrorSubscription(SubscriptionEndpoint):
+    __slots__ = ("local", "remote")
+
+    def __init__(self, local: SubscriptionEndpoint, remote: SubscriptionEndpoint | None) -> None:
+        self.local = local
+        self.remote = remote
+
+    def destroy(self) -> None:
+        self.local.destroy()
+        if self.remote is not None:
+            self.remote.destroy()
+
+    @property
+    def publisher_count(self) -> int:
+        remote = self.remote.publisher_count if self.remote is not None else 0
+        return self.local.publisher_count + remote
+
+
+class _MirrorServer(ServiceServerEndpoint):
+    """A service server on the local bus and, where it carries services, the network."""
+
+    def __init__(self, local: ServiceServerEndpoint,
+                 remote: ServiceServerEndpoint | None) -> None:
+        self.local = local
+        self.remote = remote
+
+    def destroy(self) -> None:
+        self.local.destroy()
+        if self.remote is not None:
+            self.remote.destroy()
+
+
+class _MirrorClient(ServiceClientEndpoint):
+    """Calls a server of this process on the local bus (deterministic, no serialization),
+    else one in another process over the network."""
+
+    def __init__(self, local: ServiceClientEndpoint,
+                 remote: ServiceClientEndpoint | None) -> None:
+        self.local = local
+        self.remote = remote
+
+    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+        if self.local.server_count or self.remote is None:
+            self.local.send_request(request, on_response)
+        else:
+            self.remote.send_request(request, on_response)
+
+    @property
+    def server_count(self) -> int:
+        # The network also sees this process's own servers: count each server once.
+        local = self.local.server_count
+        return local if local or self.remote is None else self.remote.server_count
+
+    def destroy(self) -> None:
+        self.local.destroy()
+        if self.remote is not None:
+            self.remote.destroy()
+
+
+class MirroredTransport(Transport):
+    """Local delivery on ``local``, visibility and remote traffic on ``network``."""
+
+    crosses_processes = True
+    supports_services = True
+
+    def __init__(self, local: Transport, network: Transport) -> None:
+        self.local = local
+        self.network = network
+        self.name = f"{local.name}+{network.name}"
+        self._owned: set[str] = set()
+        self._publishers: list[_MirrorPublisher] = []
+        self._cond = threading.Condition()
+        self._ready: deque[_MirrorPublisher] = deque()
+        self._closed = False
+        self._stop = threading.Event()  # the demand poll's own wake-up, apart from _cond
+        #: Messages not sent to the network because a forward queue was full, per topic.
+        self.dropped: dict[str, int] = {}
+        #: Messages sent to the network, per topic.
+        self.forwarded: dict[str, int] = {}
+        self._threads = [
+            threading.Thread(target=self._forward_loop, name="posekit-mirror-out", daemon=True),
+            threading.Thread(target=self._demand_loop, name="posekit-mirror-demand", daemon=True),
+        ]
+        for thread in self._threads:
+            thread.start()
+
+    # -- ownership ------------------------------------------------------------------------
+    def own_topic(self, topic: str) -> None:
+        """Never take ``topic`` from other processes (this process is its only source).
+
+        Applies to subscriptions created afterwards."""
+        self._owned.add(topic)
+
+    @property
+    def owned_topics(self) -> frozenset[str]:
+        """Topics taken from local publishers only."""
+        return frozenset(self._owned)
+
+    # -- endpoints ------------------------------------------------------------------------
+    def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        local = self.local.advertise(info)
+        try:
+            remote = self.network.advertise(dataclasses.replace(info, remote_only=True))
+        except BaseException:
+            local.destroy()
+            raise
+        pub = _MirrorPublisher(self, info, local, remote)
+        pub.remote_count = remote.subscription_count
+        with self._cond:
+            self._publishers.append(pub)
+        return pub
+
+    def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        local = self.local.subscribe(info, sink)
+        remote: SubscriptionEndpoint | None = None
+        try:
+            if info.topic not in self._owned:
+                remote = self.network.subscribe(dataclasses.replace(info, remote_only=True), sink)
+        except BaseException:
+            local.destroy()
+            raise
+        return _MirrorSubscription(local, remote)
+
+    def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        local = self.local.create_service_server(info, sink)
+        remote = None
+        if self.network.supports_services:
+            try:
+                remote = self.network.create_service_server(info, sink)
+            except BaseException:
+                local.destroy()
+                raise
+        return _MirrorServer(local, remote)
+
+    def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        local = self.local.create_service_client(info)
+        remote = None
+        if self.network.supports_services:
+            try:
+                remote = self.network.create_service_client(info)
+            except BaseException:
+                local.destroy()
+                raise
+        return _MirrorClient(local, remote)
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return (self.network if self.network.supports_services else self.local
+                ).get_service_names_and_types()
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return (self.network if self.network.supports_services else self.local
+                ).get_service_names_and_types_by_node(node_name, node_namespace)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return (self.network if self.network.supports_services else self.local
+                ).get_client_names_and_types_by_node(node_name, node_namespace)
+
+    def declare_node(self, name: str, namespace: str = "/") -> Any:
+        self.local.declare_node(name, namespace)
+        return self.network.declare_node(name, namespace)
+
+    def undeclare_node(self, name: str, namespace: str = "/") -> None:
+        self.local.undeclare_node(name, namespace)
+        self.network.undeclare_node(name, namespace)
+
+    # -- graph: the network's view (this process's endpoints and everyone else's) ----------
+    def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return self.network.get_topic_names_and_types()
+
+    def count_publishers(self, topic: str) -> int:
+        return self.network.count_publishers(topic)
+
+    def count_subscribers(self, topic: str) -> int:
+        return self.network.count_subscribers(topic)
+
+    def get_node_names(self) -> list[str]:
+        """Fully qualified node names on the network graph."""
+        getter = getattr(self.network, "get_node_names", None)
+        return list(getter()) if getter is not None else []
+
+    def __getattr__(self, name: str) -> Any:
+        # Transport-specific graph tools (``graph``, ``sync_graph``, endpoint info) of the
+        # network transport, for command-line tools running in this process.
+        if name.startswith("_") or name in ("local", "network"):
+            raise AttributeError(name)
+        return getattr(self.network, name)
+
+    # -- forwarding -----------------------------------------------------------------------
+    def _forward(self, pub: _MirrorPublisher, msg: Any) -> None:
+        with self._cond:
+            if len(pub.pending) == pub.pending.maxlen:
+                topic = pub.info.topic
+                count = self.dropped.get(topic, 0)
+                self.dropped[topic] = count + 1
+                if count == 0 and pub.info.qos.history == HistoryPolicy.KEEP_ALL:
+                    pub.info.logger.warning(
+                        f"network send queue of '{topic}' is full (a remote subscriber or the "
+                        "network is slower than the publisher): dropping the oldest messages "
+                        "for the network; local delivery is unaffected"
+                    )
+            was_idle = not pub.pending
+            pub.pending.append(msg)
+            if was_idle:
+                self._ready.append(pub)
+                self._cond.notify()
+
+    def _forward_loop(self) -> None:
+        while True:
+            with self._cond:
+                while not self._ready and not self._closed:
+                    self._cond.wait()
+                if self._closed:
+                    return
+                pub = self._ready.popleft()
+                if not pub.pending:
+                    continue
+                msg = pub.pending.popleft()
+                if pub.pending:
+                    self._ready.append(pub)  # round robin between publishers
+            try:
+                pub.remote.publish(msg)
+            except Exception as exc:  # a destroyed endpoint or an unserializable message
+                topic = pub.info.topic
+                if topic not in self.dropped:
+                    pub.info.logger.warning(f"cannot send '{topic}' to the network: {exc}")
+                self.dropped[topic] = self.dropped.get(topic, 0) + 1
+            else:
+                self.forwarded[pub.info.topic] = self.forwarded.get(pub.info.topic, 0) + 1
+
+    def _demand_loop(self) -> None:
+        while not self._stop.wait(DEMAND_POLL_S):
+            with self._cond:
+                publishers = [p for p in self._publishers if not p.always]
+            for pub in publishers:
+                try:
+                    pub.remote_count = pub.remote.subscription_count
+                except Exception as exc:  # the network transport is closing
+                    _log.debug("demand poll failed: %s", exc)
+
+    def _drop_publisher(self, pub: _MirrorPublisher) -> None:
+        with self._cond:
+            if pub in self._publishers:
+                self._publishers.remove(pub)
+            pub.pending.clear()
+            pub.remote_count = 0
+            pub.always = False
+
+    def flush(self, timeout: float = 2.0) -> bool:
+        """Wait until every queued message was handed to the network (False on timeout)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self._cond:
+                if not self._ready:
+                    return True
+            time.sleep(0.005)
+        return False
+
+    def close(self) -> None:
+        self.flush(0.5)
+        self._stop.set()
+        with self._cond:
+            self._closed = True
+            self._cond.notify_all()
+        for thread in self._threads:
+            thread.join(timeout=1.0)
+        self.network.close()
+        self.local.close()
