@@ -43,7 +43,11 @@ def expected_graph(scenario: str) -> tuple[set[str], set[str]]:
         clock_node = run.executor._clock_node  # the executor's own /clock publisher node
         assert clock_node is not None
         nodes.add(clock_node.get_fully_qualified_name())
-        topics = {name for name, _ in run.context.transport().get_topic_names_and_types()}
+        # as `topic list` shows them: hidden ones (an action's /_action/ topics) left out
+        from posekit.cli.topic_cmd import is_hidden_name
+
+        topics = {name for name, _ in run.context.transport().get_topic_names_and_types()
+                  if not is_hidden_name(name)}
     finally:
         run.shutdown()
     return nodes, topics

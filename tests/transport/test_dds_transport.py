@@ -184,3 +184,18 @@ def test_discovery_range_off_keeps_a_process_out_of_the_graph(
     assert "/off_child" not in names
     assert on_count == 1
     assert off_count == 0
+
+
+def test_a_lifespan_becomes_the_writers_lifespan_policy() -> None:
+    """rcl's /rosout profile (lifespan 10 s) on a DDS writer; readers carry no lifespan."""
+    from cyclonedds.qos import Policy
+
+    from posekit.runtime.rosout import qos_profile_rosout_default
+    from posekit.transport.dds_transport import endpoint_qos, wire_qos_of
+
+    writer = endpoint_qos(qos_profile_rosout_default, b"", writer=True)
+    assert writer[Policy.Lifespan] == Policy.Lifespan(lifespan=10_000_000_000)
+    assert wire_qos_of(writer).lifespan == (10, 0)
+    reader = endpoint_qos(qos_profile_rosout_default, b"", writer=False)
+    assert Policy.Lifespan not in reader
+    assert Policy.Lifespan not in endpoint_qos(LATCHED, b"", writer=True)

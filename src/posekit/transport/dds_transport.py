@@ -163,6 +163,8 @@ def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool,
         policies.append(Policy.Durability.Volatile)
     if writer:
         policies.append(Policy.WriterDataLifecycle(autodispose=False))
+        if qos.lifespan_ns is not None:  # /rosout's 10 s, as rcl asks for it
+            policies.append(Policy.Lifespan(lifespan=qos.lifespan_ns))
     if remote_only:
         policies.append(Policy.IgnoreLocal.Participant)
     return Qos(*policies)
