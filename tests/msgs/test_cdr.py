@@ -54,6 +54,7 @@ ISSUE_TYPES = [
     "sensor_msgs/msg/CameraInfo",
     "sensor_msgs/msg/Imu",
     "sensor_msgs/msg/JointState",
+    "sensor_msgs/msg/LaserScan",
     "tf2_msgs/msg/TFMessage",
     "rosgraph_msgs/msg/Clock",
 ]

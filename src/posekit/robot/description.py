@@ -9,8 +9,15 @@ basic configuration with the OAK-D-PRO camera, depthai frame chain)::
                            -> camera_mount_link -> oak_link -> oak_rgb_camera_frame
                                   -> oak_rgb_camera_optical_frame
                               oak_link -> oak_left/right_camera_frame -> *_optical_frame
-                           -> cover_link
+                           -> cover_link -> slamtec_rplidar_link -> laser
                            -> fl/fr/rl/rr_wheel_link (continuous, about +y)
+
+The lidar (component LDR02, a Slamtec RPLIDAR S2) follows Husarion's
+husarion_components_description ``slamtec_rplidar`` macro: its body
+``slamtec_rplidar_link`` sits on ``cover_link`` at (0.02, 0, 0) (the ROSbot's component
+configuration) and the scan frame ``laser`` 0.0285 m above it, turned by pi about z (the
+S2's zero angle points at its cable side, which faces the robot's rear), so a LaserScan's
+angle 0 points backwards from the robot.
 
 Each TransformStamped is T_parent_child: it maps child coordinates into the parent frame.
 """
@@ -19,6 +26,7 @@ from __future__ import annotations
 
 import math
 
+from posekit.geometry import Rotation, Transform
 from posekit.geometry.scalar import quat_from_rpy
 from posekit.msgs.geometry_msgs import Quaternion, TransformStamped, Vector3
 from posekit.robot._msgutil import stamp_from_seconds
@@ -28,6 +36,7 @@ __all__ = [
     "FIXED_JOINTS",
     "WHEEL_JOINTS",
     "FixedJoint",
+    "T_base_frame",
     "static_transforms",
     "wheel_transforms",
 ]
@@ -37,13 +46,15 @@ _HALF_PI = math.pi / 2
 #: (parent, child, xyz (m), rpy (rad)) of one fixed joint.
 FixedJoint = tuple[str, str, tuple[float, float, float], tuple[float, float, float]]
 
-#: The fixed joints of the course's ROSbot (docs/specs/rosbot_and_worlds.md, "Geometry"
-#: and "Camera").
+#: The fixed joints of the course's ROSbot (docs/specs/rosbot_and_worlds.md, "Geometry",
+#: "Camera" and "LiDAR").
 FIXED_JOINTS: tuple[FixedJoint, ...] = (
     ("base_link", "body_link", (0.0, 0.0, DEFAULT_DRIVE.wheel_radius), (0.0, 0.0, 0.0)),
     ("body_link", "imu_link", (0.003, -0.0495, 0.04332), (0.0, 0.0, 0.0)),
     ("body_link", "camera_mount_link", (-0.0141, 0.0, 0.125), (0.0, 0.0, 0.0)),
     ("body_link", "cover_link", (0.0, 0.0, 0.0603), (0.0, 0.0, 0.0)),
+    ("cover_link", "slamtec_rplidar_link", (0.02, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    ("slamtec_rplidar_link", "laser", (0.0, 0.0, 0.0285), (0.0, 0.0, math.pi)),
     ("camera_mount_link", "oak_link", (-0.01, 0.0, 0.02), (0.0, 0.0, 0.0)),
     ("oak_link", "oak_rgb_camera_frame", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
     (
@@ -92,6 +103,23 @@ def _transform(
     qx, qy, qz, qw = quat_xyzw
     tf.transform.rotation = Quaternion(x=qx, y=qy, z=qz, w=qw)
     return tf
+
+
+def T_base_frame(frame: str) -> Transform:
+    """The fixed pose of ``frame`` in ``base_link`` (composed along :data:`FIXED_JOINTS`).
+
+    Raises:
+        KeyError: ``frame`` is not a fixed frame of the robot.
+    """
+    by_child = {child: (parent, xyz, rpy) for parent, child, xyz, rpy in FIXED_JOINTS}
+    T = Transform.identity()
+    while frame != "base_link":
+        if frame not in by_child:
+            raise KeyError(f"{frame!r} is not a fixed frame of the ROSbot")
+        parent, xyz, rpy = by_child[frame]
+        T = Transform(Rotation.from_rpy(*rpy), xyz) * T
+        frame = parent
+    return T
 
 
 def static_transforms(t: float = 0.0) -> list[TransformStamped]:

@@ -7,7 +7,8 @@ A world is a mapping (Python, JSON, or YAML when PyYAML is installed)::
     physics_step: 0.001                    # s, optional (> 0)
     spawn: [0.0, 0.0, 0.0]                 # robot spawn (x, y, yaw) in odom, optional
     boxes:                                 # optional list
-      - {name: box_1, model: aruco_box, pose: [2.25, 0.0, 0.25, 0.0, 0.0, 0.0]}
+      - {name: box_1, model: aruco_box, pose: [2.25, 0.0, 0.25, 0.0, 0.0, 0.0],
+         collision: true}                  # optional: solid for the robot (default true)
     cameras:                               # optional list of fixed cameras
       - {name: overhead_camera, pose: [2, 2, 2, 0, 1.5708, 0], width: 640, height: 480,
          horizontal_fov: 1.047, rate_hz: 30, clip: [0.1, 100],
@@ -19,10 +20,11 @@ A world is a mapping (Python, JSON, or YAML when PyYAML is installed)::
 ``pose`` is ``(x, y, z, roll, pitch, yaw)`` in the world frame (= odom: the robot spawns at
 the origin), metres and radians, rpy on fixed axes (R = Rz(yaw) Ry(pitch) Rx(roll)) as in
 SDF; a mapping with those six keys is accepted too. A box pose is T_world_box (its origin is
-the cube centre). A camera pose is the SDF *model* pose: the camera looks along its +x axis
-(the optical frame is the static transform the launch adds). Validation rejects unknown
-keys, wrong types, non-finite numbers, duplicate names and unknown models, with a
-:class:`WorldError` naming the world and the field.
+the cube centre). Every box is seen by the simulated LiDAR; ``collision`` (default true)
+marks a box as solid for the robot. A camera pose is the SDF *model* pose: the camera looks
+along its +x axis (the optical frame is the static transform the launch adds). Validation
+rejects unknown keys, wrong types, non-finite numbers, duplicate names and unknown models,
+with a :class:`WorldError` naming the world and the field.
 
 Limits (a world file is input like any other; these keep a typo or a hostile file from
 exhausting memory or CPU): a camera side is at most :data:`MAX_CAMERA_SIDE` pixels and a
@@ -61,6 +63,7 @@ __all__ = [
     "StaticTransformSpec",
     "World",
     "WorldError",
+    "box_half_extents",
     "load_world",
     "marker_poses",
     "pose_matrix",
@@ -139,11 +142,13 @@ _MODELS: dict[str, ArucoBoxModel] = {ARUCO_BOX.name: ARUCO_BOX}
 
 @dataclass(frozen=True, slots=True)
 class BoxSpec:
-    """A static box: ``name``, ``model`` (``"aruco_box"``), ``pose`` (x, y, z, roll, pitch, yaw)."""
+    """A static box: ``name``, ``model`` (``"aruco_box"``), ``pose`` (x, y, z, roll, pitch,
+    yaw), ``collision`` (the robot cannot drive through it)."""
 
     name: str
     model: str
     pose: tuple[float, float, float, float, float, float]
+    collision: bool = True
 
     @property
     def T_world_box(self) -> _FloatArray:
@@ -152,7 +157,18 @@ class BoxSpec:
 
     def to_dict(self) -> dict[str, Any]:
         """As the plain mapping the loader accepts."""
-        return {"name": self.name, "model": self.model, "pose": list(self.pose)}
+        return {
+            "name": self.name,
+            "model": self.model,
+            "pose": list(self.pose),
+            "collision": self.collision,
+        }
+
+
+def box_half_extents(box: BoxSpec) -> tuple[float, float, float]:
+    """Half side lengths (m) of ``box`` along its own x, y, z axes."""
+    half = 0.5 * _MODELS[box.model].size
+    return half, half, half
 
 
 @dataclass(frozen=True, slots=True)
@@ -365,14 +381,18 @@ def _unique(ctx: _Ctx, where: str, names: list[str]) -> None:
 
 
 def _parse_box(ctx: _Ctx, where: str, data: Any) -> BoxSpec:
-    _check_keys(ctx, where, data, required=("name", "model", "pose"), optional=())
+    _check_keys(ctx, where, data, required=("name", "model", "pose"), optional=("collision",))
     model = _string(ctx, f"{where}.model", data["model"])
     if model not in _MODELS:
         raise ctx.fail(f"{where}.model", f"unknown model {model!r}; known: {sorted(_MODELS)}")
+    collision = data.get("collision", True)
+    if not isinstance(collision, bool):
+        raise ctx.fail(f"{where}.collision", f"expected true or false, got {collision!r}")
     return BoxSpec(
         _string(ctx, f"{where}.name", data["name"]),
         model,
         _pose(ctx, f"{where}.pose", data["pose"]),
+        collision,
     )
 
 

@@ -1,0 +1,115 @@
+"""The world's solid geometry as numpy arrays, and vectorised ray casting against it.
+
+Every box of a :class:`~posekit.robot.worlds.World` is an oriented cuboid: its centre
+``centres[m]`` (m, world frame), its rotation ``rotations[m]`` (3x3, R_world_box) and its
+half side lengths ``half_extents[m]`` (m, box frame). :func:`cast_rays` intersects many rays
+with all boxes at once (the slab method in each box's frame, numpy over rays x boxes), which
+is what the simulated LiDAR needs for 3000 beams at 10 Hz. The ground plane is not an
+obstacle here: the robot is planar and its scan plane is horizontal, above the ground.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from posekit.robot.worlds import World, box_half_extents
+
+__all__ = ["BoxObstacles", "cast_rays"]
+
+_FloatArray = npt.NDArray[np.float64]
+
+#: Boxes per numpy pass: few enough that the nearest boxes occlude rays before the farther
+#: ones are cast (a 399-box grid scans 3x faster than with 32), enough to amortise numpy's
+#: per-call cost; it also bounds a pass's memory (about 100 bytes per ray and box).
+_BOXES_PER_CHUNK = 8
+
+
+@dataclass(frozen=True, slots=True)
+class BoxObstacles:
+    """Oriented boxes: ``centres`` (M, 3) m, ``rotations`` (M, 3, 3) R_world_box,
+    ``half_extents`` (M, 3) m, ``names`` (M,)."""
+
+    centres: _FloatArray
+    rotations: _FloatArray
+    half_extents: _FloatArray
+    names: tuple[str, ...]
+
+    @classmethod
+    def from_world(cls, world: World, *, collision_only: bool = False) -> BoxObstacles:
+        """The boxes of ``world`` (only those with ``collision`` true if ``collision_only``).
+
+        The LiDAR sees every box (Gazebo's gpu_lidar renders visuals); contact uses the
+        colliding ones.
+        """
+        boxes = [b for b in world.boxes if b.collision or not collision_only]
+        if not boxes:
+            return cls(np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros((0, 3)), ())
+        poses = np.stack([b.T_world_box for b in boxes])
+        return cls(
+            centres=poses[:, :3, 3].copy(),
+            rotations=poses[:, :3, :3].copy(),
+            half_extents=np.array([box_half_extents(b) for b in boxes], dtype=np.float64),
+            names=tuple(b.name for b in boxes),
+        )
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+
+def cast_rays(
+    origin: npt.ArrayLike,
+    directions: npt.ArrayLike,
+    obstacles: BoxObstacles,
+    max_range: float = np.inf,
+) -> _FloatArray:
+    """Distance (m) along each ray from ``origin`` to the first box surface it enters.
+
+    Args:
+        origin: ``(3,)`` ray origin in the world frame (m).
+        directions: ``(N, 3)`` unit directions in the world frame.
+        obstacles: the boxes.
+        max_range: boxes wholly farther than this (m) are skipped (a cull, not a clip).
+
+    Boxes are cast nearest first, in chunks; a ray that already hit something nearer than a
+    chunk's nearest possible surface skips that chunk and all farther ones.
+
+    Returns:
+        ``(N,)`` float64 distances; ``inf`` where a ray hits nothing ahead of it. A box that
+        contains the origin is not seen from inside (as a renderer culls back faces).
+    """
+    o = np.asarray(origin, dtype=np.float64).reshape(3)
+    d = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
+    out = np.full(d.shape[0], np.inf)
+    if len(obstacles) == 0 or d.shape[0] == 0:
+        return out
+    rel = o - obstacles.centres  # (M, 3)
+    # Nearest possible hit of each box: its bounding sphere's near side.
+    near = np.linalg.norm(rel, axis=1) - np.linalg.norm(obstacles.half_extents, axis=1)
+    order = np.argsort(near, kind="stable")
+    order = order[near[order] <= max_range]  # cull boxes wholly beyond max_range
+    start = 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        while start < order.size:
+            # Occlusion cull: boxes come nearest first, so a ray already hit nearer than
+            # this chunk's nearest possible hit is done.
+            active = np.flatnonzero(out > near[order[start]])
+            if active.size == 0:
+                break
+            idx = order[start : start + _BOXES_PER_CHUNK]
+            start += _BOXES_PER_CHUNK
+            rot = obstacles.rotations[idx]  # (m, 3, 3) R_world_box
+            half = obstacles.half_extents[idx][:, None, :]  # (m, 1, 3)
+            o_box = np.einsum("mji,mj->mi", rot, rel[idx])[:, None, :]  # R^T (o - c)
+            inv = 1.0 / np.einsum("mji,nj->mni", rot, d[active])  # (m, n, 3): 1 / (R^T d)
+            t1 = (-half - o_box) * inv
+            t2 = (half - o_box) * inv
+            # fmin/fmax ignore the NaN of 0 * inf (a ray in a slab's boundary plane).
+            t_near = np.fmax.reduce(np.fmin(t1, t2), axis=2)
+            t_far = np.fmin.reduce(np.fmax(t1, t2), axis=2)
+            hit = (t_near <= t_far) & (t_near > 0.0)
+            dist = np.where(hit, t_near, np.inf).min(axis=0)
+            out[active] = np.minimum(out[active], dist)
+    return out
