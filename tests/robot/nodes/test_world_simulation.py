@@ -322,3 +322,58 @@ def test_scan_on_the_bus_is_lazy_framed_in_tf_and_sees_the_box_ahead(ctx, execut
     expected = T_base_frame("laser")
     assert (tr.x, tr.y, tr.z) == pytest.approx(tuple(expected.translation), abs=1e-12)
     assert abs(q.z) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_robot_description_is_latched_and_matches_the_tf_tree(ctx, executor) -> None:
+    """/robot_description reaches a subscriber that joins late (TRANSIENT_LOCAL depth 1); its
+    URDF, parsed with xml.etree and each joint's origin turned into a matrix with scipy,
+    gives the same transform as posekit's tf2 Buffer fed from /tf_static and /tf, for every
+    joint, and names exactly the frames the TF tree has."""
+    import xml.etree.ElementTree as ET
+
+    from scipy.spatial.transform import Rotation as ScipyRotation
+
+    from posekit.msgs.std_msgs import String
+    from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
+
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    listener_node = Node("listener", context=ctx, parameter_overrides=SIM)
+    buffer = Buffer()
+    TransformListener(buffer, listener_node)
+    for n in (world, listener_node):
+        executor.add_node(n)
+    executor.run_until(0.5)
+    got: list[String] = []
+    latched = QoSProfile(
+        depth=1, history=HistoryPolicy.KEEP_LAST, durability=DurabilityPolicy.TRANSIENT_LOCAL
+    )
+    listener_node.create_subscription(String, "/robot_description", got.append, latched)
+    executor.run_until(1.0)
+    assert len(got) == 1
+    robot = ET.fromstring(got[0].data)
+    assert robot.tag == "robot"
+    joints = robot.findall("joint")
+    links = {link.get("name") for link in robot.findall("link")}
+    assert links == set(buffer.get_all_frame_names()) - {"odom"} | {"base_link"}
+    assert len(joints) == len(links) - 1  # a tree rooted at base_link
+    for joint in joints:
+        parent = joint.find("parent").get("link")
+        child = joint.find("child").get("link")
+        origin = joint.find("origin")
+        xyz = [float(v) for v in origin.get("xyz").split()]
+        rpy = [float(v) for v in origin.get("rpy").split()]
+        T = buffer.lookup_transform(parent, child, Time())
+        tr, q = T.transform.translation, T.transform.rotation
+        assert (tr.x, tr.y, tr.z) == pytest.approx(xyz, abs=1e-12), joint.get("name")
+        expected = ScipyRotation.from_euler("xyz", rpy)
+        actual = ScipyRotation.from_quat([q.x, q.y, q.z, q.w])
+        if joint.get("type") == "fixed":
+            assert (expected.inv() * actual).magnitude() < 1e-9, joint.get("name")
+        else:
+            assert joint.get("type") == "continuous"
+            axis = [float(v) for v in joint.find("axis").get("xyz").split()]
+            assert axis == [0.0, 1.0, 0.0]
+            # Only the spin about the joint axis may differ from the origin's rotation.
+            rotvec = (expected.inv() * actual).as_rotvec()
+            assert abs(rotvec[0]) < 1e-9
+            assert abs(rotvec[2]) < 1e-9

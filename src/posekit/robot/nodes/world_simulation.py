@@ -14,6 +14,8 @@ topic                      type                        content
                                                        viewer; never used by the controllers)
 ``scan``                   sensor_msgs/LaserScan       frame ``laser``, 10 Hz, 3000 beams, the
                                                        world's boxes (only while subscribed)
+``/robot_description``     std_msgs/String             the URDF, once, KEEP_LAST 1 TRANSIENT_LOCAL
+                                                       (latched, as robot_state_publisher)
 ``/tf_static``             tf2_msgs/TFMessage          robot's fixed frames + the world's statics
 ``/tf``                    tf2_msgs/TFMessage          ``body_link -> *_wheel_link`` (wheel spin)
 =========================  ==========================  ==========================================
@@ -62,8 +64,14 @@ from posekit.geometry import Rotation, Transform
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import Imu, JointState, LaserScan
+from posekit.msgs.std_msgs import String
 from posekit.robot._msgutil import covariance_from_diagonal, yaw_quaternion
-from posekit.robot.description import T_base_frame, static_transforms, wheel_transforms
+from posekit.robot.description import (
+    T_base_frame,
+    robot_description_urdf,
+    static_transforms,
+    wheel_transforms,
+)
 from posekit.robot.drive import CommandResult, RosbotBase
 from posekit.robot.encoders import WheelEncoders
 from posekit.robot.headless import sub_seeds
@@ -82,6 +90,7 @@ from posekit.robot.params import (
 )
 from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 
@@ -194,6 +203,12 @@ class WorldSimulation(Node):
         if publish_world_statics:
             statics += self._world_static_transforms(self._sim_ns)
         self._tf_static.sendTransform(statics)
+        # robot_state_publisher's /robot_description: latched for late joiners.
+        latched = QoSProfile(
+            depth=1, history=HistoryPolicy.KEEP_LAST, durability=DurabilityPolicy.TRANSIENT_LOCAL
+        )
+        self._description_pub = self.create_publisher(String, "/robot_description", latched)
+        self._description_pub.publish(String(data=robot_description_urdf()))
 
         # Reused message objects: the bus copies on publish, so editing them later is safe.
         self._truth_msg = Odometry()
