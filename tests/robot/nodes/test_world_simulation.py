@@ -377,3 +377,32 @@ def test_robot_description_is_latched_and_matches_the_tf_tree(ctx, executor) -> 
             rotvec = (expected.inv() * actual).as_rotvec()
             assert abs(rotvec[0]) < 1e-9
             assert abs(rotvec[2]) < 1e-9
+
+
+def test_contact_through_the_node_truth_stops_wheels_turn(ctx, executor, tmp_path) -> None:
+    """Driving at a solid box: ground truth stops at the face minus the robot's half length
+    (closed form, docs/robot.md "Contact"); /joint_states keep advancing at the commanded
+    wheel speed, so wheel odometry (integrated from them here) runs on past the box."""
+    from posekit.robot.contact import ROBOT_HALF_EXTENTS
+    from posekit.robot.odometry import WheelOdometry
+
+    path = tmp_path / "wall.json"
+    path.write_text(json.dumps({"name": "wall", "boxes": [
+        {"name": "b", "model": "aruco_box", "pose": [1.25, 0.0, 0.25, 0.0, 0.0, 0.0]}]}))
+    world = WorldSimulation(
+        context=ctx,
+        parameter_overrides={**SIM, "world": str(path), "slip_enabled": False},
+    )
+    commander = _Commander(ctx, lambda t: (0.5, 0.0))
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(6.0)
+    truth_x = [m.pose.pose.position.x for m in sink.truth]
+    assert truth_x[-1] == pytest.approx(1.0 - ROBOT_HALF_EXTENTS[0], abs=1e-6)
+    assert truth_x[-1] == truth_x[-20]  # at rest for the last second
+    odom = WheelOdometry()
+    for js in sink.joints:
+        odom.update(js.position[0], js.position[1], _t(js))
+    assert odom.x > 2.0  # the wheels never stopped
+    assert sink.joints[-1].velocity[0] > 10.0  # rad/s, still commanded

@@ -48,9 +48,10 @@ Parameters (controller names as the course's ``controllers.yaml``; *posekit* one
 ``imu_rate`` (25.0), ``joint_states_rate`` (20.0; Gazebo's joint_state_broadcaster runs at
 100 Hz, see docs/robot.md), ``ground_truth_rate`` (20.0), ``ground_truth_frame_id``
 (``odom``), ``slip_enabled`` (true), ``encoder_quantize`` (false),
-``publish_world_static_transforms`` (true), ``lidar_rate`` (10.0). The LiDAR model and its
-sources are in :mod:`posekit.robot.lidar`; a scan is computed only when ``scan`` has a
-subscriber, and its noise depends on the seed and the scan time only.
+``publish_world_static_transforms`` (true), ``lidar_rate`` (10.0), ``contact`` (true: the
+world's boxes with ``collision`` stop the robot's body, see :mod:`posekit.robot.contact`).
+The LiDAR model and its sources are in :mod:`posekit.robot.lidar`; a scan is computed only
+when ``scan`` has a subscriber, and its noise depends on the seed and the scan time only.
 """
 
 from __future__ import annotations
@@ -66,6 +67,7 @@ from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import Imu, JointState, LaserScan
 from posekit.msgs.std_msgs import String
 from posekit.robot._msgutil import covariance_from_diagonal, yaw_quaternion
+from posekit.robot.contact import Contact
 from posekit.robot.description import (
     T_base_frame,
     robot_description_urdf,
@@ -153,6 +155,7 @@ class WorldSimulation(Node):
         encoders = EncoderParams(quantize=bool(declare(self, "encoder_quantize", False)))
         publish_world_statics = bool(declare(self, "publish_world_static_transforms", True))
         lidar_rate = float(declare(self, "lidar_rate", DEFAULT_LIDAR.rate_hz))
+        contact_enabled = bool(declare(self, "contact", True))
 
         #: The loaded world (WorldError from the loader names the problem).
         self.world: World = load_world(world_name)
@@ -166,7 +169,14 @@ class WorldSimulation(Node):
         slip_seed, imu_seed, _ = sub_seeds(seed)
         sx, sy, syaw = self.world.spawn
         #: The simulated base (ground truth and wheel joints).
-        self.base = RosbotBase(drive, slip, seed=slip_seed, x=sx, y=sy, yaw=syaw)
+        contact = (
+            Contact(BoxObstacles.from_world(self.world, collision_only=True))
+            if contact_enabled and any(b.collision for b in self.world.boxes)
+            else None
+        )
+        self.base = RosbotBase(
+            drive, slip, seed=slip_seed, x=sx, y=sy, yaw=syaw, contact=contact
+        )
         self._encoders = WheelEncoders(encoders)
         self._imu = ImuModel(ImuParams(rate_hz=imu_rate), seed=imu_seed)
         lidar_seed = int(np.random.SeedSequence([seed, _LIDAR_STREAM]).generate_state(1)[0])
