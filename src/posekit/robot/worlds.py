@@ -21,10 +21,11 @@ A world is a mapping (Python, JSON, or YAML when PyYAML is installed)::
 the origin), metres and radians, rpy on fixed axes (R = Rz(yaw) Ry(pitch) Rx(roll)) as in
 SDF; a mapping with those six keys is accepted too. A box pose is T_world_box (its origin is
 the cube centre). Every box is seen by the simulated LiDAR; ``collision`` (default true)
-marks a box as solid for the robot (:mod:`posekit.robot.contact`). A camera pose is the SDF *model* pose: the camera looks
-along its +x axis (the optical frame is the static transform the launch adds). Validation
-rejects unknown keys, wrong types, non-finite numbers, duplicate names and unknown models,
-with a :class:`WorldError` naming the world and the field.
+marks a box as solid for the robot (:mod:`posekit.robot.contact`). A camera pose is the SDF
+*model* pose: the camera looks along its +x axis (the optical frame is the static transform
+the launch adds). Validation rejects unknown keys, wrong types, non-finite numbers,
+duplicate names and unknown models, with a :class:`WorldError` naming the world and the
+field.
 
 Limits (a world file is input like any other; these keep a typo or a hostile file from
 exhausting memory or CPU): a camera side is at most :data:`MAX_CAMERA_SIDE` pixels and a
