@@ -20,7 +20,8 @@ numpy buffers (``out=``), all fed the same measurements.
 
 ``--lidar`` times one LiDAR scan (3000 beams ray-cast against the world's boxes, noise,
 the LaserScan and its CDR bytes) against its period (100 ms at 10 Hz), in aruco_box_world
-(3 boxes) and in a 400-box grid; ``--lidar-only`` runs just that.
+(3 boxes), in a 399-box grid and in husarion_world (505 wall faces); ``--lidar-only`` runs
+just that.
 
 Run:  .venv/bin/python benchmarks/sim.py [--duration 60] [--repeats 5] [--profile] [--ekf]
       [--lidar | --lidar-only]
@@ -187,14 +188,16 @@ def _ekf_report() -> None:
 
 
 def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
-    """(median, best) CPU ms of one scan -> LaserScan -> CDR bytes, robot at the origin."""
+    """(median, best) CPU ms of one scan -> LaserScan -> CDR bytes, robot at the spawn."""
+    from posekit.geometry import Rotation, Transform
     from posekit.msgs.cdr import to_cdr
     from posekit.robot.description import T_base_frame
     from posekit.robot.lidar import Lidar
-    from posekit.robot.obstacles import BoxObstacles
+    from posekit.robot.obstacles import BoxObstacles, WallSegments
 
-    lidar = Lidar(BoxObstacles.from_world(world), seed=1)
-    T = T_base_frame(lidar.params.frame_id)
+    lidar = Lidar(BoxObstacles.from_world(world), seed=1, walls=WallSegments.from_world(world))
+    x, y, yaw = world.spawn
+    T = Transform(Rotation.from_rpy(0.0, 0.0, yaw), (x, y, 0.0)) * T_base_frame("laser")
     times = []
     for k in range(repeats):
         c0 = time.process_time()
@@ -218,7 +221,8 @@ def _lidar_report() -> None:
     print(f"\nLiDAR scan ({DEFAULT_LIDAR.samples} beams, noise, LaserScan, CDR), CPU ms vs its "
           f"{period_ms:.0f} ms period:")
     for label, world in (("aruco_box_world (3 boxes)", load_world("aruco_box_world")),
-                         ("grid of 399 boxes", grid)):
+                         ("grid of 399 boxes", grid),
+                         ("husarion_world (505 faces)", load_world("husarion_world"))):
         median, best = _scan_cpu_ms(world)
         print(f"  {label:28s} median {median:6.2f} ms  best {best:6.2f} ms  "
               f"= {100 * median / period_ms:5.1f} % of the period")

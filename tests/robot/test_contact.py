@@ -164,3 +164,35 @@ def test_turning_in_place_against_a_face_is_blocked_and_leaving_a_spawn_overlap_
         inside.submit_velocity(-0.5, 0.0, stamp=t, now=t)
         inside.step(t, dt)
     assert inside.pose[0] < 2.0 - 0.5
+
+
+def test_walls_stop_the_robot_at_their_face_even_below_the_scan_plane() -> None:
+    from posekit.robot.obstacles import WallSegments
+
+    for height in (1.0, 0.05):
+        square = [[-2.0, -2.0], [2.0, -2.0], [2.0, 2.0], [-2.0, 2.0]]
+        world = World.from_dict(
+            {"name": "room", "walls": [{"name": "r", "height": height, "loops": [square]}]}
+        )
+        contact = Contact(BoxObstacles.from_world(world), WallSegments.from_world(world))
+        base = RosbotBase(slip=SlipParams(enabled=False), contact=contact)
+        dt = DEFAULT_DRIVE.control_period
+        for k in range(800):
+            t = k * dt
+            base.submit_velocity(0.5, 0.0, stamp=t, now=t)
+            base.step(t, dt)
+        assert base.pose[0] == pytest.approx(2.0 - HX, abs=1e-6)
+        assert base.wheel_angles[0] > 70.0  # rad: the wheels kept turning
+
+
+def test_husarion_world_spawn_is_free() -> None:
+    from posekit.robot.obstacles import WallSegments
+    from posekit.robot.worlds import load_world
+
+    world = load_world("husarion_world")
+    contact = Contact(BoxObstacles.from_world(world), WallSegments.from_world(world))
+    assert not contact.collides(*world.spawn)
+    # The H's bar has a face at y = -0.317 below x = 0 (Gazebo's default spawn (0, 0) is
+    # inside the bar): a robot straddling it collides, one clear of it does not.
+    assert contact.collides(0.0, -0.317 - HY + 0.01, 0.0)
+    assert not contact.collides(0.0, -0.317 - HY - 0.01, 0.0)

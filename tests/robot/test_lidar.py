@@ -197,3 +197,62 @@ def test_bad_parameters_are_named_errors() -> None:
         LidarParams(samples=1)
     with pytest.raises(ValueError, match="range_min"):
         LidarParams(range_min=5.0, range_max=1.0)
+
+
+def _room(half: float = 5.0, height: float = 1.0, **extra) -> World:
+    square = [[-half, -half], [half, -half], [half, half], [-half, half]]
+    return World.from_dict(
+        {"name": "room", "walls": [{"name": "room", "height": height, "loops": [square]}],
+         **extra}
+    )
+
+
+def test_walls_closed_form_distances_in_a_square_room() -> None:
+    from posekit.robot.obstacles import WallSegments
+
+    world = _room()
+    lidar = Lidar(BoxObstacles.from_world(world), NOISELESS, walls=WallSegments.from_world(world))
+    x0, y0, yaw = 1.0, -2.0, 0.7
+    T = _T_world_laser(x0, y0, yaw)
+    ranges = lidar.scan(T, 0).astype(np.float64)
+    ox, oy = T.as_matrix()[:2, 3]
+    heading = lidar.params.angles + math.pi + yaw  # beam direction in the world
+    c, s = np.cos(heading), np.sin(heading)
+    with np.errstate(divide="ignore"):
+        tx = np.where(c > 0, (5.0 - ox) / c, (-5.0 - ox) / c)
+        ty = np.where(s > 0, (5.0 - oy) / s, (-5.0 - oy) / s)
+    np.testing.assert_allclose(ranges, np.minimum(tx, ty), rtol=1e-6)
+
+
+def test_walls_lower_than_the_scan_plane_are_not_seen() -> None:
+    from posekit.robot.obstacles import WallSegments
+
+    world = _room(height=0.1)  # the laser is 0.1313 m above the ground
+    lidar = Lidar(BoxObstacles.from_world(world), NOISELESS, walls=WallSegments.from_world(world))
+    assert np.all(lidar.scan(_T_world_laser(0, 0, 0), 0) == np.inf)
+
+
+def test_husarion_world_is_scanned_from_its_spawn() -> None:
+    from posekit.robot.obstacles import WallSegments
+
+    world = load_world("husarion_world")
+    lidar = Lidar(BoxObstacles.from_world(world), NOISELESS, walls=WallSegments.from_world(world))
+    x, y, yaw = world.spawn
+    r = lidar.scan(_T_world_laser(x, y, yaw), 0)
+    # Inside the outer ring every beam hits something, and nothing is within the robot.
+    assert np.all(np.isfinite(r))
+    assert r.min() > 0.3
+    # Straight ahead (+x): the nearest crossing of the line y = spawn y by any wall face
+    # ahead of the laser, found with plain Python over the world's loops.
+    ox = x + 0.02
+    crossings = []
+    for wall in world.walls:
+        for loop in wall.loops:
+            for (ax, ay), (bx, by) in zip(loop, loop[1:] + loop[:1], strict=True):
+                if (ay - y) * (by - y) < 0:
+                    cx = ax + (y - ay) * (bx - ax) / (by - ay)
+                    if cx > ox:
+                        crossings.append(cx - ox)
+    forward = int(np.argmin(np.abs(np.abs(lidar.params.angles) - math.pi)))
+    assert r[forward] == pytest.approx(min(crossings), abs=1e-5)
+    assert 5.0 < r[forward] < 7.0  # the nearest feather

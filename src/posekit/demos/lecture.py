@@ -10,9 +10,8 @@ and terminal 2 a demo against it (``ros2 launch robot_control_demo p_controller.
   subscribes) in a world, owning the simulation and ``/clock``: ``empty_world``,
   ``aruco_box_world``, ``aruco_box_camera_world`` (plus the overhead camera and its static
   frames), ``aruco_markers_world`` (the lecture's name for the listener demo's world: the
-  boxes of ``aruco_box_world``) and ``husarion_world``. posekit has no model of Husarion's
-  office world, so ``husarion_world`` runs the empty world (same robot and sensors, no
-  walls) and says so when it starts.
+  boxes of ``aruco_box_world``) and ``husarion_world`` (Husarion's logo as 1.8 m walls, which
+  the LiDAR sees and the robot stops at; the OAK camera does not draw walls).
 * **Demo launches** (``robot_control_demo``, ``frame_demo``): only the demo's nodes, on sim
   time that the running world owns (they follow its ``/clock`` and start no simulation), on
   the network transport. They are registered as scenarios named ``PACKAGE/NAME``.
@@ -42,17 +41,11 @@ from posekit.robot.scenarios import (
     scenario_names,
     scenario_node,
 )
-from posekit.runtime.logging import get_logger
 
 __all__ = ["EXECUTABLES", "LAUNCH_FILES", "WORLD_ALIASES", "resolve_launch", "resolve_run"]
 
 #: Worlds the lecture names that posekit runs as another world: name -> (world, note).
 WORLD_ALIASES: dict[str, tuple[str, str]] = {
-    "husarion_world": (
-        "empty_world",
-        "posekit has no model of Husarion's office world (husarion_world.sdf): running the "
-        "empty world with the same robot and sensors",
-    ),
     "aruco_markers_world": (
         "aruco_box_world",
         "aruco_markers_world is the lecture's name for the boxes of aruco_box_world",
@@ -90,11 +83,7 @@ def _world_nodes(params: Mapping[str, Any], seed: int, world: str) -> list[Node]
 
 
 def _world(world: str, launched_as: str) -> Any:
-    note = WORLD_ALIASES.get(launched_as, ("", ""))[1]
-
     def factory(params: Mapping[str, Any], seed: int) -> LaunchDescription:
-        if note and launched_as == "husarion_world":
-            get_logger("posekit.launch").warning(note)
         return LaunchDescription(_world_nodes(params, seed, world))
 
     return factory
@@ -102,7 +91,7 @@ def _world(world: str, launched_as: str) -> Any:
 
 _WORLDS = {
     "empty_world": "empty_world",
-    "husarion_world": "empty_world",
+    "husarion_world": "husarion_world",
     "aruco_box_world": "aruco_box_world",
     "aruco_box_camera_world": "aruco_box_camera_world",
     "aruco_markers_world": "aruco_box_world",
@@ -112,7 +101,8 @@ for _name, _world_name in _WORLDS.items():
     register_scenario(
         _name, _world(_world_name, _name), replace=True,
         description=(f"world only: the ROSbot {_what} in {_world_name}"
-                     + (" (no office model)" if _name == "husarion_world" else "")),
+                     + (" (the cameras do not draw its walls)"
+                        if _name == "husarion_world" else "")),
     )
 
 

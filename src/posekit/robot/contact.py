@@ -9,7 +9,9 @@ body does not move. posekit reproduces that kinematically:
   collision box; the wheels reach 0.053 + 0.0425 = 0.0955 m), y ±0.114 m (wheel centres at
   0.096 plus half the 0.036 m tyre width), z from 0 to 0.1417 m (the top of the lidar's
   collision box): :data:`ROBOT_HALF_EXTENTS` about :data:`ROBOT_CENTRE_Z`;
-* the world's boxes with ``collision`` true are static obstacles (any orientation);
+* the world's boxes with ``collision`` true are static obstacles (any orientation), and so
+  are the faces of its colliding walls (every wall starts at the ground, so any face the
+  robot's outline crosses in the ground plane is a contact);
 * each control step, if the step's motion (an arc) would make the shapes overlap, the body
   moves only the largest fraction of that arc that keeps them apart (bisection to
   :data:`CONTACT_TOLERANCE`), i.e. it stops at the surface. The wheels are not affected.
@@ -27,7 +29,7 @@ import math
 import numpy as np
 
 from posekit.robot.kinematics import integrate_exact_arc
-from posekit.robot.obstacles import BoxObstacles
+from posekit.robot.obstacles import BoxObstacles, WallSegments
 
 __all__ = [
     "CONTACT_TOLERANCE",
@@ -86,15 +88,42 @@ def boxes_overlap(
     return True
 
 
-class Contact:
-    """The robot against ``obstacles`` (pass only the colliding boxes; see the module doc).
+def _segments_hit_rectangle(
+    x: float, y: float, yaw: float, starts: np.ndarray, ends: np.ndarray
+) -> bool:
+    """Whether any segment crosses the robot's outline at (x, y, yaw) (2-D separating axes:
+    the outline's two axes and each segment's normal; touching within 1e-9 m is not)."""
+    eps = 1e-9
+    hx, hy = ROBOT_HALF_EXTENTS[0], ROBOT_HALF_EXTENTS[1]
+    c, s = math.cos(yaw), math.sin(yaw)
+    rel_a = starts - (x, y)
+    rel_b = ends - (x, y)
+    ax, ay = c * rel_a[:, 0] + s * rel_a[:, 1], -s * rel_a[:, 0] + c * rel_a[:, 1]
+    bx, by = c * rel_b[:, 0] + s * rel_b[:, 1], -s * rel_b[:, 0] + c * rel_b[:, 1]
+    apart = (np.minimum(ax, bx) >= hx - eps) | (np.maximum(ax, bx) <= -hx + eps)
+    apart |= (np.minimum(ay, by) >= hy - eps) | (np.maximum(ay, by) <= -hy + eps)
+    nx, ny = -(by - ay), bx - ax  # normal of each segment
+    apart |= np.abs(nx * ax + ny * ay) >= hx * np.abs(nx) + hy * np.abs(ny) - eps * np.hypot(
+        nx, ny
+    )
+    return not bool(np.all(apart))
 
-    ``contacts`` counts the control steps whose motion was cut short.
+
+class Contact:
+    """The robot against ``obstacles`` and ``walls`` (pass only the colliding ones; see the
+    module doc). ``contacts`` counts the control steps whose motion was cut short.
     """
 
-    def __init__(self, obstacles: BoxObstacles) -> None:
+    def __init__(self, obstacles: BoxObstacles, walls: WallSegments | None = None) -> None:
         self.obstacles = obstacles
         self.contacts = 0
+        self._walls = walls if walls is not None and len(walls) else None
+        if self._walls is not None:
+            mid = 0.5 * (self._walls.starts + self._walls.ends)
+            self._wall_mid = mid
+            self._wall_reach = 0.5 * np.linalg.norm(
+                self._walls.ends - self._walls.starts, axis=1
+            ) + math.hypot(*ROBOT_HALF_EXTENTS[:2])
         self._boxes: list[tuple[_Vec3, _Mat3, _Vec3]] = []
         top = 2.0 * ROBOT_CENTRE_Z
         xy, radius = [], []
@@ -116,6 +145,19 @@ class Contact:
         self._xy = np.array(xy, dtype=np.float64).reshape(-1, 2)
         self._reach = np.array(radius, dtype=np.float64) + math.hypot(*ROBOT_HALF_EXTENTS[:2])
 
+    def _near_walls(self, x: float, y: float, margin: float) -> np.ndarray | None:
+        """Indices of wall faces within ``margin`` of the robot's bounding circle, or None."""
+        if self._walls is None:
+            return None
+        dist = np.hypot(self._wall_mid[:, 0] - x, self._wall_mid[:, 1] - y)
+        idx = np.flatnonzero(dist < self._wall_reach + margin)
+        return idx if idx.size else None
+
+    def _walls_hit(self, x: float, y: float, yaw: float, idx: np.ndarray | None) -> bool:
+        if idx is None or self._walls is None:
+            return False
+        return _segments_hit_rectangle(x, y, yaw, self._walls.starts[idx], self._walls.ends[idx])
+
     def _near(self, x: float, y: float, margin: float) -> list[int]:
         """Boxes whose bounding circle comes within ``margin`` of the robot's at (x, y)."""
         if not self._boxes:
@@ -131,10 +173,20 @@ class Contact:
         dist = np.hypot(self._xy[:, 0] - x, self._xy[:, 1] - y)
         return [int(k) for k in np.flatnonzero(dist < self._reach + margin)]
 
-    def collides(self, x: float, y: float, yaw: float, candidates: list[int] | None = None) -> bool:
-        """Whether the robot at ``(x, y, yaw)`` overlaps a box."""
+    def collides(
+        self,
+        x: float,
+        y: float,
+        yaw: float,
+        candidates: list[int] | None = None,
+        wall_candidates: np.ndarray | None = None,
+    ) -> bool:
+        """Whether the robot at ``(x, y, yaw)`` overlaps a box or crosses a wall face."""
         if candidates is None:
             candidates = self._near(x, y, 0.0)
+            wall_candidates = self._near_walls(x, y, 0.0)
+        if self._walls_hit(x, y, yaw, wall_candidates):
+            return True
         if not candidates:
             return False
         c, s = math.cos(yaw), math.sin(yaw)
@@ -148,17 +200,19 @@ class Contact:
         """The largest fraction in [0, 1] of the arc ``(ds m, dyaw rad)`` from ``(x, y, yaw)``
         that keeps the robot out of every box (1.0 when nothing is in the way)."""
         candidates = self._near(x, y, abs(ds) + 1e-6)
-        if not candidates:
+        walls = self._near_walls(x, y, abs(ds) + 1e-6)
+        if not candidates and walls is None:
             return 1.0
-        if not self.collides(*integrate_exact_arc(x, y, yaw, ds, dyaw), candidates):
+        if not self.collides(*integrate_exact_arc(x, y, yaw, ds, dyaw), candidates, walls):
             return 1.0
-        if self.collides(x, y, yaw, candidates):
-            return 1.0  # already inside (spawned there): let it leave
+        if self.collides(x, y, yaw, candidates, walls):
+            return 1.0  # already overlapping (spawned there): let it leave
         lo, hi = 0.0, 1.0
         span = max(abs(ds), abs(dyaw))
         while (hi - lo) * span > CONTACT_TOLERANCE:
             mid = 0.5 * (lo + hi)
-            if self.collides(*integrate_exact_arc(x, y, yaw, mid * ds, mid * dyaw), candidates):
+            pose = integrate_exact_arc(x, y, yaw, mid * ds, mid * dyaw)
+            if self.collides(*pose, candidates, walls):
                 hi = mid
             else:
                 lo = mid

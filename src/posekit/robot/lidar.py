@@ -9,8 +9,8 @@ resolution at 10 Hz. The description's range resolution (0.013 m) is not applied
 reports continuous ranges.
 
 A scan is taken at one instant from the robot's true pose (as Gazebo's gpu_lidar renders
-all beams at once), so ``time_increment`` is 0; ``scan_time`` is the period. Every box of
-the world is seen (the course's boxes are visual-only in Gazebo and gpu_lidar renders
+all beams at once), so ``time_increment`` is 0; ``scan_time`` is the period. Every box and
+wall of the world is seen (the course's boxes are visual-only in Gazebo and gpu_lidar renders
 visuals). Beam ``i`` points at ``angle_min + i * angle_increment`` about the ``laser``
 frame's +z; the description turns ``laser`` by pi, so angle 0 looks backwards from the
 robot. Returns as REP 117 and Gazebo report them: ``+inf`` when the beam hits nothing
@@ -32,7 +32,7 @@ import numpy.typing as npt
 
 from posekit.geometry import Transform
 from posekit.msgs.sensor_msgs import LaserScan
-from posekit.robot.obstacles import BoxObstacles, cast_rays
+from posekit.robot.obstacles import BoxObstacles, WallSegments, cast_rays
 
 __all__ = ["DEFAULT_LIDAR", "Lidar", "LidarParams"]
 
@@ -81,13 +81,19 @@ DEFAULT_LIDAR = LidarParams()
 
 
 class Lidar:
-    """Scans of ``obstacles`` (see the module doc); ``seed`` fixes the noise."""
+    """Scans of ``obstacles`` and ``walls`` (see the module doc); ``seed`` fixes the noise."""
 
     def __init__(
-        self, obstacles: BoxObstacles, params: LidarParams = DEFAULT_LIDAR, *, seed: int = 0
+        self,
+        obstacles: BoxObstacles,
+        params: LidarParams = DEFAULT_LIDAR,
+        *,
+        seed: int = 0,
+        walls: WallSegments | None = None,
     ) -> None:
         self.params = params
         self.obstacles = obstacles
+        self.walls = walls
         self.seed = int(seed)
         angles = params.angles
         #: Unit beam directions in the scan frame, (samples, 3).
@@ -99,7 +105,9 @@ class Lidar:
         """Noise-free distances (m, float64; ``inf`` for no hit) from the scan frame's pose."""
         m = T_world_laser.as_matrix()
         directions = self.directions_laser @ m[:3, :3].T
-        return cast_rays(m[:3, 3], directions, self.obstacles, self.params.range_max)
+        return cast_rays(
+            m[:3, 3], directions, self.obstacles, self.params.range_max, walls=self.walls
+        )
 
     def scan(self, T_world_laser: Transform, scan_index: int) -> npt.NDArray[np.float32]:
         """The reported ranges (float32, REP 117 infinities) of scan number ``scan_index``."""

@@ -4,8 +4,11 @@ Every box of a :class:`~posekit.robot.worlds.World` is an oriented cuboid: its c
 ``centres[m]`` (m, world frame), its rotation ``rotations[m]`` (3x3, R_world_box) and its
 half side lengths ``half_extents[m]`` (m, box frame). :func:`cast_rays` intersects many rays
 with all boxes at once (the slab method in each box's frame, numpy over rays x boxes), which
-is what the simulated LiDAR needs for 3000 beams at 10 Hz. The ground plane is not an
-obstacle here: the robot is planar and its scan plane is horizontal, above the ground.
+is what the simulated LiDAR needs for 3000 beams at 10 Hz. A world's walls are vertical
+faces: :class:`WallSegments` holds each face as a ground segment ``starts[s]`` ->
+``ends[s]`` (m) and its ``heights[s]`` (m); :func:`cast_rays` intersects them too (a ray
+hits a face where its height at the crossing lies in [0, height]). The ground plane is not
+an obstacle here: the robot is planar and its scan plane is horizontal, above the ground.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import numpy.typing as npt
 
 from posekit.robot.worlds import World, box_half_extents
 
-__all__ = ["BoxObstacles", "cast_rays"]
+__all__ = ["BoxObstacles", "WallSegments", "cast_rays"]
 
 _FloatArray = npt.NDArray[np.float64]
 
@@ -59,11 +62,75 @@ class BoxObstacles:
         return len(self.names)
 
 
+@dataclass(frozen=True, slots=True)
+class WallSegments:
+    """Vertical wall faces: ``starts``/``ends`` (S, 2) ground points (m), ``heights`` (S,)."""
+
+    starts: _FloatArray
+    ends: _FloatArray
+    heights: _FloatArray
+
+    @classmethod
+    def from_world(cls, world: World, *, collision_only: bool = False) -> WallSegments:
+        """Every face of ``world``'s walls (only colliding walls if ``collision_only``)."""
+        walls = [w for w in world.walls if w.collision or not collision_only]
+        segs = [w.segments() for w in walls]
+        if not segs:
+            return cls(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0))
+        heights = np.concatenate(
+            [np.full(len(s), w.height) for s, w in zip(segs, walls, strict=True)]
+        )
+        both = np.concatenate(segs)
+        return cls(both[:, 0].copy(), both[:, 1].copy(), heights)
+
+    def __len__(self) -> int:
+        return int(self.heights.shape[0])
+
+
+#: Wall faces per numpy pass (nearest first, as for boxes).
+_SEGMENTS_PER_CHUNK = 64
+
+
+def _cast_walls(o: _FloatArray, d: _FloatArray, walls: WallSegments, out: _FloatArray,
+                max_range: float) -> None:
+    """Lower ``out`` (N,) to the distance of the first wall face each ray crosses."""
+    a, b = walls.starts, walls.ends
+    e = b - a
+    # Nearest possible hit of each face: its distance from the origin in the ground plane.
+    rel = o[:2] - a
+    u = np.clip(np.einsum("sk,sk->s", rel, e) / np.maximum(np.einsum("sk,sk->s", e, e), 1e-300),
+                0.0, 1.0)
+    near = np.linalg.norm(rel - u[:, None] * e, axis=1)
+    order = np.argsort(near, kind="stable")
+    order = order[near[order] <= max_range]
+    start = 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        while start < order.size:
+            active = np.flatnonzero(out > near[order[start]])
+            if active.size == 0:
+                break
+            idx = order[start : start + _SEGMENTS_PER_CHUNK]
+            start += _SEGMENTS_PER_CHUNK
+            da = d[active]  # (n, 3)
+            ei, ai = e[idx], a[idx]  # (s, 2)
+            w = ai - o[:2]  # (s, 2)
+            # o + t d = a + u e in the ground plane: t = (w x e) / (d x e), u = (w x d) / (d x e)
+            denom = da[None, :, 0] * ei[:, None, 1] - da[None, :, 1] * ei[:, None, 0]
+            t = (w[:, None, 0] * ei[:, None, 1] - w[:, None, 1] * ei[:, None, 0]) / denom
+            s = (w[:, None, 0] * da[None, :, 1] - w[:, None, 1] * da[None, :, 0]) / denom
+            z = o[2] + t * da[None, :, 2]
+            hit = (t > 0.0) & (s >= 0.0) & (s <= 1.0) & (z >= 0.0)
+            hit &= z <= walls.heights[idx][:, None]
+            dist = np.where(hit, t, np.inf).min(axis=0)
+            out[active] = np.minimum(out[active], dist)
+
+
 def cast_rays(
     origin: npt.ArrayLike,
     directions: npt.ArrayLike,
     obstacles: BoxObstacles,
     max_range: float = np.inf,
+    walls: WallSegments | None = None,
 ) -> _FloatArray:
     """Distance (m) along each ray from ``origin`` to the first box surface it enters.
 
@@ -72,6 +139,7 @@ def cast_rays(
         directions: ``(N, 3)`` unit directions in the world frame.
         obstacles: the boxes.
         max_range: boxes wholly farther than this (m) are skipped (a cull, not a clip).
+        walls: vertical wall faces, seen from both sides.
 
     Boxes are cast nearest first, in chunks; a ray that already hit something nearer than a
     chunk's nearest possible surface skips that chunk and all farther ones.
@@ -83,7 +151,11 @@ def cast_rays(
     o = np.asarray(origin, dtype=np.float64).reshape(3)
     d = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
     out = np.full(d.shape[0], np.inf)
-    if len(obstacles) == 0 or d.shape[0] == 0:
+    if d.shape[0] == 0:
+        return out
+    if walls is not None and len(walls):
+        _cast_walls(o, d, walls, out, max_range)
+    if len(obstacles) == 0:
         return out
     rel = o - obstacles.centres  # (M, 3)
     # Nearest possible hit of each box: its bounding sphere's near side.

@@ -9,6 +9,9 @@ A world is a mapping (Python, JSON, or YAML when PyYAML is installed)::
     boxes:                                 # optional list
       - {name: box_1, model: aruco_box, pose: [2.25, 0.0, 0.25, 0.0, 0.0, 0.0],
          collision: true}                  # optional: solid for the robot (default true)
+    walls:                                 # optional list of vertical walls (prisms)
+      - {name: room, height: 1.0, loops: [[[-5, -5], [5, -5], [5, 5], [-5, 5]]],
+         collision: true}
     cameras:                               # optional list of fixed cameras
       - {name: overhead_camera, pose: [2, 2, 2, 0, 1.5708, 0], width: 640, height: 480,
          horizontal_fov: 1.047, rate_hz: 30, clip: [0.1, 100],
@@ -21,7 +24,10 @@ A world is a mapping (Python, JSON, or YAML when PyYAML is installed)::
 the origin), metres and radians, rpy on fixed axes (R = Rz(yaw) Ry(pitch) Rx(roll)) as in
 SDF; a mapping with those six keys is accepted too. A box pose is T_world_box (its origin is
 the cube centre). Every box is seen by the simulated LiDAR; ``collision`` (default true)
-marks a box as solid for the robot (:mod:`posekit.robot.contact`). A camera pose is the SDF
+marks a box as solid for the robot (:mod:`posekit.robot.contact`). A wall is the vertical
+extrusion, from the ground to ``height`` (m), of closed outline ``loops`` of (x, y) points
+(m, world frame; the last point joins the first): each loop edge is a wall face the LiDAR
+sees and the robot stops at (a ring is two loops). A camera pose is the SDF
 *model* pose: the camera looks along its +x axis (the optical frame is the static transform
 the launch adds). Validation rejects unknown keys, wrong types, non-finite numbers,
 duplicate names and unknown models, with a :class:`WorldError` naming the world and the
@@ -62,6 +68,7 @@ __all__ = [
     "CameraSpec",
     "MarkerPose",
     "StaticTransformSpec",
+    "WallSpec",
     "World",
     "WorldError",
     "box_half_extents",
@@ -173,6 +180,33 @@ def box_half_extents(box: BoxSpec) -> tuple[float, float, float]:
 
 
 @dataclass(frozen=True, slots=True)
+class WallSpec:
+    """Vertical walls: ``loops`` of (x, y) points (m, closed) extruded from 0 to ``height``."""
+
+    name: str
+    height: float
+    loops: tuple[tuple[tuple[float, float], ...], ...]
+    collision: bool = True
+
+    def segments(self) -> _FloatArray:
+        """``(S, 2, 2)`` wall faces as (start, end) points, every loop closed."""
+        out = []
+        for loop in self.loops:
+            pts = np.asarray(loop, dtype=np.float64)
+            out.append(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
+        return np.concatenate(out) if out else np.zeros((0, 2, 2))
+
+    def to_dict(self) -> dict[str, Any]:
+        """As the plain mapping the loader accepts."""
+        return {
+            "name": self.name,
+            "height": self.height,
+            "loops": [[list(p) for p in loop] for loop in self.loops],
+            "collision": self.collision,
+        }
+
+
+@dataclass(frozen=True, slots=True)
 class CameraSpec:
     """A fixed Gazebo camera (model pose: the camera looks along its +x axis).
 
@@ -253,6 +287,7 @@ class World:
     boxes: tuple[BoxSpec, ...] = ()
     cameras: tuple[CameraSpec, ...] = ()
     static_transforms: tuple[StaticTransformSpec, ...] = ()
+    walls: tuple[WallSpec, ...] = ()
     source: str = field(default="<builtin>", compare=False)
 
     def to_dict(self) -> dict[str, Any]:
@@ -265,6 +300,7 @@ class World:
             "boxes": [b.to_dict() for b in self.boxes],
             "cameras": [c.to_dict() for c in self.cameras],
             "static_transforms": [s.to_dict() for s in self.static_transforms],
+            "walls": [w.to_dict() for w in self.walls],
         }
 
     @classmethod
@@ -458,6 +494,34 @@ def _parse_static(ctx: _Ctx, where: str, data: Any) -> StaticTransformSpec:
     return StaticTransformSpec(parent, child, (x, y, z), (r, p, yw))
 
 
+def _parse_wall(ctx: _Ctx, where: str, data: Any) -> WallSpec:
+    _check_keys(ctx, where, data, required=("name", "height", "loops"), optional=("collision",))
+    loops = []
+    points = 0
+    for i, loop in enumerate(_list(ctx, f"{where}.loops", data["loops"])):
+        pts = tuple(
+            _vector(ctx, f"{where}.loops[{i}][{j}]", p, 2, "x, y")
+            for j, p in enumerate(_list(ctx, f"{where}.loops[{i}]", loop))
+        )
+        if len(pts) < 3:
+            raise ctx.fail(f"{where}.loops[{i}]", f"a loop needs >= 3 points, got {len(pts)}")
+        points += len(pts)
+        loops.append(tuple((p[0], p[1]) for p in pts))
+    if not loops:
+        raise ctx.fail(f"{where}.loops", "needs at least one loop")
+    if points > MAX_LIST_ITEMS:
+        raise ctx.fail(f"{where}.loops", f"{points} points is over the limit of {MAX_LIST_ITEMS}")
+    collision = data.get("collision", True)
+    if not isinstance(collision, bool):
+        raise ctx.fail(f"{where}.collision", f"expected true or false, got {collision!r}")
+    return WallSpec(
+        _string(ctx, f"{where}.name", data["name"]),
+        _positive(ctx, f"{where}.height", data["height"]),
+        tuple(loops),
+        collision,
+    )
+
+
 def _parse_world(data: Any, source: str) -> World:
     name = data.get("name") if isinstance(data, Mapping) else None
     ctx = _Ctx(name if isinstance(name, str) and name else "?", source)
@@ -466,7 +530,10 @@ def _parse_world(data: Any, source: str) -> World:
         "top level",
         data,
         required=("name",),
-        optional=("description", "physics_step", "spawn", "boxes", "cameras", "static_transforms"),
+        optional=(
+            "description", "physics_step", "spawn", "boxes", "cameras", "static_transforms",
+            "walls",
+        ),
     )
     name = _string(ctx, "name", data["name"])
     boxes = tuple(
@@ -481,7 +548,15 @@ def _parse_world(data: Any, source: str) -> World:
         _parse_static(ctx, f"static_transforms[{i}]", s)
         for i, s in enumerate(_list(ctx, "static_transforms", data.get("static_transforms", [])))
     )
-    _unique(ctx, "boxes/cameras", [b.name for b in boxes] + [c.name for c in cameras])
+    walls = tuple(
+        _parse_wall(ctx, f"walls[{i}]", w)
+        for i, w in enumerate(_list(ctx, "walls", data.get("walls", [])))
+    )
+    _unique(
+        ctx,
+        "boxes/cameras/walls",
+        [b.name for b in boxes] + [c.name for c in cameras] + [w.name for w in walls],
+    )
     _unique(ctx, "static_transforms", [s.child for s in statics])
     sx, sy, syaw = _vector(ctx, "spawn", data.get("spawn", (0.0, 0.0, 0.0)), 3, "x, y, yaw")
     return World(
@@ -492,6 +567,7 @@ def _parse_world(data: Any, source: str) -> World:
         boxes=boxes,
         cameras=cameras,
         static_transforms=statics,
+        walls=walls,
         source=source,
     )
 
@@ -550,6 +626,23 @@ _BUILTIN: dict[str, dict[str, Any]] = {
         ],
     },
 }
+
+def _husarion_world() -> dict[str, Any]:
+    from posekit.robot._husarion_world import WALLS
+
+    return {
+        "name": "husarion_world",
+        "description": "Husarion's logo extruded into 1.8 m walls: a ring around six feathers "
+        "and an H (husarion_gz_worlds); the ROSbot starts where Husarion's map does.",
+        "spawn": [0.0, -1.9, 0.0],
+        "walls": [
+            {"name": name, "height": height, "loops": [list(loop) for loop in loops]}
+            for name, height, loops in WALLS
+        ],
+    }
+
+
+_BUILTIN["husarion_world"] = _husarion_world()
 
 #: Other names the course uses for the same worlds.
 _ALIASES = {"aruco_markers_world": "aruco_box_world"}

@@ -13,7 +13,8 @@ topic                      type                        content
 ``ground_truth/odom``      nav_msgs/Odometry           true pose of base_link in ``odom`` (tests,
                                                        viewer; never used by the controllers)
 ``scan``                   sensor_msgs/LaserScan       frame ``laser``, 10 Hz, 3000 beams, the
-                                                       world's boxes (only while subscribed)
+                                                       world's boxes and walls (only while
+                                                       subscribed)
 ``/robot_description``     std_msgs/String             the URDF, once, KEEP_LAST 1 TRANSIENT_LOCAL
                                                        (latched, as robot_state_publisher)
 ``/tf_static``             tf2_msgs/TFMessage          robot's fixed frames + the world's statics
@@ -81,7 +82,7 @@ from posekit.robot.imu import ImuModel
 from posekit.robot.kinematics import wrap_angle
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
 from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns, stamp_msg
-from posekit.robot.obstacles import BoxObstacles
+from posekit.robot.obstacles import BoxObstacles, WallSegments
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -169,9 +170,13 @@ class WorldSimulation(Node):
         slip_seed, imu_seed, _ = sub_seeds(seed)
         sx, sy, syaw = self.world.spawn
         #: The simulated base (ground truth and wheel joints).
+        solid = [b.collision for b in self.world.boxes] + [w.collision for w in self.world.walls]
         contact = (
-            Contact(BoxObstacles.from_world(self.world, collision_only=True))
-            if contact_enabled and any(b.collision for b in self.world.boxes)
+            Contact(
+                BoxObstacles.from_world(self.world, collision_only=True),
+                WallSegments.from_world(self.world, collision_only=True),
+            )
+            if contact_enabled and any(solid)
             else None
         )
         self.base = RosbotBase(
@@ -185,6 +190,7 @@ class WorldSimulation(Node):
             BoxObstacles.from_world(self.world),
             LidarParams(rate_hz=lidar_rate),
             seed=lidar_seed,
+            walls=WallSegments.from_world(self.world),
         )
         self._T_base_laser = T_base_frame(self.lidar.params.frame_id)
         #: ``(t_ns, reason)`` of the last :data:`MAX_KEPT_REJECTIONS` rejected /cmd_vel
