@@ -13,6 +13,7 @@ an obstacle here: the robot is planar and its scan plane is horizontal, above th
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -87,8 +88,9 @@ class WallSegments:
         return int(self.heights.shape[0])
 
 
-#: Wall faces per numpy pass (nearest first, as for boxes).
-_SEGMENTS_PER_CHUNK = 64
+#: Wall faces per numpy pass, nearest first as for boxes (husarion_world: 16 scans in 7.6 ms,
+#: 64 in 16 ms, 128 in 23 ms).
+_SEGMENTS_PER_CHUNK = 16
 
 
 def _cast_walls(o: _FloatArray, d: _FloatArray, walls: WallSegments, out: _FloatArray,
@@ -101,28 +103,46 @@ def _cast_walls(o: _FloatArray, d: _FloatArray, walls: WallSegments, out: _Float
     u = np.clip(np.einsum("sk,sk->s", rel, e) / np.maximum(np.einsum("sk,sk->s", e, e), 1e-300),
                 0.0, 1.0)
     near = np.linalg.norm(rel - u[:, None] * e, axis=1)
+
+    def cast(idx: npt.NDArray[np.intp], active: npt.NDArray[np.intp]) -> _FloatArray:
+        da = d[active]  # (n, 3)
+        ei, ai = e[idx], a[idx]  # (s, 2)
+        w = ai - o[:2]  # (s, 2)
+        # o + t d = a + u e in the ground plane: t = (w x e) / (d x e), u = (w x d) / (d x e)
+        denom = da[None, :, 0] * ei[:, None, 1] - da[None, :, 1] * ei[:, None, 0]
+        t = (w[:, None, 0] * ei[:, None, 1] - w[:, None, 1] * ei[:, None, 0]) / denom
+        s = (w[:, None, 0] * da[None, :, 1] - w[:, None, 1] * da[None, :, 0]) / denom
+        z = o[2] + t * da[None, :, 2]
+        hit = (t > 0.0) & (s >= 0.0) & (s <= 1.0) & (z >= 0.0)
+        hit &= z <= walls.heights[idx][:, None]
+        result: _FloatArray = np.where(hit, t, np.inf).min(axis=0)
+        return result
+
+    _nearest_first(near, max_range, _SEGMENTS_PER_CHUNK, out, cast)
+
+
+def _nearest_first(
+    near: _FloatArray,
+    max_range: float,
+    chunk: int,
+    out: _FloatArray,
+    cast: Callable[[npt.NDArray[np.intp], npt.NDArray[np.intp]], _FloatArray],
+) -> None:
+    """Cast obstacles nearest first, ``chunk`` at a time: ``cast(indices, active_rays)``
+    returns each active ray's nearest hit among those obstacles; ``out`` keeps the minimum.
+
+    ``near[k]`` is obstacle k's nearest possible hit (m): obstacles beyond ``max_range``
+    are skipped, and a ray already hit nearer than a chunk's nearest possible hit is done
+    (occlusion cull), so the loop ends when no ray is left.
+    """
     order = np.argsort(near, kind="stable")
     order = order[near[order] <= max_range]
-    start = 0
     with np.errstate(divide="ignore", invalid="ignore"):
-        while start < order.size:
+        for start in range(0, order.size, chunk):
             active = np.flatnonzero(out > near[order[start]])
             if active.size == 0:
                 break
-            idx = order[start : start + _SEGMENTS_PER_CHUNK]
-            start += _SEGMENTS_PER_CHUNK
-            da = d[active]  # (n, 3)
-            ei, ai = e[idx], a[idx]  # (s, 2)
-            w = ai - o[:2]  # (s, 2)
-            # o + t d = a + u e in the ground plane: t = (w x e) / (d x e), u = (w x d) / (d x e)
-            denom = da[None, :, 0] * ei[:, None, 1] - da[None, :, 1] * ei[:, None, 0]
-            t = (w[:, None, 0] * ei[:, None, 1] - w[:, None, 1] * ei[:, None, 0]) / denom
-            s = (w[:, None, 0] * da[None, :, 1] - w[:, None, 1] * da[None, :, 0]) / denom
-            z = o[2] + t * da[None, :, 2]
-            hit = (t > 0.0) & (s >= 0.0) & (s <= 1.0) & (z >= 0.0)
-            hit &= z <= walls.heights[idx][:, None]
-            dist = np.where(hit, t, np.inf).min(axis=0)
-            out[active] = np.minimum(out[active], dist)
+            out[active] = np.minimum(out[active], cast(order[start : start + chunk], active))
 
 
 def cast_rays(
@@ -160,28 +180,20 @@ def cast_rays(
     rel = o - obstacles.centres  # (M, 3)
     # Nearest possible hit of each box: its bounding sphere's near side.
     near = np.linalg.norm(rel, axis=1) - np.linalg.norm(obstacles.half_extents, axis=1)
-    order = np.argsort(near, kind="stable")
-    order = order[near[order] <= max_range]  # cull boxes wholly beyond max_range
-    start = 0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        while start < order.size:
-            # Occlusion cull: boxes come nearest first, so a ray already hit nearer than
-            # this chunk's nearest possible hit is done.
-            active = np.flatnonzero(out > near[order[start]])
-            if active.size == 0:
-                break
-            idx = order[start : start + _BOXES_PER_CHUNK]
-            start += _BOXES_PER_CHUNK
-            rot = obstacles.rotations[idx]  # (m, 3, 3) R_world_box
-            half = obstacles.half_extents[idx][:, None, :]  # (m, 1, 3)
-            o_box = np.einsum("mji,mj->mi", rot, rel[idx])[:, None, :]  # R^T (o - c)
-            inv = 1.0 / np.einsum("mji,nj->mni", rot, d[active])  # (m, n, 3): 1 / (R^T d)
-            t1 = (-half - o_box) * inv
-            t2 = (half - o_box) * inv
-            # fmin/fmax ignore the NaN of 0 * inf (a ray in a slab's boundary plane).
-            t_near = np.fmax.reduce(np.fmin(t1, t2), axis=2)
-            t_far = np.fmin.reduce(np.fmax(t1, t2), axis=2)
-            hit = (t_near <= t_far) & (t_near > 0.0)
-            dist = np.where(hit, t_near, np.inf).min(axis=0)
-            out[active] = np.minimum(out[active], dist)
+
+    def cast(idx: npt.NDArray[np.intp], active: npt.NDArray[np.intp]) -> _FloatArray:
+        rot = obstacles.rotations[idx]  # (m, 3, 3) R_world_box
+        half = obstacles.half_extents[idx][:, None, :]  # (m, 1, 3)
+        o_box = np.einsum("mji,mj->mi", rot, rel[idx])[:, None, :]  # R^T (o - c)
+        inv = 1.0 / np.einsum("mji,nj->mni", rot, d[active])  # (m, n, 3): 1 / (R^T d)
+        t1 = (-half - o_box) * inv
+        t2 = (half - o_box) * inv
+        # fmin/fmax ignore the NaN of 0 * inf (a ray in a slab's boundary plane).
+        t_near = np.fmax.reduce(np.fmin(t1, t2), axis=2)
+        t_far = np.fmin.reduce(np.fmax(t1, t2), axis=2)
+        hit = (t_near <= t_far) & (t_near > 0.0)
+        result: _FloatArray = np.where(hit, t_near, np.inf).min(axis=0)
+        return result
+
+    _nearest_first(near, max_range, _BOXES_PER_CHUNK, out, cast)
     return out

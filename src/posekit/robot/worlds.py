@@ -371,6 +371,12 @@ def _string(ctx: _Ctx, where: str, value: Any, *, allow_empty: bool = False) -> 
     return value
 
 
+def _flag(ctx: _Ctx, where: str, value: Any) -> bool:
+    if not isinstance(value, bool):
+        raise ctx.fail(where, f"expected true or false, got {value!r}")
+    return value
+
+
 def _vector(ctx: _Ctx, where: str, value: Any, n: int, meaning: str) -> tuple[float, ...]:
     if isinstance(value, str) or not isinstance(value, Sequence):
         raise ctx.fail(where, f"expected {n} numbers ({meaning}), got {value!r}")
@@ -422,9 +428,7 @@ def _parse_box(ctx: _Ctx, where: str, data: Any) -> BoxSpec:
     model = _string(ctx, f"{where}.model", data["model"])
     if model not in _MODELS:
         raise ctx.fail(f"{where}.model", f"unknown model {model!r}; known: {sorted(_MODELS)}")
-    collision = data.get("collision", True)
-    if not isinstance(collision, bool):
-        raise ctx.fail(f"{where}.collision", f"expected true or false, got {collision!r}")
+    collision = _flag(ctx, f"{where}.collision", data.get("collision", True))
     return BoxSpec(
         _string(ctx, f"{where}.name", data["name"]),
         model,
@@ -511,9 +515,7 @@ def _parse_wall(ctx: _Ctx, where: str, data: Any) -> WallSpec:
         raise ctx.fail(f"{where}.loops", "needs at least one loop")
     if points > MAX_LIST_ITEMS:
         raise ctx.fail(f"{where}.loops", f"{points} points is over the limit of {MAX_LIST_ITEMS}")
-    collision = data.get("collision", True)
-    if not isinstance(collision, bool):
-        raise ctx.fail(f"{where}.collision", f"expected true or false, got {collision!r}")
+    collision = _flag(ctx, f"{where}.collision", data.get("collision", True))
     return WallSpec(
         _string(ctx, f"{where}.name", data["name"]),
         _positive(ctx, f"{where}.height", data["height"]),

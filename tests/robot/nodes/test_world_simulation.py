@@ -284,6 +284,16 @@ def test_future_stamped_commands_are_rejected_with_one_warning_and_the_robot_sto
     assert all(m.twist.twist.linear.x == 0.0 for m in late)
 
 
+def _tf_listener_beside(world, ctx, executor) -> tuple[Node, Buffer]:
+    """A node with a tf2 Buffer and TransformListener, added with ``world`` to ``executor``."""
+    listener_node = Node("listener", context=ctx, parameter_overrides=SIM)
+    buffer = Buffer()
+    TransformListener(buffer, listener_node)
+    for n in (world, listener_node):
+        executor.add_node(n)
+    return listener_node, buffer
+
+
 def test_scan_on_the_bus_is_lazy_framed_in_tf_and_sees_the_box_ahead(ctx, executor) -> None:
     """/scan: nothing is cast while nobody subscribes (counted calls); with a subscriber,
     10 Hz scans in frame ``laser``, whose static transform the TF tree carries, and the beam
@@ -298,11 +308,7 @@ def test_scan_on_the_bus_is_lazy_framed_in_tf_and_sees_the_box_ahead(ctx, execut
     calls = []
     real_scan = world.lidar.scan
     world.lidar.scan = lambda *a: calls.append(a) or real_scan(*a)  # type: ignore[method-assign]
-    listener_node = Node("listener", context=ctx, parameter_overrides=SIM)
-    buffer = Buffer()
-    TransformListener(buffer, listener_node)
-    for n in (world, listener_node):
-        executor.add_node(n)
+    listener_node, buffer = _tf_listener_beside(world, ctx, executor)
     executor.run_until(1.0)
     assert calls == []
     scans: list[LaserScan] = []
@@ -337,11 +343,7 @@ def test_robot_description_is_latched_and_matches_the_tf_tree(ctx, executor) -> 
     from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 
     world = WorldSimulation(context=ctx, parameter_overrides=SIM)
-    listener_node = Node("listener", context=ctx, parameter_overrides=SIM)
-    buffer = Buffer()
-    TransformListener(buffer, listener_node)
-    for n in (world, listener_node):
-        executor.add_node(n)
+    listener_node, buffer = _tf_listener_beside(world, ctx, executor)
     executor.run_until(0.5)
     got: list[String] = []
     latched = QoSProfile(
