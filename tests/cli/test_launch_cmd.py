@@ -146,11 +146,11 @@ def test_world_launch_has_the_robot_and_its_cameras() -> None:
         run.shutdown()
     assert names == {"world_simulation", "wheel_odometry", "ekf_node", "oak_camera",
                      "overhead_camera"}
-    run = start_scenario("husarion_world", {}, 0, record=False)  # the empty world, said so
+    run = start_scenario("husarion_world", {}, 0, record=False)  # its own walls
     try:
         assert {n.get_name() for n in run.nodes} == {
             "world_simulation", "wheel_odometry", "ekf_node", "oak_camera"}
-        assert run.node("world_simulation").get_parameter("world").value == "empty_world"
+        assert run.node("world_simulation").get_parameter("world").value == "husarion_world"
     finally:
         run.shutdown()
 

@@ -58,6 +58,7 @@ ISSUE_TYPES = [
     "action_msgs/msg/GoalStatusArray",
     "sensor_msgs/msg/Imu",
     "sensor_msgs/msg/JointState",
+    "sensor_msgs/msg/LaserScan",
     "tf2_msgs/msg/TFMessage",
     "rosgraph_msgs/msg/Clock",
     "rcl_interfaces/msg/ParameterValue",

@@ -11,8 +11,8 @@ and terminal 2 a demo against it (``ros2 launch robot_control_demo p_controller.
   ``aruco_box_world`` and ``aruco_box_camera_world`` (plus the overhead camera and its
   static frames; both from :mod:`posekit.vision.scenarios`), ``aruco_markers_world`` (the
   lecture's name for the listener demo's world: the boxes of ``aruco_box_world``) and
-  ``husarion_world``. posekit has no model of Husarion's office world, so ``husarion_world``
-  runs the empty world (same robot and sensors, no walls) and says so when it starts.
+  ``husarion_world`` (Husarion's logo as 1.8 m walls, which the LiDAR sees and the robot
+  stops at; the OAK camera does not draw walls).
 * **Demo launches** (``robot_control_demo``, ``frame_demo``): only the demo's nodes, on sim
   time that the running world owns (they follow its ``/clock`` and start no simulation), on
   the network transport. They are registered as scenarios named ``PACKAGE/NAME``.
@@ -54,11 +54,6 @@ __all__ = ["EXECUTABLES", "LAUNCH_FILES", "WORLD_ALIASES", "resolve_launch", "re
 
 #: Worlds the lecture names that posekit runs as another world: name -> (world, note).
 WORLD_ALIASES: dict[str, tuple[str, str]] = {
-    "husarion_world": (
-        "empty_world",
-        "posekit has no model of Husarion's office world (husarion_world.sdf): running the "
-        "empty world with the same robot and sensors",
-    ),
     "aruco_markers_world": (
         "aruco_box_world",
         "aruco_markers_world is the lecture's name for the boxes of aruco_box_world",
@@ -77,14 +72,18 @@ def _vision() -> Any:
     return nodes
 
 
-def _empty_world(params: Mapping[str, Any], seed: int) -> LaunchDescription:
-    """The ROSbot in the empty world with its OAK camera (when OpenCV is there)."""
-    nodes = robot_nodes(params, seed, world="empty_world")
-    vision = _vision()
-    if vision is not None:
-        nodes.append(scenario_node(vision.OakCameraNode, "oak_camera",
-                                   {"world": "empty_world", "seed": seed}, params))
-    return LaunchDescription(nodes)
+def _robot_world(world: str) -> Any:
+    """The ROSbot in ``world`` with its OAK camera (when OpenCV is there)."""
+
+    def factory(params: Mapping[str, Any], seed: int) -> LaunchDescription:
+        nodes = robot_nodes(params, seed, world=world)
+        vision = _vision()
+        if vision is not None:
+            nodes.append(scenario_node(vision.OakCameraNode, "oak_camera",
+                                       {"world": world, "seed": seed}, params))
+        return LaunchDescription(nodes)
+
+    return factory
 
 
 def _alias(name: str) -> Any:
@@ -93,8 +92,7 @@ def _alias(name: str) -> Any:
 
     def factory(params: Mapping[str, Any], seed: int) -> LaunchDescription:
         logger = get_logger("posekit.launch")
-        # No model at all (husarion_world) is worth a warning; a second name is not.
-        (logger.warning if target == "empty_world" else logger.info)(f"{name}: {note}")
+        logger.info(f"{name}: {note}")
         description: LaunchDescription = get_scenario(target).factory(params, seed)
         return description
 
@@ -106,9 +104,14 @@ def _alias(name: str) -> Any:
 _WORLDS = ("empty_world", "husarion_world", "aruco_box_world", "aruco_box_camera_world",
            "aruco_markers_world")
 register_scenario(
-    "empty_world", _empty_world, replace=True,
+    "empty_world", _robot_world("empty_world"), replace=True,
     description="world only: the ROSbot with its sensors (OAK camera: with OpenCV) in "
                 "empty_world",
+)
+register_scenario(
+    "husarion_world", _robot_world("husarion_world"), replace=True,
+    description="world only: the ROSbot with its sensors in husarion_world (Husarion's logo "
+                "as walls; the cameras do not draw them)",
 )
 for _name, (_target, _note) in WORLD_ALIASES.items():
     if _target in scenario_names():
