@@ -18,11 +18,15 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("tf", "static"): ("posekit.cli.tf_static:main", "static_transform_publisher"),
     ("tf", "frames"): ("posekit.cli.view_frames:main", "view_frames: write frames_*.gv/.pdf"),
     ("tf", "tree"): ("posekit.cli.view_frames:main_tree", "print the frame tree"),
-    ("topic", "list"): ("posekit.cli.topic_cmd:main_list", "list topics (-t: with types)"),
-    ("topic", "info"): ("posekit.cli.topic_cmd:main_info", "type and endpoint counts of a topic"),
-    ("topic", "echo"): ("posekit.cli.topic_cmd:main_echo", "print a topic's messages"),
-    ("topic", "hz"): ("posekit.cli.topic_cmd:main_hz", "average receive rate of a topic"),
-    ("topic", "pub"): ("posekit.cli.topic_cmd:main_pub", "publish a message (YAML values)"),
+    ("topic", "list"): ("posekit.cli.topic_list:main_list", "list topics (-t: with types)"),
+    ("topic", "info"): ("posekit.cli.topic_list:main_info", "type and endpoint counts of a topic"),
+    ("topic", "type"): ("posekit.cli.topic_list:main_type", "print a topic's type"),
+    ("topic", "find"): ("posekit.cli.topic_list:main_find", "list the topics of a type"),
+    ("topic", "echo"): ("posekit.cli.topic_echo:main_echo", "print a topic's messages"),
+    ("topic", "hz"): ("posekit.cli.topic_rate:main_hz", "average receive rate of a topic"),
+    ("topic", "bw"): ("posekit.cli.topic_rate:main_bw", "bandwidth used by a topic"),
+    ("topic", "delay"): ("posekit.cli.topic_rate:main_delay", "delay of a topic from its header"),
+    ("topic", "pub"): ("posekit.cli.topic_pub:main_pub", "publish a message (YAML values)"),
     ("node", "list"): ("posekit.cli.node_cmd:main_list", "list nodes on the graph"),
     ("router", None): ("posekit.cli.router_cmd:main", "run a zenoh router until Ctrl-C"),
     ("bag", "record"): ("posekit.cli.bag_cmd:record", "record topics to a ROS 2 bag (MCAP)"),
@@ -43,26 +47,54 @@ def _usage() -> str:
     return "\n".join(lines) + "\n"
 
 
+def _group_usage(group: str) -> str:
+    verbs = [(command, text) for (g, command), (_, text) in _COMMANDS.items()
+             if g == group and command is not None]
+    lines = [f"usage: posekit {group} VERB [ARGS...]", "", "verbs:"]
+    lines += [f"  {command:<10}{text}" for command, text in sorted(verbs)]
+    lines += ["", f"Call `posekit {group} <verb> -h` for more detailed usage."]
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run ``posekit`` with ``argv`` (default: the process arguments); returns the exit code."""
+    """Run ``posekit`` with ``argv`` (default: the process arguments); returns the exit code.
+
+    Every error a user can cause ends in one line ``posekit <verb>: error: <reason>`` and a
+    non-zero exit (see :mod:`posekit.cli.errors`), never in a traceback.
+    """
     args = list(sys.argv[1:] if argv is None else argv)
     if not args or args[0] in ("-h", "--help", "help"):
         sys.stdout.write(_usage())
         return 0 if args else 2
     group, rest = args[0], args[1:]
     key: tuple[str, str | None] = (group, None)
+    groups = {g for g, _ in _COMMANDS}
     if key not in _COMMANDS:
-        if not rest or (group, rest[0]) not in _COMMANDS:
-            sys.stderr.write(f"posekit: unknown command {' '.join(args[:2])!r}\n\n{_usage()}")
+        if group not in groups:
+            sys.stderr.write(_usage() + f"posekit: error: unknown command {group!r}\n")
+            return 2
+        if not rest or rest[0] in ("-h", "--help"):  # ros2 lists a command's verbs
+            sys.stdout.write(_group_usage(group))
+            return 0
+        if (group, rest[0]) not in _COMMANDS:
+            sys.stderr.write(_group_usage(group) +
+                             f"posekit {group}: error: unknown verb {rest[0]!r}\n")
             return 2
         key, rest = (group, rest[0]), rest[1:]
+    prog = "posekit " + " ".join(k for k in key if k)
     target = _COMMANDS[key][0]
     module_name, _, function_name = target.partition(":")
-    function = getattr(importlib.import_module(module_name), function_name)
     try:
+        function = getattr(importlib.import_module(module_name), function_name)
         result = function(rest)
     except KeyboardInterrupt:
         return 130
+    except SystemExit:  # argparse's usage errors and --help have printed their text
+        raise
+    except Exception as exc:
+        from posekit.cli.errors import report
+
+        return report(exc, prog)
     return int(result or 0)
 
 

@@ -13,7 +13,7 @@ from collections import Counter
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-from posekit.cli.topic_cmd import cli_node_name, is_hidden_name, sync_graph
+from posekit.cli._graph import cli_node_name, is_hidden_name, node_names, sync_graph
 
 __all__ = ["main", "main_list", "node_names"]
 
@@ -21,18 +21,6 @@ DUPLICATE_WARNING = (
     "WARNING: Be aware that there are nodes in the graph that share an exact name, "
     "which can have unintended side effects.\n"
 )
-
-
-def node_names(session: Any) -> list[str]:
-    """Fully qualified node names on the session's transport (duplicates kept), sorted."""
-    transport = session.node.transport
-    graph = getattr(transport, "graph", None)
-    if graph is not None:
-        from posekit.transport.zenoh_wire import EntityKind
-
-        return sorted(t.node_fqn for t in graph.entities() if t.kind is EntityKind.NODE)
-    getter = getattr(transport, "get_node_names", None)
-    return sorted(getter()) if getter is not None else []
 
 
 def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
