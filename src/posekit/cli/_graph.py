@@ -152,8 +152,9 @@ def node_interfaces(session: Any, node_fqn: str) -> NodeInterfaces | None:
     """The interfaces of the node ``node_fqn`` (``/ns/name``) from the graph; None if absent.
 
     Actions are recognised as rcl_action names them: a service ``<action>/_action/send_goal``
-    of type ``pkg/action/Name_SendGoal``; the action's other services and topics
-    (``_action/...``) are hidden from the other sections, as ``ros2 node info`` hides them.
+    of type ``pkg/action/Name_SendGoal`` makes ``<action>`` an action server (a client of it,
+    an action client) of type ``pkg/action/Name``. The action's own services and topics stay
+    in the other sections; their names are hidden (``_action``) as in ROS.
     """
     from posekit.transport.zenoh_wire import EntityKind
 
@@ -164,16 +165,13 @@ def node_interfaces(session: Any, node_fqn: str) -> NodeInterfaces | None:
     for e in entities:
         if e.kind is EntityKind.NODE or not e.topic:
             continue
-        kind = e.kind.value
-        name, type_name = e.topic, e.ros_type or ""
-        if "/_action/" in name:
-            if not name.endswith(_ACTION_SERVICE) or kind not in ("SS", "SC"):
-                continue
-            name = name[: -len(_ACTION_SERVICE)]
-            type_name = type_name.removesuffix("_SendGoal")
-            kind = "AS" if kind == "SS" else "AC"
-        elif kind in ("SS", "SC"):
+        kind, name, type_name = e.kind.value, e.topic, e.ros_type or ""
+        if kind in ("SS", "SC"):
             type_name = type_name.removesuffix("_Request").removesuffix("_Response")
+            if name.endswith(_ACTION_SERVICE):
+                action_kind = "AS" if kind == "SS" else "AC"
+                found.setdefault(action_kind, {}).setdefault(
+                    name[: -len(_ACTION_SERVICE)], set()).add(type_name.removesuffix("_SendGoal"))
         found.setdefault(kind, {}).setdefault(name, set()).add(type_name)
 
     def section(kind: str) -> list[tuple[str, list[str]]]:

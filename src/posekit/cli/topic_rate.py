@@ -9,8 +9,9 @@
   receive time minus ``header.stamp`` (``no new messages`` when none arrived).
 
 posekit's additions: ``--timeout S`` ends the tool cleanly when no message has arrived for S
-seconds (also while waiting for the topic to appear: exit 1 with a one-line reason if nothing
-was ever measured, else 0), ``--count N`` after N reports.
+seconds (also while waiting for the topic to appear; a message ``--filter`` rejects does not
+count): exit 1 with a one-line reason if nothing was ever measured, else 0; ``--count N``
+exits after N reports.
 """
 
 from __future__ import annotations
@@ -114,7 +115,10 @@ class _Monitor:
         self.received = 0
         self._last_rx = time.monotonic()
 
-    def run(self, sample: Callable[[Any, Any], None], tick: Callable[[Any], bool]) -> int:
+    def run(self, sample: Callable[[Any, Any], bool], tick: Callable[[Any], bool],
+            needs_field: str | None = None) -> int:
+        """Spin until ``--count`` reports, Ctrl-C, or ``--timeout`` without a measured message
+        (``sample`` returns False for a message it did not measure)."""
         from posekit.runtime.qos import qos_profile_sensor_data
 
         with session_for(self.ns, self.context) as session:
@@ -123,25 +127,41 @@ class _Monitor:
             if type_name is None:
                 raise CliError(f"topic [{topic}] did not appear within {self.limit_s:g} s")
 
-            def on_message(msg: Any) -> None:
-                self.received += 1
-                self._last_rx = time.monotonic()
-                sample(session, msg)
+            msg_cls = message_class(type_name)
+            if needs_field is not None and needs_field not in getattr(
+                    msg_cls, "__dataclass_fields__", {}):
+                raise CliError(f"messages of type {type_name} have no {needs_field}; "
+                               f"{self.verb} needs {needs_field}.stamp")
+            failure: list[CliError] = []
 
-            session.node.create_subscription(message_class(type_name), topic, on_message,
+            def on_message(msg: Any) -> None:
+                if failure:
+                    return
+                try:
+                    measured = sample(session, msg)
+                except CliError as exc:  # a --filter failing on a message
+                    failure.append(exc)
+                    return
+                if measured:
+                    self.received += 1
+                    self._last_rx = time.monotonic()
+
+            session.node.create_subscription(msg_cls, topic, on_message,
                                              qos_profile_sensor_data)
             self._last_rx = time.monotonic()
             while session.context.ok():
                 session.spin_for(0.05)
+                if failure:
+                    raise failure[0]
                 if tick(session):
                     self.reports += 1
                 if self.ns.count is not None and self.reports >= self.ns.count:
                     break
                 if self.limit_s is not None and time.monotonic() - self._last_rx > self.limit_s:
                     if self.received == 0:
-                        raise CliError(f"no message received on [{topic}] within "
+                        raise CliError(f"no message measured on [{topic}] within "
                                        f"{self.limit_s:g} s")
-                    self.err.write(f"no message received on [{topic}] for {self.limit_s:g} s; "
+                    self.err.write(f"no message measured on [{topic}] for {self.limit_s:g} s; "
                                    "exiting\n")
                     break
         return 0
@@ -169,21 +189,22 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
             return time.time_ns()
         return int(session.node.get_clock().now().nanoseconds)
 
-    def sample(session: Any, msg: Any) -> None:
+    def sample(session: Any, msg: Any) -> bool:
         if accept is not None and not accept(msg):
-            return
+            return False
         now = now_ns(session)
         if now == 0:
             if deltas:
                 out.write("time has reset, resetting counters\n")
                 deltas.clear()
-            return
+            return True
         if state["t0"] < 0 or state["t0"] > now:
             state["t0"] = state["tn"] = now
             deltas.clear()
         else:
             deltas.append(now - state["tn"])
             state["tn"] = now
+        return True
 
     def tick(_session: Any) -> bool:
         if not deltas:
@@ -214,8 +235,9 @@ def main_bw(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
     next_print = [0.0]
     out.write(f"Subscribed to [{ns.topic_name}]\n")
 
-    def sample(session: Any, msg: Any) -> None:
+    def sample(session: Any, msg: Any) -> bool:
         samples.append((int(session.node.get_clock().now().nanoseconds), len(to_cdr(msg))))
+        return True
 
     def tick(session: Any) -> bool:
         wall = time.monotonic()
@@ -249,17 +271,14 @@ def main_delay(argv: Sequence[str], *, context: Any = None, out: TextIO | None =
     state = {"t0": -1, "tn": 0, "last": 0}
     next_print = [time.monotonic() + 1.0]
 
-    def sample(session: Any, msg: Any) -> None:
-        header = getattr(msg, "header", None)
-        if header is None:
-            raise CliError(f"messages of type {getattr(msg, '__msgtype__', type(msg).__name__)} "
-                           "have no header; delay needs header.stamp")
+    def sample(session: Any, msg: Any) -> bool:
+        header = msg.header
         now = int(session.node.get_clock().now().nanoseconds)
         if now == 0:
             if delays:
                 out.write("time has reset, resetting counters\n")
                 delays.clear()
-            return
+            return True
         if state["t0"] < 0 or state["t0"] > now:
             state["t0"] = state["tn"] = now
             delays.clear()
@@ -267,6 +286,7 @@ def main_delay(argv: Sequence[str], *, context: Any = None, out: TextIO | None =
             stamp = header.stamp
             delays.append(now - (int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)))
             state["tn"] = now
+        return True
 
     def tick(_session: Any) -> bool:
         wall = time.monotonic()
@@ -283,4 +303,4 @@ def main_delay(argv: Sequence[str], *, context: Any = None, out: TextIO | None =
         out.flush()
         return True
 
-    return _Monitor(ns, "delay", context, err, timeout_s).run(sample, tick)
+    return _Monitor(ns, "delay", context, err, timeout_s).run(sample, tick, "header")
