@@ -115,8 +115,9 @@ def test_record_all_and_metadata_version(ctx: Context, tmp_path: Path) -> None:
     "argv",
     [
         ["-o", "X"],  # neither topics nor --all
-        ["-o", "X", "/a", "--all"],  # both
-        ["/a"],  # no output
+        ["-o", "X", "--exclude-regex", "b", "/a"],  # exclusion needs --all or --regex
+        ["-o", "X", "--exclude-topics", "/b", "--topics", "/a"],
+        ["-o", "X", "--compression-format", "zstd", "/a"],  # a format needs a mode
         ["-o", "X", "/a", "--metadata-version", "7"],
         ["-o", "X", "/a", "--duration", "-1"],
     ],
@@ -133,7 +134,7 @@ def test_record_refuses_existing_output(tmp_path: Path, ctx: Context,
                                         capsys: pytest.CaptureFixture[str]) -> None:
     (tmp_path / "exists").mkdir()
     assert record(["-o", str(tmp_path / "exists"), "/a"], context=ctx) == 1
-    assert "exists already" in capsys.readouterr().err
+    assert "already exists." in capsys.readouterr().err  # rosbag2's wording
 
 
 def test_info_prints_the_summary(small_bag: Path) -> None:
