@@ -19,10 +19,13 @@ from typing import Any
 class Proc:
     """A child process whose stdout and stderr lines are collected by reader threads."""
 
-    def __init__(self, args: list[str], env: dict[str, str], cwd: Path | None = None) -> None:
+    def __init__(self, args: list[str], env: dict[str, str], cwd: Path | None = None,
+                 stdin: int | None = None) -> None:
+        """``stdin``: a file descriptor for the child's stdin (a pty, say); default none."""
         self.args = args
         self.popen = subprocess.Popen(
-            args, env=env, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+            args, env=env, cwd=cwd, stdin=subprocess.DEVNULL if stdin is None else stdin,
+            stdout=subprocess.PIPE,
             stderr=subprocess.PIPE, text=True, bufsize=1,
         )
         self.lines: queue.Queue[str] = queue.Queue()

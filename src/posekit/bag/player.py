@@ -337,8 +337,8 @@ class Player:
                     if self._clock_pub is not None and now >= next_clock:
                         self._send_clock(min(bag_now, message.timestamp_ns))
                         next_clock = now + period
-                    if step or bag_now >= message.timestamp_ns:
-                        if step or paused:
+                    if step or (not paused and bag_now >= message.timestamp_ns):
+                        if step:
                             anchor_bag, anchor_wall = message.timestamp_ns, now
                         break
                     due_in = (message.timestamp_ns - bag_now) / 1e9 / rate
