@@ -36,6 +36,7 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("bag", "info"): ("posekit.cli.bag_cmd:info", "summarise a bag like ros2 bag info"),
     ("view", None): ("posekit.cli.view_cmd:main", "serve the browser viewer (RViz2's role)"),
     ("plot", "odometry"): ("posekit.cli.plot_cmd:main_odometry", "plot odometry vs truth"),
+    ("plot", "topic"): ("posekit.cli.plot_cmd:main_topic", "plot fields of a recorded topic"),
     ("launch", None): ("posekit.cli.launch_cmd:main", "run a scenario or a launch file"),
     ("demo", None): ("posekit.demos.main:main", "run the main demo"),
 }
