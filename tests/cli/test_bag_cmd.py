@@ -147,6 +147,9 @@ def test_info_prints_the_summary(small_bag: Path) -> None:
     verbose = io.StringIO()
     assert info([str(small_bag), "-v"], out=verbose) == 0
     assert "Version:           9" in verbose.getvalue()
+    names = io.StringIO()
+    assert info([str(small_bag), "-t"], out=names) == 0
+    assert names.getvalue() == "/words\n"
 
 
 def test_info_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

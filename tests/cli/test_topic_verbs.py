@@ -17,6 +17,7 @@ import sys
 import textwrap
 import time
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -389,3 +390,37 @@ def test_node_info_services_and_actions_from_rmw_zenoh_tokens(ctx: Context,
         for token in tokens:
             token.undeclare()
         ros.close()
+
+
+# -- bag record against the running system ------------------------------------------------------
+
+def test_bag_record_regex_and_duration_split(ctx: Context, tmp_path: Path) -> None:
+    """Records the other process's topics over Zenoh; read back by rosbags and by mcap."""
+    from mcap.reader import make_reader
+    from rosbags.rosbag2 import Reader
+    from rosbags.typesys import Stores, get_typestore
+
+    from posekit.cli.bag_cmd import record
+
+    out = tmp_path / "live"
+    assert record(["-o", str(out), "-e", "^/(odom|chatter)$", "--exclude-regex", "chat",
+                   "-d", "1", "--duration", "2.6"], context=ctx) == 0
+    files = sorted(p.name for p in out.glob("*.mcap"))
+    assert files == [f"live_{i}.mcap" for i in range(len(files))]
+    assert len(files) >= 2  # receive stamps over ~2.6 s, a new file after each second
+    store = get_typestore(Stores.ROS2_JAZZY)
+    with Reader(out) as reader:
+        assert [c.topic for c in reader.connections][:1] == ["/odom"]
+        assert {c.topic for c in reader.connections} == {"/odom"}
+        xs = [store.deserialize_cdr(raw, c.msgtype).pose.pose.position.x
+              for c, _, raw in reader.messages()]
+    assert len(xs) > 20  # 20 Hz
+    assert set(xs) <= {float(i) for i in range(10)}
+    total = 0
+    for name in files:
+        with (out / name).open("rb") as f:
+            summary = make_reader(f).get_summary()
+        assert summary is not None
+        assert summary.statistics is not None
+        total += summary.statistics.message_count
+    assert total == len(xs)

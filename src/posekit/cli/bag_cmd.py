@@ -428,20 +428,31 @@ def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None)
 
 
 def info(argv: Sequence[str], *, out: TextIO | None = None) -> int:
-    """``posekit bag info DIR [-v]``."""
+    """``posekit bag info DIR [-t] [-v]``."""
     parser = _Parser(prog="posekit bag info", description="Print a bag's summary.")
     parser.add_argument("bag", help="rosbag2 directory")
+    parser.add_argument("-t", "--topic-name", action="store_true",
+                        help="only display topic names")
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="also metadata version, compression and offered QoS")
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
     from posekit.bag import BagError, bag_info, format_info
+    from posekit.bag.info import is_service_event_topic
 
+    out = out or sys.stdout
     try:
         summary = bag_info(ns.bag)
     except BagError as exc:
         sys.stderr.write(f"posekit bag info: {exc}\n")
         return 1
-    (out or sys.stdout).write(format_info(summary, verbose=ns.verbose))
+    if ns.topic_name and ns.verbose:
+        out.write("Warning! You have set both the '-t' and '-v' parameters. The '-t' parameter "
+                  "will be ignored.\n")
+    if ns.topic_name and not ns.verbose:
+        out.write("".join(f"{t.name}\n" for t in summary.topics
+                          if not is_service_event_topic(t.name, t.msgtype)))
+        return 0
+    out.write(format_info(summary, verbose=ns.verbose))
     return 0
