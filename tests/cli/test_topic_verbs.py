@@ -209,6 +209,29 @@ def test_echo_qos_override_and_explicit_type(ctx: Context) -> None:
     assert out.startswith("data: 'hello: ")
 
 
+def test_echo_include_message_info(ctx: Context) -> None:
+    """rclpy's MessageInfo from rmw_zenoh's attachment, printed as ros2 prints it."""
+    before = time.time_ns()
+    out = echo(ctx, "/chatter", "-i", "--count", "2")
+    blocks = out.split("---\n")
+    info_text = blocks[0]
+    assert info_text.splitlines()[0].startswith("publication_sequence_number: ")
+    keys = [line.split(":")[0] for line in info_text.splitlines()]
+    assert keys == sorted(keys) == ["publication_sequence_number", "received_timestamp",
+                                    "reception_sequence_number", "source_timestamp"]
+    first, second = yaml.safe_load(blocks[0]), yaml.safe_load(blocks[2])
+    assert second["publication_sequence_number"] == first["publication_sequence_number"] + 1
+    assert before - 5 * 10**9 < first["source_timestamp"] <= first["received_timestamp"]
+    assert first["received_timestamp"] < time.time_ns()
+    assert yaml.safe_load(blocks[1])["data"].startswith("hello: ")
+    line = echo(ctx, "/chatter", "-i", "--csv", "--once").rstrip("\n")
+    source, received, seq, reception, data = line.split(",", 4)
+    assert int(source) <= int(received)
+    assert int(seq) > 0
+    assert reception == "0"
+    assert data.startswith("hello: ")
+
+
 def test_echo_timeout_ends_quietly_like_ros2(ctx: Context) -> None:
     out, err = io.StringIO(), io.StringIO()
     start = time.monotonic()

@@ -125,6 +125,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="Print the first message received and then exit.")
     parser.add_argument("--timeout", metavar="N", type=positive_float, default=None,
                         help="Set a timeout in seconds for waiting")
+    parser.add_argument("--include-message-info", "-i", action="store_true",
+                        help="Shows the associated message info.")
     parser.add_argument("--count", type=non_negative_int, default=None,
                         help="exit after printing N messages (posekit addition)")
     add_transport_args(parser)
@@ -169,12 +171,12 @@ def main_echo(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
         printed = 0
         failure: list[BaseException] = []
 
-        def on_message(msg: Any) -> None:
+        def on_message(msg: Any, info: Any = None) -> None:
             nonlocal printed
             if failure or (limit is not None and printed >= limit):
                 return
             try:
-                text = _render(msg, ns, field, truncate, accept)
+                text = _render(msg, ns, field, truncate, accept, info)
             except (CliError, MessageFieldError) as exc:
                 failure.append(exc)
                 return
@@ -184,7 +186,12 @@ def main_echo(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
             out.flush()
             printed += 1
 
-        session.node.create_subscription(msg_cls, topic, on_message, qos)
+        def on_message_with_info(msg: Any, info: Any) -> None:
+            on_message(msg, info)
+
+        session.node.create_subscription(
+            msg_cls, topic, on_message_with_info if ns.include_message_info else on_message,
+            qos)
         deadline = None if wait_s is None else time.monotonic() + wait_s
         while session.context.ok() and (limit is None or printed < limit):
             if failure:
@@ -196,19 +203,35 @@ def main_echo(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
 
 
 def _render(msg: Any, ns: argparse.Namespace, field: str | None, truncate: int | None,
-            accept: Callable[[Any], bool] | None) -> str | None:
-    """What ros2 prints for one message, or None when the filter rejects it."""
+            accept: Callable[[Any], bool] | None, info: Any = None) -> str | None:
+    """What ros2 prints for one message, or None when the filter rejects it.
+
+    With message info: before a YAML message ``yaml.dump(info)`` (keys sorted, as PyYAML
+    does) and ``---``; before a CSV line the info values in rclpy's order; before a raw or
+    scalar one, rclpy's ``---Got new message, message info:---`` block.
+    """
     value = get_field(msg, field) if field is not None else msg
     if accept is not None and not accept(value):
         return None
-    if ns.raw and field is None:
-        from posekit.msgs.cdr import to_cdr
+    raw = ns.raw and field is None
+    if raw or not hasattr(value, "__dataclass_fields__"):  # bytes, or a field not a message
+        if raw:
+            from posekit.msgs.cdr import to_cdr
 
-        return f"{to_cdr(msg)!r}\n---\n"
-    if not hasattr(value, "__dataclass_fields__"):  # a field that is not a message
-        return f"{value}\n---\n"
+            value = to_cdr(msg)
+        head = ("---Got new message, message info:---\n"
+                f"{dict(info)}\n---Message data:---\n") if info is not None else ""
+        return f"{head}{value}\n---\n"
     if ns.csv:
-        return message_to_csv(value, truncate_length=truncate, no_arr=ns.no_arr,
-                              no_str=ns.no_str) + "\n"
-    return message_to_yaml(value, truncate_length=truncate, no_arr=ns.no_arr,
-                           no_str=ns.no_str, flow_style=ns.flow_style) + "---\n"
+        line = message_to_csv(value, truncate_length=truncate, no_arr=ns.no_arr,
+                              no_str=ns.no_str)
+        if info is not None:
+            line = ",".join(str(v) for v in info.values()) + "," + line
+        return line + "\n"
+    head = ""
+    if info is not None:
+        import yaml  # type: ignore[import-untyped,unused-ignore]
+
+        head = yaml.dump(dict(info)) + "---\n"
+    return head + message_to_yaml(value, truncate_length=truncate, no_arr=ns.no_arr,
+                                  no_str=ns.no_str, flow_style=ns.flow_style) + "---\n"

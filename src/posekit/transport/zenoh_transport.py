@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 import threading
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -207,10 +208,17 @@ class ZenohTransport(Transport):
         _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Subscription(self, info)
+        with_info = bool(getattr(getattr(sink, "__self__", None), "wants_message_info", False))
 
-        def deliver(msg: Any, _att: Attachment) -> None:
+        def deliver(msg: Any, att: Attachment) -> None:
             if endpoint.alive:
-                sink(msg)
+                if with_info:  # rclpy's MessageInfo from rmw_zenoh's attachment
+                    sink(msg, {"source_timestamp": att.source_timestamp,  # type: ignore[call-arg]
+                               "received_timestamp": time.time_ns(),
+                               "publication_sequence_number": att.sequence_number,
+                               "reception_sequence_number": 0})
+                else:
+                    sink(msg)
 
         qos = wire_qos(info.qos)
         self._check_qos(info, qos, EntityKind.SUBSCRIPTION)
