@@ -166,3 +166,38 @@ def test_bad_options(tmp_path: Path) -> None:
     with pytest.raises(BagOptionError, match=">= 0"):
         Recorder(tmp_path / "y", ["/a"], max_bag_size=-1)
     assert not (tmp_path / "x").exists()
+
+
+def test_convert_merges_splits_and_selects(tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    """``posekit bag convert`` with ros2 bag convert's options file."""
+    from posekit.cli.main import main
+
+    record_run(tmp_path / "a", 1.05, ["/words"])
+    record_run(tmp_path / "b", 1.05, ["/other_words", "/skip_me"])
+    options = tmp_path / "out.yaml"
+    options.write_text(yaml.safe_dump({"output_bags": [
+        {"uri": str(tmp_path / "merged"), "storage_id": "mcap", "all_topics": True,
+         "exclude_topics": ["/skip_me"], "max_bagfile_duration": 0.5},
+        {"uri": str(tmp_path / "other"), "regex": "other", "compression_mode": "file",
+         "compression_format": "zstd"},
+    ]}))
+    assert main(["bag", "convert", "-i", str(tmp_path / "a"), "-i", str(tmp_path / "b"),
+                 "mcap", "-o", str(options)]) == 0
+    assert "wrote 20 messages" in capsys.readouterr().err
+    merged = rosbags_messages(tmp_path / "merged")
+    inputs = sorted(rosbags_messages(tmp_path / "a") + [
+        m for m in rosbags_messages(tmp_path / "b") if m[0] != "/skip_me"],
+        key=lambda m: m[1])
+    assert sorted(merged) == sorted(inputs)
+    assert [t for _, t, _ in merged] == sorted(t for _, t, _ in merged)
+    files = per_file(tmp_path / "merged")
+    assert len(files) == 2  # 1 s of messages, a new file after more than 0.5 s
+    assert [m for msgs in files.values() for m in msgs] == merged
+    other = rosbags_messages(tmp_path / "other")
+    assert {t for t, _, _ in other} == {"/other_words"}
+    assert (tmp_path / "other" / "other_0.mcap.zstd").is_file()
+    options.write_text("output_bags:\n- uri: x\n  bogus: 1\n")
+    assert main(["bag", "convert", "-i", str(tmp_path / "a"), "-o", str(options)]) == 1
+    assert capsys.readouterr().err == (
+        "posekit bag convert: error: unknown output bag option(s) ['bogus']\n")

@@ -23,7 +23,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
-__all__ = ["info", "play", "record"]
+__all__ = ["convert", "info", "play", "record"]
 
 
 class _UsageError(Exception):
@@ -455,4 +455,38 @@ def info(argv: Sequence[str], *, out: TextIO | None = None) -> int:
                           if not is_service_event_topic(t.name, t.msgtype)))
         return 0
     out.write(format_info(summary, verbose=ns.verbose))
+    return 0
+
+
+def convert(argv: Sequence[str]) -> int:
+    """``posekit bag convert -i BAG [STORAGE] [-i ...] -o OUTPUT_OPTIONS.yaml``."""
+    parser = _Parser(prog="posekit bag convert",
+                     description="Merge, split, select and recompress bags (ros2 bag convert).")
+    parser.add_argument("-i", "--input", required=True, action="append", nargs="+",
+                        metavar=("uri", "storage_id"),
+                        help="URI (and optional storage ID) of an input bag; repeatable")
+    parser.add_argument("-o", "--output-options", required=True,
+                        help="YAML file with a top-level 'output_bags' list of output bag "
+                             "options (uri, storage_id, max_bagfile_size, "
+                             "max_bagfile_duration, compression_mode, compression_format, "
+                             "all_topics, topics, regex, exclude_regex, exclude_topics, "
+                             "include_hidden_topics)")
+    ns = _parse(parser, argv)
+    if isinstance(ns, int):
+        return ns
+    for entry in ns.input:
+        if len(entry) > 2:
+            sys.stderr.write(parser.format_usage() + "posekit bag convert: error: --input "
+                             f"expects 1 or 2 arguments, {len(entry)} provided\n")
+            return 2
+        if len(entry) == 2 and entry[1] not in ("", "mcap", "sqlite3"):
+            sys.stderr.write(f"posekit bag convert: error: unknown storage id {entry[1]!r}\n")
+            return 2
+
+    from posekit.bag.convert import convert as rewrite
+    from posekit.bag.convert import load_output_options
+
+    counts = rewrite([entry[0] for entry in ns.input], load_output_options(ns.output_options))
+    for uri, count in counts.items():
+        sys.stderr.write(f"posekit bag convert: wrote {count} messages to {uri}\n")
     return 0

@@ -33,6 +33,7 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("router", None): ("posekit.cli.router_cmd:main", "run a zenoh router until Ctrl-C"),
     ("bag", "record"): ("posekit.cli.bag_cmd:record", "record topics to a ROS 2 bag (MCAP)"),
     ("bag", "play"): ("posekit.cli.bag_cmd:play", "play a bag back on sim time"),
+    ("bag", "convert"): ("posekit.cli.bag_cmd:convert", "merge/split/filter bags (YAML options)"),
     ("bag", "info"): ("posekit.cli.bag_cmd:info", "summarise a bag like ros2 bag info"),
     ("view", None): ("posekit.cli.view_cmd:main", "serve the browser viewer (RViz2's role)"),
     ("plot", "odometry"): ("posekit.cli.plot_cmd:main_odometry", "plot odometry vs truth"),
