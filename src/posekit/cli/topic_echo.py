@@ -36,18 +36,26 @@ from posekit.msgs.yaml_io import (
     message_to_yaml,
 )
 
-__all__ = ["compile_filter", "main_echo", "non_negative_int", "positive_float"]
+__all__ = ["compile_filter", "main_echo", "non_negative_int", "positive_float", "positive_int"]
 
 
-def non_negative_int(text: str) -> int:
-    """argparse type: an int >= 0 (ros2cli's ``unsigned_int``)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"invalid int value: '{text}'") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"value must be non-negative: {value}")
-    return value
+def _int_at_least(minimum: int, what: str) -> Callable[[str], int]:
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"invalid int value: '{text}'") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"value must be {what}: {value}")
+        return value
+
+    return parse
+
+
+#: argparse type: an int >= 0 (ros2cli's ``unsigned_int``).
+non_negative_int = _int_at_least(0, "non-negative")
+#: argparse type: an int > 0 (ros2cli's ``positive_int``).
+positive_int = _int_at_least(1, "positive")
 
 
 def positive_float(text: str) -> float:

@@ -26,7 +26,7 @@ from typing import Any, TextIO
 
 from posekit.cli._graph import add_transport_args, resolve_topic, session_for, wait_for_topic_type
 from posekit.cli.errors import CliError
-from posekit.cli.topic_echo import compile_filter, positive_float
+from posekit.cli.topic_echo import compile_filter, positive_float, positive_int
 from posekit.msgs.yaml_io import message_class
 
 __all__ = ["bw_report", "delay_report", "hz_report", "main_bw", "main_delay", "main_hz"]
@@ -34,16 +34,6 @@ __all__ = ["bw_report", "delay_report", "hz_report", "main_bw", "main_delay", "m
 HZ_WINDOW = 10000
 BW_WINDOW = 100
 DELAY_WINDOW = 10000
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"invalid int value: '{text}'") from None
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"value must be positive: {value}")
-    return value
 
 
 def _stats(values: Sequence[int]) -> tuple[float, float]:
@@ -89,16 +79,55 @@ def bw_report(bytes_per_s: float, sizes: Sequence[int]) -> str:
 def _parser(verb: str, description: str, window: int, topic_help: str) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog=f"posekit topic {verb}", description=description)
     parser.add_argument("topic_name", help=topic_help)
-    parser.add_argument("--window", "-w", dest="window_size", type=_positive_int, default=window,
+    parser.add_argument("--window", "-w", dest="window_size", type=positive_int, default=window,
                         metavar="WINDOW",
                         help=f"window size, in # of messages, for calculating rate "
                              f"(default: {window})")
     parser.add_argument("--timeout", type=positive_float, default=None, metavar="S",
                         help="exit when no message arrived for S seconds (posekit addition)")
-    parser.add_argument("--count", type=_positive_int, default=None,
+    parser.add_argument("--count", type=positive_int, default=None,
                         help="exit after N reports (posekit addition)")
     add_transport_args(parser)
     return parser
+
+
+def _once_per_second(first_after: float = 0.0) -> Callable[[], bool]:
+    """True at most once per wall second (ros2's 1 s report timer), first after
+    ``first_after`` seconds."""
+    next_at = [time.monotonic() + first_after]
+
+    def due() -> bool:
+        now = time.monotonic()
+        if now < next_at[0]:
+            return False
+        next_at[0] = now + 1.0
+        return True
+
+    return due
+
+
+class _Window:
+    """The last N samples of ros2's hz/delay monitors, restarted when time jumps back."""
+
+    def __init__(self, size: int, out: TextIO) -> None:
+        self.values: deque[int] = deque(maxlen=size)
+        self.t0 = -1
+        self.tn = 0
+        self._out = out
+
+    def add(self, now: int, value: Callable[[int], int]) -> None:
+        """Record ``value(now)`` for a message received at ``now`` (ns; not the first)."""
+        if now == 0:
+            if self.values:
+                self._out.write("time has reset, resetting counters\n")
+                self.values.clear()
+            return
+        if self.t0 < 0 or self.t0 > now:
+            self.t0 = self.tn = now
+            self.values.clear()
+        else:
+            self.values.append(value(now))
+            self.tn = now
 
 
 class _Monitor:
@@ -181,8 +210,8 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
                              "is not published during simulation")
     ns = parser.parse_args(list(argv))
     accept = compile_filter(ns.filter_expr)
-    deltas: deque[int] = deque(maxlen=ns.window_size)
-    state = {"t0": -1, "tn": 0, "printed": 0}
+    window = _Window(ns.window_size, out)
+    printed = [0]
 
     def now_ns(session: Any) -> int:
         if ns.use_wtime:
@@ -192,31 +221,20 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
     def sample(session: Any, msg: Any) -> bool:
         if accept is not None and not accept(msg):
             return False
-        now = now_ns(session)
-        if now == 0:
-            if deltas:
-                out.write("time has reset, resetting counters\n")
-                deltas.clear()
-            return True
-        if state["t0"] < 0 or state["t0"] > now:
-            state["t0"] = state["tn"] = now
-            deltas.clear()
-        else:
-            deltas.append(now - state["tn"])
-            state["tn"] = now
+        window.add(now_ns(session), lambda now: now - window.tn)
         return True
 
     def tick(_session: Any) -> bool:
-        if not deltas:
+        if not window.values:
             return False
-        if state["printed"] == 0:
-            state["printed"] = state["tn"]
+        if printed[0] == 0:
+            printed[0] = window.tn
             return False
-        if state["tn"] < state["printed"] + 1_000_000_000:
+        if window.tn < printed[0] + 1_000_000_000:
             return False
-        out.write(hz_report(list(deltas)))
+        out.write(hz_report(list(window.values)))
         out.flush()
-        state["printed"] = state["tn"]
+        printed[0] = window.tn
         return True
 
     return _Monitor(ns, "hz", context, err, timeout_s).run(sample, tick)
@@ -232,7 +250,7 @@ def main_bw(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
     ns = _parser("bw", "Display bandwidth used by topic", BW_WINDOW,
                  "Topic name to monitor for bandwidth utilization").parse_args(list(argv))
     samples: deque[tuple[int, int]] = deque(maxlen=ns.window_size)
-    next_print = [0.0]
+    due = _once_per_second()
     out.write(f"Subscribed to [{ns.topic_name}]\n")
 
     def sample(session: Any, msg: Any) -> bool:
@@ -240,11 +258,7 @@ def main_bw(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
         return True
 
     def tick(session: Any) -> bool:
-        wall = time.monotonic()
-        if wall < next_print[0]:
-            return False
-        next_print[0] = wall + 1.0
-        if len(samples) < 2:
+        if not due() or len(samples) < 2:
             return False
         t_now = int(session.node.get_clock().now().nanoseconds)
         t0 = samples[0][0]
@@ -267,39 +281,24 @@ def main_delay(argv: Sequence[str], *, context: Any = None, out: TextIO | None =
     err = err or sys.stderr
     ns = _parser("delay", "Display delay of topic from timestamp in header", DELAY_WINDOW,
                  "Topic name to calculate the delay for").parse_args(list(argv))
-    delays: deque[int] = deque(maxlen=ns.window_size)
-    state = {"t0": -1, "tn": 0, "last": 0}
-    next_print = [time.monotonic() + 1.0]
+    window = _Window(ns.window_size, out)
+    last = [0]
+    due = _once_per_second(1.0)
 
     def sample(session: Any, msg: Any) -> bool:
-        header = msg.header
-        now = int(session.node.get_clock().now().nanoseconds)
-        if now == 0:
-            if delays:
-                out.write("time has reset, resetting counters\n")
-                delays.clear()
-            return True
-        if state["t0"] < 0 or state["t0"] > now:
-            state["t0"] = state["tn"] = now
-            delays.clear()
-        else:
-            stamp = header.stamp
-            delays.append(now - (int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)))
-            state["tn"] = now
+        stamp = msg.header.stamp
+        stamp_ns = int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
+        window.add(int(session.node.get_clock().now().nanoseconds), lambda now: now - stamp_ns)
         return True
 
     def tick(_session: Any) -> bool:
-        wall = time.monotonic()
-        if wall < next_print[0]:
+        if not due() or not window.values:
             return False
-        next_print[0] = wall + 1.0
-        if not delays:
-            return False
-        if state["tn"] == state["last"]:
+        if window.tn == last[0]:
             out.write("no new messages\n")
         else:
-            out.write(delay_report(list(delays)))
-            state["last"] = state["tn"]
+            out.write(delay_report(list(window.values)))
+            last[0] = window.tn
         out.flush()
         return True
 

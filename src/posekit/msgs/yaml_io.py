@@ -90,13 +90,19 @@ def message_to_ordered(value: Any, truncate_length: int | None = TRUNCATE_LENGTH
                      for v in value]
         return _truncate_list(converted, truncate_length)
     if isinstance(value, str):
-        if no_str:
-            return f"<string length: <{len(value)}>>"
-        if truncate_length is not None and len(value) > truncate_length:
-            return value[:truncate_length] + "..."
-        return value
+        return _string_value(value, truncate_length, no_str)
     if isinstance(value, np.generic):
         return value.item()
+    return value
+
+
+def _string_value(value: str, truncate_length: int | None, no_str: bool) -> str:
+    """A string field as rosidl_runtime_py shows it: ``<string length: <N>>`` with
+    ``no_str``, else cut to ``truncate_length`` characters plus ``...``."""
+    if no_str:
+        return f"<string length: <{len(value)}>>"
+    if truncate_length is not None and len(value) > truncate_length:
+        return value[:truncate_length] + "..."
     return value
 
 
@@ -349,11 +355,7 @@ def _csv_value(value: Any, truncate_length: int | None, no_arr: bool, no_str: bo
             out.append(_csv_value(item, truncate_length, no_arr, no_str))
         return ",".join(out)
     if isinstance(value, str):
-        if no_str:
-            return f"<string length: <{len(value)}>>"
-        if truncate_length is not None and len(value) > truncate_length:
-            return value[:truncate_length] + "..."
-        return value
+        return _string_value(value, truncate_length, no_str)
     if isinstance(value, np.generic):
         return str(value.item())
     if _is_message(value):
