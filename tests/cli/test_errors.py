@@ -125,3 +125,28 @@ def test_entry_point_prints_no_traceback(tmp_path: Path) -> None:
     assert done.returncode == 1
     assert done.stderr.count("\n") == 1
     assert done.stderr.startswith("posekit topic info: error: Invalid topic name 'bad name'")
+
+
+@pytest.mark.slow
+def test_empty_graph_hints(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Alone on a fresh Zenoh domain, every graph tool says what to check."""
+    from _support.ports import free_port
+    from posekit.cli import node_cmd, tf_echo, topic_cmd
+    from posekit.runtime.context import Context
+
+    for var in ("ZENOH_SESSION_CONFIG_URI", "ZENOH_CONFIG_OVERRIDE", "ROS_DOMAIN_ID"):
+        monkeypatch.delenv(var, raising=False)
+    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", f"tcp/127.0.0.1:{free_port()}")
+    context = Context()
+    context.init(transport="zenoh")
+    try:
+        for function, argv in ((topic_cmd.main_list, []), (node_cmd.main_list, []),
+                               (topic_cmd.main_info, ["/x"]), (tf_echo.main, ["a", "b"])):
+            out, err = io.StringIO(), io.StringIO()
+            kwargs = {"timeout_s": 1.5} if function is tf_echo.main else {}
+            function(argv, context=context, out=out, err=err, **kwargs)
+            assert "hint: no other node is visible on the zenoh graph" in err.getvalue()
+        with pytest.raises(CliError, match="Unable to find node '/x'"):
+            node_cmd.main_info(["/x"], context=context, out=io.StringIO(), err=io.StringIO())
+    finally:
+        context.try_shutdown()

@@ -20,6 +20,7 @@ __all__ = [
     "cli_node_name",
     "empty_graph_hint",
     "graph_entities",
+    "hint_if_alone",
     "is_hidden_name",
     "node_interfaces",
     "node_names",
@@ -131,6 +132,15 @@ def empty_graph_hint(session: Any) -> str:
     return (f"hint: no other node is visible on the {tool_transport()} graph; is the system "
             "running with its nodes on the network (e.g. `posekit launch SCENARIO --zenoh`), "
             "with the same ROS_DOMAIN_ID?")
+
+
+def hint_if_alone(session: Any, err: TextIO) -> None:
+    """Write :func:`empty_graph_hint` to ``err`` if no other node is on the graph."""
+    sync_graph(session, 1.0)
+    hint = empty_graph_hint(session)
+    if hint:
+        err.write(hint + "\n")
+        err.flush()
 
 
 @dataclass

@@ -143,6 +143,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
             return exc.exit_code
     target, source = positional[0], positional[1]
 
+    from posekit.cli._graph import hint_if_alone
     from posekit.cli._session import ToolSession
     from posekit.tf2 import Buffer, TransformException
     from posekit.time import Time
@@ -163,6 +164,8 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
                 session.node.get_logger().info(
                     f"Waiting for transform {target} ->  {source}: {reason}"
                 )
+                if last_wait_log == -math.inf:  # once: nobody to hear from at all?
+                    hint_if_alone(session, err)
                 last_wait_log = time.monotonic()
             session.spin_for(0.05)
         printed = 0

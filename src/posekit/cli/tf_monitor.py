@@ -30,7 +30,7 @@ from collections import deque
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-from posekit.cli._graph import add_transport_args, session_for
+from posekit.cli._graph import add_transport_args, hint_if_alone, session_for
 from posekit.cli.errors import CliError
 
 __all__ = ["chain_as_vector", "main"]
@@ -162,6 +162,8 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
                 if time.monotonic() - last_log >= 1.0:
                     session.node.get_logger().info(
                         f"Waiting for transform {frame_a} ->  {frame_b}: {reason}")
+                    if last_log < 0:
+                        hint_if_alone(session, err)
                     last_log = time.monotonic()
                 session.spin_for(0.1)
             chain = chain_as_vector(parents_from_buffer(buffer), frame_b, frame_a)
