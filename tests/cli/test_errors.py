@@ -39,8 +39,14 @@ def test_report_formats() -> None:
     err = io.StringIO()
     assert report(KeyError("boom"), "posekit y", err) == 1
     lines = err.getvalue().splitlines()
-    assert lines[0] == "posekit y: error: internal error: KeyError: 'boom'"
-    assert "POSEKIT_TRACEBACK=1" in lines[1]
+    assert lines[0] == "posekit y: error: KeyError: 'boom'"
+    assert lines[1] == "posekit y: (POSEKIT_TRACEBACK=1 prints the traceback)"
+    import yaml
+
+    broken = yaml.YAMLError("while parsing\nexpected ','")
+    err = io.StringIO()
+    assert report(broken, "posekit launch", err) == 1
+    assert err.getvalue() == "posekit launch: error: while parsing expected ','\n"
 
 
 def test_user_mistakes_end_in_one_line(capsys: pytest.CaptureFixture[str], tmp_path: Path,
@@ -150,3 +156,37 @@ def test_empty_graph_hints(monkeypatch: pytest.MonkeyPatch) -> None:
             node_cmd.main_info(["/x"], context=context, out=io.StringIO(), err=io.StringIO())
     finally:
         context.try_shutdown()
+
+
+LAUNCH_FILE = """
+from posekit.launch import LaunchDescription, Node
+from posekit.runtime.node import Node as RNode
+
+
+class Mine(RNode):
+    def __init__(self, **kw):
+        super().__init__("mine", **kw)
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(Mine, name={name!r}, parameters={parameters!r})])
+"""
+
+
+@pytest.mark.parametrize(("name", "parameters", "expected"), [
+    ("bad name!", [], "Invalid node name 'bad name!'"),
+    ("ok", ["{missing}"], "No such file or directory: '{missing}'"),
+    ("ok", ["{broken}"], "while parsing a flow sequence"),
+])
+def test_bad_launch_files_end_in_one_line(name: str, parameters: list[str], expected: str,
+                                          tmp_path: Path,
+                                          capsys: pytest.CaptureFixture[str],
+                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("POSEKIT_TRANSPORT", raising=False)
+    paths = {"missing": str(tmp_path / "nope.yaml"), "broken": str(tmp_path / "broken.yaml")}
+    (tmp_path / "broken.yaml").write_text("ok: {ros__parameters: [1, 2\n")
+    launch_file = tmp_path / "bad_launch.py"
+    launch_file.write_text(LAUNCH_FILE.format(
+        name=name, parameters=[p.format(**paths) for p in parameters]))
+    assert main(["launch", str(launch_file), "--until-sim-time", "0.1"]) == 1
+    assert one_line_error(capsys, "posekit launch").startswith(expected.format(**paths))

@@ -6,8 +6,9 @@ port, or an argument error propagate); :func:`report` turns it into the single l
 errors. ``posekit.cli.main`` applies it around every command, so tools need not catch these
 themselves.
 
-Anything else is a bug in posekit: it is reported on one line too, with the exception's
-name, and ``POSEKIT_TRACEBACK=1`` prints the full traceback for a bug report.
+Anything else (a bug in posekit, or an exception from the user's own code run by
+``posekit launch FILE.py``) is reported on one line too, with the exception's name, and a
+second line saying that ``POSEKIT_TRACEBACK=1`` prints the full traceback.
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ def _user_error_types() -> tuple[type[BaseException], ...]:
         ("posekit.vision.errors", "VisionError"),
         ("posekit.cli.static_args", "StaticArgsError"),
         ("posekit.cli.tf_echo", "RateError"),
+        ("yaml", "YAMLError"),  # a broken YAML file given by the user
     ):
         loaded = sys.modules.get(module)  # only types a command actually used can be raised
         error_type = getattr(loaded, name, None) if loaded is not None else None
@@ -83,7 +85,7 @@ def describe(exc: BaseException) -> str:
     else:
         text = str(exc) or type(exc).__name__
         if not is_user_error(exc):
-            text = f"internal error: {type(exc).__name__}: {text}"
+            text = f"{type(exc).__name__}: {text}"
     return " ".join(text.split()) if "\n" in text else text
 
 
@@ -95,6 +97,6 @@ def report(exc: BaseException, prog: str, err: TextIO | None = None) -> int:
         traceback.print_exception(exc, file=err)
     err.write(f"{prog}: error: {describe(exc)}\n")
     if not user and os.environ.get(ENV_TRACEBACK, "") in ("", "0"):
-        err.write(f"{prog}: this is a bug in posekit; {ENV_TRACEBACK}=1 shows the traceback\n")
+        err.write(f"{prog}: ({ENV_TRACEBACK}=1 prints the traceback)\n")
     err.flush()
     return exc.code if isinstance(exc, CliError) else 1
