@@ -1,11 +1,15 @@
-"""``posekit bag record|play|info``: ros2 bag's three everyday verbs on posekit.bag.
+"""``posekit bag record|play|info|convert``: ros2 bag's everyday verbs (Jazzy) on posekit.bag.
 
-* ``posekit bag record -o DIR [TOPICS... | --all]`` records until Ctrl-C (or ``--duration``
-  wall seconds) into a new rosbag2 directory (MCAP, zstd chunks, metadata version 9 unless
-  ``--metadata-version 8``).
-* ``posekit bag play DIR [--rate R] [--loop]`` publishes the bag with ``/clock`` at the
-  recorded timing (wall clock scaled by R) until the end (or Ctrl-C with ``--loop``).
-* ``posekit bag info DIR [-v]`` prints what ``ros2 bag info`` prints.
+* ``posekit bag record [-o DIR] [TOPICS | --topics T.. | --all | -e REGEX] ...`` records until
+  Ctrl-C (or ``--duration`` wall seconds) into a new rosbag2 directory (MCAP, zstd chunks,
+  ``<name>_0.mcap``..., metadata version 9 unless ``--metadata-version 8``); default name
+  ``rosbag2_YYYY_MM_DD-HH_MM_SS``; ``-b``/``-d`` split the files, ``--exclude-regex`` /
+  ``--exclude-topics`` thin the selection, ``--compression-mode file|message`` as rosbag2.
+* ``posekit bag play DIR [-r R] [-l] [--topics ..] [-e/-x REGEX] [--remap a:=b] [-p]
+  [--start-offset S] ...`` publishes the bag with ``/clock`` at the recorded timing, with
+  ros2 bag play's keyboard controls on a terminal and a progress line on stderr.
+* ``posekit bag info DIR [-t] [-v]`` prints what ``ros2 bag info`` prints.
+* ``posekit bag convert -i DIR [-i DIR..] -o OPTIONS.yaml`` is ``ros2 bag convert``.
 
 Like the other command-line tools these talk to other processes, so their transport is
 ``--transport NAME``, else $POSEKIT_TRANSPORT, else Zenoh. Errors print one line on stderr
