@@ -447,3 +447,20 @@ def test_bag_record_regex_and_duration_split(ctx: Context, tmp_path: Path) -> No
         assert summary.statistics is not None
         total += summary.statistics.message_count
     assert total == len(xs)
+
+
+def test_the_command_line_itself(system: Proc, endpoint: str) -> None:
+    """The ``posekit`` entry point in its own process (argument parsing to exit code)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("ZENOH_", "ROS_DOMAIN"))}
+    env.update(POSEKIT_ZENOH_ROUTER=endpoint, PYTHONUNBUFFERED="1")
+    env.pop("POSEKIT_TRANSPORT", None)
+    info = Proc([sys.executable, "-m", "posekit.cli.main", "node", "info", "/robot/system"], env)
+    assert info.finish(60, "posekit node info").startswith(
+        "/robot/system\n  Subscribers:\n    /cmd_vel: geometry_msgs/msg/Twist\n")
+    assert info.popen.returncode == 0
+    echo = Proc([sys.executable, "-m", "posekit.cli.main", "topic", "echo", "/chatter",
+                 "--once", "--field", "data"], env)
+    out = echo.finish(60, "posekit topic echo --once")
+    assert echo.popen.returncode == 0
+    assert out.startswith("hello: ")
+    assert out.endswith("\n---\n")
