@@ -18,8 +18,9 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 
+# The demo and the README's tour: posekit with every extra (plot, viewer, zenoh, bag, ...).
 $(STAMP_DEMO): pyproject.toml | $(PY)
-	$(PY) -m pip install --quiet -e '.[demo]'
+	$(PY) -m pip install --quiet -e '.[all]'
 	touch $@
 
 $(STAMP_DEV): pyproject.toml | $(PY)
@@ -28,6 +29,7 @@ $(STAMP_DEV): pyproject.toml | $(PY)
 
 demo: $(STAMP_DEMO)
 	$(PY) -m posekit.demos.main
+	@echo "posekit is installed in $(VENV): 'source $(VENV)/bin/activate' puts it on PATH"
 
 lint: $(STAMP_DEV)
 	$(VENV)/bin/ruff check src tests benchmarks
@@ -35,8 +37,8 @@ lint: $(STAMP_DEV)
 typecheck: $(STAMP_DEV)
 	$(VENV)/bin/mypy
 
-# Debian's chromium, a font, graphviz and three.js (npm ci from the committed lockfile) for the
-# viewer's browser tests and view_frames' PDF. Without root the browser tests skip and say why.
+# Debian's chromium, a font and graphviz for the viewer's browser tests and view_frames' PDF
+# (three.js is vendored in the package). Without root the browser tests skip and say why.
 browser-deps:
 	bash scripts/install_browser_deps.sh || echo "browser-deps: not installed; browser tests will skip"
 

@@ -1,7 +1,18 @@
-"""TF messages between two processes over Zenoh on loopback: posekit vs a raw zenoh baseline.
+"""TF messages between two processes over Zenoh on loopback: posekit vs a raw zenoh baseline;
+with ``--dds``, posekit over DDS vs a real ROS 2 rclpy (Fast DDS) vs raw cyclonedds.
 
-Run: ``.venv/bin/python benchmarks/transport.py`` (``--quick`` for a short run). Figures are
-recorded in docs/performance.md.
+Run: ``.venv/bin/python benchmarks/transport.py`` (``--quick`` for a short run; ``--dds`` for
+the DDS comparison, which needs ``make ros2-ref``). Figures are recorded in
+docs/performance.md.
+
+DDS mode (``--dds``): the same ``geometry_msgs/TransformStamped`` (RELIABLE, KEEP_ALL, so a
+burst is paced by flow control, not dropped) between a publisher process and a subscriber
+process of one implementation, each pair on its own ROS domain on loopback: ``rclpy`` (the
+real Jazzy rclpy on rmw_fastrtps_cpp, executor spin_once), ``cyclone`` (cyclonedds' own
+Python API and serializer, reader taken from a WaitSet loop), ``raw`` (cyclonedds' C layer
+moving CDR bytes that rosbags (de)serializes, no executor: the floor for Python + Cyclone
+DDS + rosbags) and ``posekit`` (a runtime ``Node`` on the dds transport,
+SingleThreadedExecutor). Same phases as below.
 
 Each mode runs a publisher process and a subscriber process (plus a router in this process,
 the role ``rmw_zenohd`` plays; both children are peers with posekit's session config, so
@@ -61,10 +72,14 @@ def _peer_session(endpoint: str) -> Any:
     return zenoh.open(build_peer_config(SessionOptions(router_endpoint=endpoint)))
 
 
-def _report(stamps_recv: list[int], latencies: list[int], cpu: float, count: int) -> None:
+def _report(stamps_recv: list[int], latencies: list[int], cpu: float, count: int,
+            first_sent_to_last_recv_ns: int | None = None) -> None:
     out = {"count": count, "cpu_s": cpu}
     if len(stamps_recv) >= 2:
         out["rate"] = (len(stamps_recv) - 1) / ((stamps_recv[-1] - stamps_recv[0]) * 1e-9)
+    if first_sent_to_last_recv_ns:
+        # end to end: from the first message's send stamp to the last receive
+        out["e2e_rate"] = (count - 1) / (first_sent_to_last_recv_ns * 1e-9)
     if latencies:
         lat = sorted(latencies)
         out.update(p50=lat[len(lat) // 2], p90=lat[int(len(lat) * 0.9)],
@@ -306,14 +321,317 @@ def best_run(runs: list[dict[str, Any]], key: str, lowest: bool = False) -> dict
     return pick(runs, key=lambda r: r.get(key, 0.0))
 
 
+
+# ---------------------------------------------------------------------------------------
+# DDS: posekit (dds transport) vs a real ROS 2 rclpy (Fast DDS) vs raw cyclonedds
+
+DDS_TOPIC = "/bench_tf"
+
+
+def DDS_HISTORY() -> Any:
+    from cyclonedds.qos import Policy
+
+    return Policy.History.KeepAll
+ROS2_VENV = os.environ.get(
+    "POSEKIT_ROS2_VENV", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
+                                      ".venv-ros2"))
+
+
+def _dds_endpoints(mode: str, role: str, on_tf: Any = None) -> tuple[Any, Any, Any]:
+    """(publish(), spin(seconds), close()) for ``mode`` in {posekit, rclpy, cyclone, raw}."""
+    if mode == "rclpy":
+        import rclpy  # noqa: I001 - the real rclpy, from .venv-ros2
+        from geometry_msgs.msg import TransformStamped
+        from rclpy.qos import HistoryPolicy, QoSProfile
+
+        rclpy.init()
+        node = rclpy.create_node(f"bench_{role}")
+        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0)
+        if role == "sub":
+            node.create_subscription(TransformStamped, DDS_TOPIC, lambda m: on_tf(
+                m.header.stamp.sec, m.header.stamp.nanosec), qos)
+            return None, lambda s: rclpy.spin_once(node, timeout_sec=s), rclpy.shutdown
+        pub = node.create_publisher(TransformStamped, DDS_TOPIC, qos)
+        msg = TransformStamped(child_frame_id="base_link")
+        msg.header.frame_id = "odom"
+        msg.transform.translation.x, msg.transform.translation.y = 1.0, 2.0
+        msg.transform.translation.z = 3.0
+        msg.transform.rotation.w = 1.0
+        stamp = msg.header.stamp
+
+        def publish_rclpy() -> None:
+            stamp.sec, stamp.nanosec = divmod(time.time_ns(), 1_000_000_000)
+            pub.publish(msg)
+
+        _wait_matched(pub.get_subscription_count)
+        return publish_rclpy, None, rclpy.shutdown
+    if mode in ("cyclone", "raw"):
+        return _cyclone_endpoints(mode, role, on_tf)
+    from posekit.msgs.geometry_msgs import TransformStamped as PkTransform
+    from posekit.runtime.context import Context
+    from posekit.runtime.executors import SingleThreadedExecutor
+    from posekit.runtime.node import Node
+    from posekit.runtime.qos import HistoryPolicy, QoSProfile
+
+    ctx = Context()
+    ctx.init(transport="dds")
+    node = Node(f"bench_{role}", context=ctx)
+    keep_all = QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0)
+    if role == "sub":
+        node.create_subscription(PkTransform, DDS_TOPIC, lambda m: on_tf(
+            m.header.stamp.sec, m.header.stamp.nanosec), keep_all)
+        executor = SingleThreadedExecutor(context=ctx)
+        executor.add_node(node)
+        return None, lambda s: executor.spin_once(s), ctx.shutdown
+    pk_pub = node.create_publisher(PkTransform, DDS_TOPIC, keep_all)
+    pk_msg = PkTransform(child_frame_id="base_link")
+    pk_msg.header.frame_id = "odom"
+    pk_msg.transform.translation.x, pk_msg.transform.translation.y = 1.0, 2.0
+    pk_msg.transform.translation.z = 3.0
+    pk_stamp = pk_msg.header.stamp
+
+    def publish_posekit() -> None:
+        pk_stamp.sec, pk_stamp.nanosec = divmod(time.time_ns(), 1_000_000_000)
+        pk_pub.publish(pk_msg)
+
+    _wait_matched(pk_pub.get_subscription_count)
+    return publish_posekit, None, ctx.shutdown
+
+
+def _cyclone_endpoints(mode: str, role: str, on_tf: Any) -> tuple[Any, Any, Any]:
+    """``cyclone``: cyclonedds' own API and serializer. ``raw``: cyclonedds' C layer moving
+    CDR bytes, (de)serialized by rosbags, no executor: the floor posekit builds on."""
+    from cyclonedds._clayer import ddspy_take, ddspy_write
+    from cyclonedds.core import DDSStatus, InstanceState, SampleState, ViewState, WaitSet
+    from cyclonedds.domain import DomainParticipant
+    from cyclonedds.pub import DataWriter
+    from cyclonedds.qos import Policy, Qos
+    from cyclonedds.sub import DataReader
+    from cyclonedds.topic import Topic
+    from cyclonedds.util import duration
+
+    from posekit.msgs.cdr import get_typestore
+    from posekit.transport.dds_transport import configure_domain
+    from posekit.transport.dds_types import idl_struct
+    from posekit.transport.dds_wire import DiscoveryOptions
+
+    options = DiscoveryOptions.from_env()
+    configure_domain(options)  # the same loopback discovery settings as posekit
+    type_name = "geometry_msgs/msg/TransformStamped"
+    tf_t = idl_struct(type_name)
+    participant = DomainParticipant(options.domain_id)
+    topic = Topic(participant, "rt" + DDS_TOPIC, tf_t)
+    qos = Qos(Policy.Reliability.Reliable(duration(seconds=1)), DDS_HISTORY())
+    store = get_typestore()
+    if role == "sub":
+        reader = DataReader(participant, topic, qos)
+        reader.set_status_mask(DDSStatus.DataAvailable)  # wake on data only
+        waitset = WaitSet(participant)
+        waitset.attach(reader)
+        mask = SampleState.Any | ViewState.Any | InstanceState.Any
+        deserialize = store.deserialize_cdr
+
+        def spin_cyclone(seconds: float) -> None:
+            waitset.wait(duration(seconds=seconds))
+            if mode == "raw":
+                for data, info in ddspy_take(reader._ref, mask, 256):
+                    if info.valid_data:
+                        stamp = deserialize(data, type_name).header.stamp
+                        on_tf(stamp.sec, stamp.nanosec)
+                return
+            for m in reader.take(N=256):
+                if m.sample_info.valid_data:
+                    on_tf(m.header.stamp.sec, m.header.stamp.nanosec)
+
+        return None, spin_cyclone, lambda: None
+    writer = DataWriter(participant, topic, qos)
+    if mode == "raw":
+        T = store.types
+        time_cls = T["builtin_interfaces/msg/Time"]
+        raw_msg = T[type_name](
+            header=T["std_msgs/msg/Header"](stamp=time_cls(sec=0, nanosec=0), frame_id="odom"),
+            child_frame_id="base_link",
+            transform=T["geometry_msgs/msg/Transform"](
+                translation=T["geometry_msgs/msg/Vector3"](x=1.0, y=2.0, z=3.0),
+                rotation=T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)))
+        serialize, ref = store.serialize_cdr, writer._ref
+
+        def publish_raw() -> None:
+            sec, nsec = divmod(time.time_ns(), 1_000_000_000)
+            raw_msg.header.stamp = time_cls(sec=sec, nanosec=nsec)
+            ddspy_write(ref, bytes(serialize(raw_msg, type_name)))
+
+        publish_raw.writer = writer  # type: ignore[attr-defined]  # alive as long as used
+
+        _wait_matched(lambda: len(writer.get_matched_subscriptions()))
+        return publish_raw, None, lambda: None
+    time_t = idl_struct("builtin_interfaces/msg/Time")
+    vec = idl_struct("geometry_msgs/msg/Vector3")
+    msg = tf_t(
+        header=idl_struct("std_msgs/msg/Header")(stamp=time_t(sec=0, nanosec=0),
+                                                 frame_id="odom"),
+        child_frame_id="base_link",
+        transform=idl_struct("geometry_msgs/msg/Transform")(
+            translation=vec(x=1.0, y=2.0, z=3.0),
+            rotation=idl_struct("geometry_msgs/msg/Quaternion")(x=0.0, y=0.0, z=0.0, w=1.0)))
+
+    def publish_cyclone() -> None:
+        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(time.time_ns(), 1_000_000_000)
+        writer.write(msg)
+
+    _wait_matched(lambda: len(writer.get_matched_subscriptions()))
+    return publish_cyclone, None, lambda: None
+
+
+def _wait_matched(count: Any) -> None:
+    deadline = time.monotonic() + 15
+    while count() < 1 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.5)  # let reliable delivery settle (discovery of the reader's locators)
+
+
+def dds_child_sub(mode: str) -> None:
+    recv: list[int] = []
+    lat: list[int] = []
+    span = [0, 0]  # first send stamp, last receive (wall ns)
+    now_wall, now_mono = time.time_ns, time.monotonic_ns
+
+    def on_tf(sec: int, nsec: int) -> None:
+        t = now_wall()
+        sent = sec * 1_000_000_000 + nsec
+        if not recv:
+            span[0] = sent
+        span[1] = t
+        recv.append(now_mono())
+        lat.append(t - sent)
+
+    _, spin, close = _dds_endpoints(mode, "sub", on_tf)
+    print("ready", flush=True)
+    cpu0 = time.process_time()
+    give_up = time.monotonic() + FIRST_MESSAGE_TIMEOUT_S
+    while not recv and time.monotonic() < give_up:
+        spin(0.1)
+    last = (len(recv), time.monotonic())
+    while time.monotonic() - last[1] < IDLE_END_S:
+        spin(0.05)
+        if len(recv) != last[0]:
+            last = (len(recv), time.monotonic())
+    cpu = time.process_time() - cpu0
+    close()
+    _report(recv, lat, cpu, len(recv), span[1] - span[0])
+
+
+def dds_child_pub(mode: str, phase: str, count: int) -> None:
+    publish, _, close = _dds_endpoints(mode, "pub")
+    if phase == "throughput":
+        cpu0, t0 = time.process_time(), time.perf_counter()
+        for _ in range(count):
+            publish()
+        cpu, wall = time.process_time() - cpu0, time.perf_counter() - t0
+    else:
+        period = 1.0 / LATENCY_RATE_HZ
+        next_at = time.perf_counter()
+        for _ in range(count):
+            publish()
+            next_at += period
+            while time.perf_counter() < next_at:
+                pass
+        cpu = wall = 0.0
+    time.sleep(0.5)
+    close()
+    print(json.dumps({"send_rate": count / wall if wall else 0.0,
+                      "send_cpu_us": 1e6 * cpu / count}), flush=True)
+
+
+def run_dds_pair(mode: str, phase: str, count: int, domain_id: int) -> dict[str, Any]:
+    """A publisher process and a subscriber process of ``mode`` on their own DDS domain."""
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(("ROS_", "RMW_", "POSEKIT_", "CYCLONEDDS_"))}
+    env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+               RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONUNBUFFERED="1")
+    python = os.path.join(ROS2_VENV, "bin", "python") if mode == "rclpy" else sys.executable
+    me = [python, os.path.abspath(__file__)]
+    sub = subprocess.Popen([*me, "--child", "ddssub", mode, "-"], env=env,
+                           stdout=subprocess.PIPE, text=True)
+    pub = None
+    try:
+        assert sub.stdout is not None
+        if sub.stdout.readline().strip() != "ready":
+            raise RuntimeError(f"{mode} subscriber did not start")
+        pub = subprocess.Popen([*me, "--child", "ddspub", mode, "-", phase, str(count)],
+                               env=env, stdout=subprocess.PIPE, text=True)
+        pub_out, _ = pub.communicate(timeout=120)
+        if pub.returncode != 0:
+            raise RuntimeError(f"{mode} publisher failed ({pub.returncode})")
+        line = sub.stdout.readline()
+        sub.wait(timeout=30)
+        result = dict(json.loads(line))
+        result.update(json.loads(pub_out.strip().splitlines()[-1]))
+        return result
+    finally:
+        for proc in (pub, sub):
+            if proc is not None and proc.poll() is None:
+                proc.kill()
+                proc.wait()
+
+
+def main_dds(burst: int, repeat: int) -> None:
+    """posekit over DDS vs real rclpy (Fast DDS) vs raw cyclonedds, same message and QoS."""
+    n_latency = int(LATENCY_RATE_HZ * LATENCY_SECONDS)
+    print(f"geometry_msgs/TransformStamped between two processes over DDS on loopback "
+          f"(RELIABLE, KEEP_ALL); best of {repeat} runs each")
+    print(f"throughput: burst of {burst}, end to end (received - 1) / (last receive - first "
+          f"send); latency: {LATENCY_RATE_HZ:.0f} Hz for {n_latency} msgs (receive wall clock - "
+          f"header.stamp set before publish)")
+    print(f"{'both sides':<10}{'e2e msgs/s':>12}{'received':>10}{'sent msgs/s':>12}"
+          f"{'recv CPU us':>12}{'p50 us':>9}{'p90 us':>9}{'p99 us':>9}")
+    figures: dict[str, dict[str, float]] = {}
+    domain = 180  # each pair on its own domain (valid ids: 0..232)
+    for mode in ("rclpy", "cyclone", "raw", "posekit"):
+        tputs, lats = [], []
+        for _ in range(repeat):
+            domain = 180 + (domain - 179) % 50
+            tputs.append(run_dds_pair(mode, "throughput", burst, domain))
+            domain = 180 + (domain - 179) % 50
+            lats.append(run_dds_pair(mode, "latency", n_latency, domain))
+        best = best_run(tputs, "e2e_rate")
+        lat = best_run(lats, "p50", lowest=True)
+        cpu_us = min(1e6 * r["cpu_s"] / max(1, r["count"]) for r in tputs)
+        figures[mode] = {"rate": best.get("e2e_rate", 0.0), "p50": lat["p50"] / 1e3}
+        print(f"{mode:<10}{best.get('e2e_rate', 0.0):>12,.0f}{best['count']:>10}"
+              f"{best['send_rate']:>12,.0f}{cpu_us:>12.2f}{lat['p50'] / 1e3:>9.1f}"
+              f"{lat['p90'] / 1e3:>9.1f}{lat['p99'] / 1e3:>9.1f}"
+              f"   rates: {[round(r.get('e2e_rate', 0.0)) for r in tputs]}"
+              f" p50s: {[round(r['p50'] / 1e3, 1) for r in lats]}")
+    pk, ros, raw = figures["posekit"], figures["rclpy"], figures["raw"]
+    print(f"\nposekit / rclpy: throughput {pk['rate'] / ros['rate']:.2f}x, median latency "
+          f"{pk['p50'] / ros['p50']:.2f}x")
+    print(f"posekit / raw (cyclonedds C layer + rosbags): throughput "
+          f"{pk['rate'] / raw['rate']:.2f}x, median latency {pk['p50'] / raw['p50']:.2f}x")
+    print(f"posekit / cyclonedds' own Python API: throughput "
+          f"{pk['rate'] / figures['cyclone']['rate']:.2f}x, median latency "
+          f"{pk['p50'] / figures['cyclone']['p50']:.2f}x")
+    print(f"goals: throughput >= 2x rclpy: {pk['rate'] >= 2 * ros['rate']}; median no slower "
+          f"than rclpy: {pk['p50'] <= ros['p50']}; within 1.1x of raw (throughput and median): "
+          f"{raw['rate'] <= 1.1 * pk['rate'] and pk['p50'] <= 1.1 * raw['p50']}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--child", nargs="+")
+    parser.add_argument("--dds", action="store_true",
+                        help="compare posekit over DDS with a real rclpy and raw cyclonedds")
     args = parser.parse_args()
     if args.child:
         role, mode, endpoint, *rest = args.child
+        if role == "ddssub":
+            dds_child_sub(mode)
+            return
+        if role == "ddspub":
+            dds_child_pub(mode, rest[0], int(rest[1]))
+            return
         if role == "sub":
             child_sub(mode, endpoint)
         else:
@@ -321,6 +639,11 @@ def main() -> None:
         return
     burst = 20_000 if args.quick else 100_000
     repeat = 1 if args.quick else args.repeat
+    if args.dds:
+        # Fast DDS fails a KEEP_ALL publish once ~5000 samples wait for a slow rclpy reader,
+        # so the DDS burst stays at 5000 messages for every implementation.
+        main_dds(5000, repeat)
+        return
     n_latency = int(LATENCY_RATE_HZ * LATENCY_SECONDS)
 
     def runs(pub_mode: str, sub_mode: str, phase: str, n: int) -> list[dict[str, Any]]:

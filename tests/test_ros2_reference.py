@@ -4,7 +4,11 @@ interoperability test relies on this environment working)."""
 
 from __future__ import annotations
 
+import pytest
+
 from _support.ros2 import run_ros2_script
+
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
 
 
 def test_real_rclpy_runs_on_fast_dds() -> None:

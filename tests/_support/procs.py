@@ -6,6 +6,7 @@ never blocks forever on a process that went quiet.
 
 from __future__ import annotations
 
+import os
 import queue
 import signal
 import subprocess
@@ -19,14 +20,16 @@ from typing import Any
 class Proc:
     """A child process whose stdout and stderr lines are collected by reader threads."""
 
-    def __init__(self, args: list[str], env: dict[str, str], cwd: Path | None = None,
-                 stdin: int | None = None) -> None:
-        """``stdin``: a file descriptor for the child's stdin (a pty, say); default none."""
+    def __init__(self, args: list[str], env: dict[str, str], cwd: Path | None = None, *,
+                 new_session: bool = False, stdin: int | None = None) -> None:
+        """``new_session``: the child leads its own process group, so a signal sent to the
+        group (:meth:`interrupt_group`) reaches a shell and the command it runs. ``stdin``: a
+        file descriptor for the child's stdin (a pty, say); default none."""
         self.args = args
         self.popen = subprocess.Popen(
             args, env=env, cwd=cwd, stdin=subprocess.DEVNULL if stdin is None else stdin,
             stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE, text=True, bufsize=1,
+            stderr=subprocess.PIPE, text=True, bufsize=1, start_new_session=new_session,
         )
         self.lines: queue.Queue[str] = queue.Queue()
         self.out: list[str] = []
@@ -89,3 +92,14 @@ class Proc:
             except subprocess.TimeoutExpired:
                 self.popen.kill()
                 self.popen.wait(5)
+
+    def interrupt_group(self, timeout: float = 10.0) -> None:
+        """Ctrl-C the process group (needs ``new_session``), then SIGKILL it if it lingers."""
+        if self.popen.poll() is not None:
+            return
+        os.killpg(self.popen.pid, signal.SIGINT)
+        try:
+            self.popen.wait(timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(self.popen.pid, signal.SIGKILL)
+            self.popen.wait(5)

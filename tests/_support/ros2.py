@@ -56,3 +56,37 @@ def run_ros2_script(source: str, domain_id: int, timeout: float = 60.0,
         env=ros2_env(domain_id, **extra_env), capture_output=True, text=True,
         timeout=timeout, stdin=subprocess.DEVNULL,
     )
+
+
+#: Source for reference scripts: ``msg_class("pkg/msg/Type")``, ``make(cls, values)`` (a
+#: message from nested dicts/lists, as rosidl's set_message_fields) and ``to_plain(msg)``
+#: (nested dicts, lists and scalars, every field), written against the real rclpy only.
+ROS_MSG_HELPERS = '''
+import importlib
+
+def msg_class(ros_type):
+    pkg, kind, name = ros_type.split("/")
+    return getattr(importlib.import_module(f"{pkg}.{kind}"), name)
+
+def fill(msg, values):
+    for key, value in values.items():
+        if isinstance(value, dict):
+            fill(getattr(msg, key), value)
+        else:
+            setattr(msg, key, value)
+    return msg
+
+def make(cls, values):
+    return fill(cls(), values)
+
+def to_plain(value):
+    if hasattr(value, "get_fields_and_field_types"):
+        return {k: to_plain(getattr(value, k)) for k in value.get_fields_and_field_types()}
+    if isinstance(value, (bytes, bytearray)):
+        return list(value)
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [to_plain(v) for v in value]
+    return value
+'''

@@ -37,7 +37,12 @@ START_NS = 1_000_250_000_000  # conftest.START_NS: the talkers' start time
 def record_talkers(kit: Any) -> Any:
     return kit.record
 
+# /rosout and /parameter_events: every node (the recorder's too) publishes its log lines and
+# parameter changes there, as in ROS 2.
 TOPICS = ["/camera/image", "/chatter", "/imu", "/odom", "/tf", "/tf_static"]
+ALL_TOPICS = sorted([*TOPICS, "/parameter_events", "/rosout"])
+#: The talkers' topics whose every published message is compared.
+SENT_TOPICS = ["/camera/image", "/chatter", "/imu", "/odom", "/tf"]
 
 
 def _mcap_file(path: Path) -> Path:
@@ -51,13 +56,13 @@ def test_every_message_read_back_by_rosbags_with_its_receive_time(recorded: Any,
     store = get_typestore(Stores.ROS2_JAZZY)
     got: dict[str, list[tuple[int, Any]]] = {}
     with Reader(recorded.path) as reader:
-        assert sorted(c.topic for c in reader.connections) == TOPICS
+        assert sorted(c.topic for c in reader.connections) == ALL_TOPICS
         for conn, timestamp, data in reader.messages():
             got.setdefault(conn.topic, []).append(
                 (timestamp, store.deserialize_cdr(data, conn.msgtype))
             )
     sent = recorded.talkers.sent
-    for topic in TOPICS[:-1]:
+    for topic in SENT_TOPICS:
         expected = [(t, m) for top, t, m in sent if top == topic]
         assert len(got[topic]) == len(expected) > 0, topic
         for (t_exp, m_exp), (t_got, m_got) in zip(expected, got[topic], strict=True):
@@ -70,7 +75,9 @@ def test_every_message_read_back_by_rosbags_with_its_receive_time(recorded: Any,
     assert [t for t, _ in statics] == [START_NS, START_NS]
     children = sorted(m.transforms[0].child_frame_id for _, m in statics)
     assert children == ["camera", "laser"]
-    assert recorded.counts == {topic: len(got[topic]) for topic in TOPICS}
+    assert recorded.counts == {topic: len(got[topic]) for topic in ALL_TOPICS}
+    events = [m for _, m in got["/parameter_events"]]
+    assert all(m.__msgtype__ == "rcl_interfaces/msg/ParameterEvent" for m in events)
 
 
 def test_every_message_read_back_by_mcap_ros2_from_the_stored_schemas(
@@ -96,7 +103,7 @@ def test_every_message_read_back_by_mcap_ros2_from_the_stored_schemas(
                 "MSG: builtin_interfaces/Time", "MSG: geometry_msgs/Quaternion"):
         assert dep in tf_schema
     sent = recorded.talkers.sent
-    for topic in TOPICS[:-1]:
+    for topic in SENT_TOPICS:
         expected = [(t, m) for top, t, m in sent if top == topic]
         assert len(decoded[topic]) == len(expected), topic
         for (t_exp, m_exp), (log_t, pub_t, m_got) in zip(expected, decoded[topic], strict=True):
@@ -113,7 +120,7 @@ def test_chunks_are_zstd_and_channels_carry_offered_qos(recorded: Any) -> None:
     assert summary.chunk_indexes
     assert {c.compression for c in summary.chunk_indexes} == {"zstd"}
     by_topic = {c.topic: c for c in summary.channels.values()}
-    assert set(by_topic) == set(TOPICS)
+    assert set(by_topic) == set(ALL_TOPICS)
     static_qos = yaml.safe_load(by_topic["/tf_static"].metadata["offered_qos_profiles"])
     assert static_qos[0]["durability"] == "transient_local"
     assert all(c.message_encoding == "cdr" for c in by_topic.values())
@@ -219,7 +226,10 @@ def test_header_stamps_option(ctx: Context, tmp_path: Path) -> None:
     rec = attach_recorder(executor, tmp_path / "h", stamp="header")
     executor.run_for(1.0)
     rec.close()
-    stamps = {(m.topic, m.timestamp_ns) for m in read_messages(tmp_path / "h")}
+    stamps = {
+        (m.topic, m.timestamp_ns) for m in read_messages(tmp_path / "h")
+        if m.topic not in ("/parameter_events", "/rosout")  # no header: receive times
+    }
     assert stamps == {
         ("/tf", 5_490_000_000), ("/tf", 5_990_000_000),
         ("/plain", 5_500_000_000), ("/plain", 6_000_000_000),  # no header: receive time
@@ -255,7 +265,7 @@ def test_all_topics_discovers_late_topics_skips_hidden_clock_and_foreign_types(
     node.create_timer(0.1, tick)
     executor.run_for(1.0)
     counts = rec.close()
-    assert set(counts) == {"/early", "/late"}
+    assert set(counts) == {"/early", "/late", "/parameter_events", "/rosout"}
     # /early is discovered on the first graph check (after the node existed); /late within
     # one discovery period (0.1 s) of appearing at 0.5 s, so it misses at most one message.
     assert counts["/early"] == 10

@@ -108,7 +108,8 @@ def test_record_all_and_metadata_version(ctx: Context, tmp_path: Path) -> None:
     summary = bag_info(tmp_path / "all")
     assert summary.version == 8
     assert summary.chunk_compression == ""
-    assert [t.name for t in summary.topics] == ["/only"]
+    # --all takes every topic, /parameter_events and /rosout too (every node has them)
+    assert [t.name for t in summary.topics] == ["/only", "/parameter_events", "/rosout"]
 
 
 @pytest.mark.parametrize(

@@ -9,15 +9,11 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
 import shutil
 import signal
 import subprocess
-import sys
-import textwrap
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -26,62 +22,12 @@ import pytest
 import yaml
 from scipy.spatial.transform import Rotation
 
-from _support.ports import free_port
-from _support.procs import Proc
+from _support.world import World
 from posekit.msgs.registry import MESSAGE_CLASSES
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 REPO = Path(__file__).resolve().parents[2]
-
-
-class World:
-    """Starts processes that share one router endpoint and kills them all at the end."""
-
-    def __init__(self, endpoint: str, tmp: Path) -> None:
-        self.endpoint = endpoint
-        self.tmp = tmp
-        self.procs: list[Proc] = []
-        self.env = {k: v for k, v in os.environ.items()
-                    if not k.startswith(("ZENOH_", "ROS_DOMAIN", "POSEKIT_"))}
-        self.env.update(POSEKIT_ZENOH_ROUTER=endpoint, PYTHONUNBUFFERED="1")
-
-    def cli(self, *args: str) -> Proc:
-        return self._start([sys.executable, "-m", "posekit.cli.main", *args])
-
-    def script(self, source: str, *args: str, transport_env: bool = True) -> Proc:
-        env = dict(self.env)
-        if transport_env:
-            env["POSEKIT_TRANSPORT"] = "zenoh"
-        return self._start([sys.executable, "-c", textwrap.dedent(source), *args], env)
-
-    def _start(self, args: list[str], env: dict[str, str] | None = None) -> Proc:
-        proc = Proc(args, env or self.env, cwd=self.tmp)
-        self.procs.append(proc)
-        return proc
-
-    def close(self) -> None:
-        for proc in reversed(self.procs):
-            proc.kill()
-        for proc in self.procs:
-            for stream in (proc.popen.stdout, proc.popen.stderr):
-                if stream is not None:
-                    stream.close()
-
-
-@pytest.fixture
-def world(tmp_path: Path) -> Iterator[World]:
-    w = World(f"tcp/127.0.0.1:{free_port()}", tmp_path)
-    try:
-        yield w
-    finally:
-        w.close()
-
-
-@pytest.fixture
-def routed(world: World) -> World:
-    """A world with ``posekit router`` running on its endpoint."""
-    router = world.cli("router", "--listen", world.endpoint)
-    router.wait_line(lambda s: "listening on" in s, 15, "the router to listen")
-    return world
 
 
 # -- runtime processes (POSEKIT_TRANSPORT=zenoh, no transport named in the code) ---------------
@@ -280,7 +226,8 @@ def test_tf_static_then_tf_echo_prints_the_tf2_echo_block(routed: World) -> None
     out = echo.finish(30, "posekit tf echo")
     # static transforms are looked up at time 0: tf2_echo prints "At time 0.0"
     assert out == "At time 0.0\n" + SPEC_BLOCK, echo.describe()
-    # the spec's block is tf2's output; check it against scipy as well (rounded to 3 places)
+    # docs/specs/tf2.md's block is tf2's output; check it against scipy as well (rounded to 3
+    # places)
     R = Rotation.from_euler("xyz", [0.1, -0.2, 3.0])
     q = R.as_quat()
     assert f"[{q[0]:.3f}, {q[1]:.3f}, {q[2]:.3f}, {q[3]:.3f}]" in out
@@ -389,3 +336,96 @@ def test_array_helper_sanity() -> None:
         if any(not isinstance(getattr(default, f), np.ndarray) or getattr(default, f).size
                for f in cls.__dataclass_fields__ if not f.startswith("_")):
             assert sample != default, cls
+
+
+# -- parameters and services between processes ---------------------------------------------
+
+CMD_VEL_OBSERVER = """
+import math
+from posekit.msgs.geometry_msgs import TwistStamped
+from posekit.msgs.nav_msgs import Odometry
+from posekit.runtime.context import Context
+from posekit.runtime.executors import SingleThreadedExecutor
+from posekit.runtime.node import Node
+ctx = Context(); ctx.init()
+node = Node("cmd_vel_observer", context=ctx)
+pose = []
+def on_odom(m):
+    pose[:] = [m.pose.pose.position.x, m.pose.pose.position.y]
+def on_cmd(m):
+    if pose:
+        rho = math.hypot(5.0 - pose[0], 5.0 - pose[1])
+        print(f"v={m.twist.linear.x:.4f} rho={rho:.4f}", flush=True)
+node.create_subscription(Odometry, "/odometry/filtered", on_odom, 10)
+node.create_subscription(TwistStamped, "/cmd_vel", on_cmd, 10)
+ex = SingleThreadedExecutor(context=ctx); ex.add_node(node)
+ex.spin()
+"""
+
+
+def _v_rho(line: str) -> tuple[float, float] | None:
+    match = re.fullmatch(r"v=(\S+) rho=(\S+)\n", line)
+    return (float(match[1]), float(match[2])) if match else None
+
+
+@pytest.mark.slow
+def test_param_set_retunes_the_running_p_controller(world: World) -> None:
+    """The lecture's tip over real processes: ``posekit launch p_controller --zenoh
+    --realtime`` drives to (5, 5) at the 0.5 m/s clamp; ``posekit param set /p_controller
+    k_rho 0.02`` from another process makes the next commands v = 0.02 * rho (under the
+    clamp), seen by a third process on /cmd_vel."""
+    launch = world.cli("launch", "p_controller", "--zenoh", "--realtime")
+    observer = world.script(CMD_VEL_OBSERVER)
+    line = observer.wait_line(lambda s: (vr := _v_rho(s)) is not None and vr[0] == 0.5, 60,
+                              "the controller driving at the 0.5 m/s clamp")
+    assert launch.popen.poll() is None, line
+    listed = world.cli("param", "list", "/p_controller").finish(30, "posekit param list")
+    assert "  k_rho\n" in listed
+    assert "  goal_tolerance\n" in listed
+    got = world.cli("param", "get", "/p_controller", "k_rho").finish(30, "posekit param get")
+    assert got == "Double value is: 0.4\n"
+    setter = world.cli("param", "set", "/p_controller", "k_rho", "0.02")
+    assert setter.finish(30, "posekit param set") == "Set parameter successful\n"
+    observer.wait_line(
+        lambda s: (vr := _v_rho(s)) is not None and abs(vr[0] - 0.02 * vr[1]) < 0.005, 30,
+        "commands following the new gain (v = 0.02 * rho)",
+    )
+    refused = world.cli("param", "set", "/p_controller", "k_rho", "1")
+    assert refused.finish(30, "posekit param set") == ""
+    assert refused.err == [
+        "Setting parameter failed: Wrong parameter type, expected 'Type.DOUBLE' "
+        "got 'Type.INTEGER'\n"
+    ]
+    got = world.cli("param", "get", "/p_controller", "k_rho").finish(30, "posekit param get")
+    assert got == "Double value is: 0.02\n"
+
+
+@pytest.mark.slow
+def test_service_call_between_processes(routed: World) -> None:
+    server = routed.script("""
+from posekit.msgs.std_srvs import SetBool
+from posekit.runtime.context import Context
+from posekit.runtime.executors import SingleThreadedExecutor
+from posekit.runtime.node import Node
+ctx = Context(); ctx.init()
+node = Node("flag_server", context=ctx)
+def on_request(request, response):
+    response.success = not request.data
+    response.message = f"flipped {request.data}"
+    return response
+node.create_service(SetBool, "flip", on_request)
+ex = SingleThreadedExecutor(context=ctx); ex.add_node(node)
+print("serving", flush=True)
+ex.spin()
+""")
+    server.wait_line(lambda s: s == "serving\n", 30, "the server")
+    caller = routed.cli("service", "call", "/flip", "std_srvs/srv/SetBool", "{data: true}",
+                        "--timeout", "20")
+    printed = caller.finish(40, "posekit service call")
+    assert printed.endswith(
+        "requester: making request: std_srvs.srv.SetBool_Request(data=True)\n\n"
+        "response:\nstd_srvs.srv.SetBool_Response(success=False, message='flipped True')\n\n"
+    )
+    listed = routed.cli("service", "list", "-t").finish(30, "posekit service list")
+    assert "/flip [std_srvs/srv/SetBool]\n" in listed
+    assert "/flag_server/get_parameters [rcl_interfaces/srv/GetParameters]\n" in listed

@@ -51,9 +51,15 @@ def test_report_formats() -> None:
 
 def test_user_mistakes_end_in_one_line(capsys: pytest.CaptureFixture[str], tmp_path: Path,
                                        monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("POSEKIT_TRANSPORT", "inprocess")
-    assert main(["topic", "list", "--transport", "nosuch"]) == 1
+    monkeypatch.setenv("POSEKIT_TRANSPORT", "nosuch")
+    assert main(["topic", "list"]) == 1
     assert "unknown transport 'nosuch'" in one_line_error(capsys, "posekit topic list")
+    monkeypatch.setenv("POSEKIT_TRANSPORT", "inprocess")
+    with pytest.raises(SystemExit) as exit_info:  # argparse: usage line + one error line
+        main(["topic", "list", "--transport", "nosuch"])
+    assert exit_info.value.code == 2
+    assert capsys.readouterr().err.splitlines()[-1].startswith(
+        "posekit topic list: error: argument --transport: invalid choice: 'nosuch'")
     for verb in (["info", "bad!name"], ["echo", "bad!name", "std_msgs/msg/String"],
                  ["pub", "bad!name", "std_msgs/msg/String", "{}"]):
         assert main(["topic", *verb]) == 1

@@ -1,7 +1,8 @@
 """posekit node list / topic list over real Zenoh sessions, including rmw_zenoh's own tokens.
 
 The "ROS 2 node" here is a plain zenoh session declaring liveliness tokens in rmw_zenoh's
-exact format (spec §2 worked example), sharing no code with posekit's token builders.
+exact format (docs/specs/rmw_zenoh.md §2 worked example), sharing no code with posekit's token
+builders.
 """
 
 from __future__ import annotations
@@ -22,9 +23,11 @@ from posekit.runtime.context import Context
 from posekit.runtime.node import Node
 from posekit.transport.zenoh_transport import ZenohTransport
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 ROS_ZID = "1234567890abcdef1234567890abcdef"
 TF_HASH = "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"
-ROS_TOKENS = [  # spec §2, verbatim, plus a hidden ROS node
+ROS_TOKENS = [  # docs/specs/rmw_zenoh.md §2, verbatim, plus a hidden ROS node
     f"@ros2_lv/0/{ROS_ZID}/0/0/NN/%/%/zbridge",
     f"@ros2_lv/0/{ROS_ZID}/0/1/MP/%/%/zbridge/%tf/tf2_msgs::msg::dds_::TFMessage_/{TF_HASH}"
     "/::,100:,:,:,,",
@@ -97,7 +100,12 @@ def test_ros2_tokens_show_in_node_and_topic_lists(zenoh_context: Context, endpoi
         out, _ = run(node_cmd.main_list, ["-c"], zenoh_context)
         assert out == "1\n"
         out, _ = run(topic_cmd.main_list, ["-t"], zenoh_context)
-        assert out == "/tf [tf2_msgs/msg/TFMessage]\n/tf_static [tf2_msgs/msg/TFMessage]\n"
+        # the tool's own node has /parameter_events and /rosout, as ros2's does
+        assert out == (
+            "/parameter_events [rcl_interfaces/msg/ParameterEvent]\n"
+            "/rosout [rcl_interfaces/msg/Log]\n"
+            "/tf [tf2_msgs/msg/TFMessage]\n/tf_static [tf2_msgs/msg/TFMessage]\n"
+        )
         out, _ = run(topic_cmd.main_info, ["/tf_static", "-v"], zenoh_context)
         assert "Subscription count: 1\n\nNode name: zbridge\nNode namespace: /\n" in out
         assert "  Durability: TRANSIENT_LOCAL\n" in out

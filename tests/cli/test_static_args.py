@@ -1,4 +1,5 @@
-"""static_transform_publisher argument parsing against tf2_ros's behaviour (spec tf2.md §11.2)."""
+"""static_transform_publisher argument parsing against tf2_ros's behaviour (docs/specs/tf2.md
+§11.2)."""
 
 import math
 

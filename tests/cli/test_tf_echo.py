@@ -1,4 +1,5 @@
-"""tf2_echo: output text byte for byte (spec tf2.md §11.1) and the tool against a live buffer."""
+"""tf2_echo: output text byte for byte (docs/specs/tf2.md §11.1) and the tool against a live
+buffer."""
 
 import io
 
@@ -25,7 +26,8 @@ SPEC_BLOCK = """At time 1700000000.5000000
 
 
 def test_block_matches_real_tf2_echo_output() -> None:
-    # The spec's block was printed by the real tf2_echo for t=(1,-2.5,0.123456), rpy=(0.1,-0.2,3).
+    # docs/specs/tf2.md's block was printed by the real tf2_echo for t=(1,-2.5,0.123456),
+    # rpy=(0.1,-0.2,3).
     q = quat_from_rpy(0.1, -0.2, 3.0)
     assert format_echo_block(1700000000, 5_000_000, (1.0, -2.5, 0.123456), q) == SPEC_BLOCK
 

@@ -216,10 +216,15 @@ def test_list_and_info(ctx: Context) -> None:
     node.create_publisher(String, "/_hidden/x", 10)
     out = io.StringIO()
     assert topic_cmd.main(["list", "-t"], context=ctx, out=out) == 0
-    assert out.getvalue() == "/cmd_vel [geometry_msgs/msg/Twist]\n"
+    # every node (the tool's too) has /parameter_events and /rosout, as in ROS 2
+    assert out.getvalue() == (
+        "/cmd_vel [geometry_msgs/msg/Twist]\n"
+        "/parameter_events [rcl_interfaces/msg/ParameterEvent]\n"
+        "/rosout [rcl_interfaces/msg/Log]\n"
+    )
     out = io.StringIO()
     topic_cmd.main(["list", "--include-hidden-topics", "-c"], context=ctx, out=out)
-    assert out.getvalue() == "2\n"
+    assert out.getvalue() == "4\n"
     out = io.StringIO()
     assert topic_cmd.main(["info", "cmd_vel"], context=ctx, out=out) == 0
     assert out.getvalue() == (
@@ -318,3 +323,14 @@ def test_dispatcher_routes_topic_and_node(capsys: pytest.CaptureFixture[str]) ->
     text = capsys.readouterr().out
     for verb in ("topic list", "topic echo", "topic hz", "topic pub", "node list", "router"):
         assert verb in text
+
+
+@pytest.mark.parametrize("rate", ["nan", "inf", "0", "-5"])
+def test_pub_refuses_a_rate_that_is_no_positive_finite_number(ctx: Context, rate: str) -> None:
+    """One line on stderr and exit 2, no timer created (rclpy would raise on NaN/inf)."""
+    err = io.StringIO()
+    code = topic_cmd.main(["pub", "/cmd_vel", "geometry_msgs/msg/Twist", "{}", f"--rate={rate}"],
+                          context=ctx, out=io.StringIO(), err=err)
+    assert code == 2
+    assert err.getvalue().count("\n") == 1
+    assert "rate must be a positive finite number" in err.getvalue()

@@ -1,4 +1,4 @@
-"""view_frames' dot text (spec tf2.md §11.3) and the terminal tree, from a real Buffer."""
+"""view_frames' dot text (docs/specs/tf2.md §11.3) and the terminal tree, from a real Buffer."""
 
 import pytest
 

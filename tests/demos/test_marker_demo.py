@@ -1,6 +1,6 @@
 """The main demo (``make demo``): it runs, prints the listener's lines and a table whose
-estimated marker positions are within 5 cm of the spec's true positions, and saves a
-readable debug image. Shortened to 3 simulated seconds to keep the suite fast."""
+estimated marker positions are within 5 cm of docs/specs/rosbot_and_worlds.md's true positions, and
+saves a readable debug image. Shortened to 3 simulated seconds to keep the suite fast."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import pytest
 
 from posekit.demos.main import main
 
-# spec: aruco_box_world's front markers in odom
+# docs/specs/rosbot_and_worlds.md: aruco_box_world's front markers in odom
 TRUE = {2: (2.000, -0.5002, 0.250), 4: (2.000, 0.000, 0.250), 5: (2.000, 0.5002, 0.250)}
 NUM = r"\s*(-?\d+\.\d{3})"
 ROW = re.compile(rf"aruco_marker_(\d+)\s+\({NUM},{NUM},{NUM}\)\s+\({NUM},{NUM},{NUM}\)"

@@ -81,7 +81,7 @@ def test_matrix_to_quat_sign_rule_of_tf2():
 
 @given(angles, angles, angles)
 def test_rpy_matches_tf2_half_angle_formula(r, p, y):
-    # tf2 Quaternion::setRPY written out (specs/tf2.md 12.2)
+    # tf2 Quaternion::setRPY written out (docs/specs/tf2.md 12.2)
     cr, sr = math.cos(r / 2), math.sin(r / 2)
     cp, sp = math.cos(p / 2), math.sin(p / 2)
     cy, sy = math.cos(y / 2), math.sin(y / 2)
@@ -108,7 +108,7 @@ def test_rpy_matches_tf2_half_angle_formula(r, p, y):
 
 
 def test_slerp_reference_numbers_from_tf2_spec():
-    # specs/tf2.md section 10: half way between identity and yaw 90 deg
+    # docs/specs/tf2.md section 10: half way between identity and yaw 90 deg
     q90 = sk.quat_from_rpy_xyzw(0.0, 0.0, math.pi / 2)
     q = sk.quat_slerp_xyzw((0.0, 0.0, 0.0, 1.0), q90, 0.5)
     np.testing.assert_allclose(q, (0, 0, 0.38268343236508984, 0.9238795325112867), atol=1e-15)

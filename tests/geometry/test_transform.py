@@ -69,7 +69,7 @@ def test_lecture_chain_odom_to_marker():
 
 
 def test_tf2_interpolation_reference_numbers():
-    # specs/tf2.md section 10: map->odom @1 identity, @2 t(2,0,0) yaw 90 deg; lookup @1.5
+    # docs/specs/tf2.md section 10: map->odom @1 identity, @2 t(2,0,0) yaw 90 deg; lookup @1.5
     T1 = Transform.identity()
     T2 = Transform(Rotation.from_rpy(0, 0, math.pi / 2), [2.0, 0.0, 0.0])
     mid = T1.interpolate(T2, 0.5)

@@ -1,4 +1,5 @@
-"""CDR bytes against rosbags' own serializer (independent typestore), round trips, the spec's
+"""CDR bytes against rosbags' own serializer (independent typestore), round trips,
+docs/specs/rmw_zenoh.md's
 worked TFMessage, and malformed input."""
 
 from __future__ import annotations
@@ -170,6 +171,8 @@ def test_every_issue_type_is_registered() -> None:
     assert set(ISSUE_TYPES) <= set(MESSAGE_CLASSES)
     for name, cls in MESSAGE_CLASSES.items():
         assert cls.__msgtype__ == name
+        if "/srv/" in name:  # rosbags has no service types: see test_services.py
+            continue
         ros = [f for f, _ in REF.fielddefs[name][1]]
         assert [f.name for f in dataclasses.fields(cls)] == ros
 

@@ -22,7 +22,7 @@ def test_reexports_are_the_implementation() -> None:
     assert qos.QoSProfile is runtime_qos.QoSProfile
     assert qos.qos_profile_sensor_data is runtime_qos.qos_profile_sensor_data
     assert executors.SingleThreadedExecutor is runtime_executors.SingleThreadedExecutor
-    assert parameter.Parameter.Type.DOUBLE == 3
+    assert parameter.Parameter.Type.DOUBLE.value == 3  # an Enum, as in rclpy
     from posekit import tf2_ros
 
     assert tf2_ros.Buffer is tf2.Buffer

@@ -1,4 +1,5 @@
-"""The robot's static frames, checked against the spec's composite numbers with scipy."""
+"""The robot's static frames, checked against docs/specs/rosbot_and_worlds.md's composite numbers
+with scipy."""
 
 from __future__ import annotations
 

@@ -160,3 +160,29 @@ def test_slip_statistics_over_seeds() -> None:
     spread = eta0 * math.hypot(s.yaw_efficiency_run_std, s.yaw_efficiency_walk_std)
     assert np.mean(etas) == pytest.approx(eta0, abs=4 * spread / math.sqrt(200))
     assert np.std(etas) == pytest.approx(spread, rel=0.25)
+
+
+def test_future_stamp_is_rejected_so_the_timeout_still_stops_the_robot() -> None:
+    """A sender on the wall clock (stamps near 1.8e9 s) against a simulation on sim time:
+    diff_drive_controller only checks the age, which is negative, so the robot would drive
+    on; posekit rejects the command and the base brakes as after a stopped stream."""
+    p = DriveParams()
+    base = RosbotBase(p, IDEAL)
+    t = _run(base, 2.0, (0.5, 0.0))
+    t_last = t - 0.01
+    wall_stamp = 1_795_000_000.25
+    for k in range(200):
+        now = t + k * 0.01
+        res = base.submit_velocity(0.5, 0.0, stamp=wall_stamp + k * 0.01, now=now)
+        assert not res.accepted
+        assert res.kind == "future"
+        assert "future" in res.reason
+        assert "use_sim_time" in res.reason
+        base.step(now)
+    assert base.last_command_stamp == pytest.approx(t_last)
+    # Stopped: target zero at t_last + timeout, braking at 1 m/s² from 0.5 m/s (closed form).
+    assert t + 2.0 > t_last + p.cmd_vel_timeout + 0.5 / p.max_linear_acceleration
+    assert base.state.commanded_v == 0.0
+    assert base.body_velocity[0] == 0.0
+    # A stamp equal to now is valid (an in-process sender at the same instant).
+    assert base.submit_velocity(0.1, 0.0, stamp=t + 2.0, now=t + 2.0).accepted

@@ -143,7 +143,8 @@ def test_transform_listener_lookups_during_a_run() -> None:
         assert len(row) == 1  # the TF is the EKF output published with that stamp
         assert base.transform.translation.x == row[0, 1]
         assert base.transform.translation.y == row[0, 2]
-        # odom -> camera optical frame = filtered pose composed with the spec's
+        # odom -> camera optical frame = filtered pose composed with
+        # docs/specs/rosbot_and_worlds.md's
         # base_link -> oak_rgb_camera_frame offset (-0.0241, 0, 0.1875).
         yaw = row[0, 3]
         ex = row[0, 1] - 0.0241 * math.cos(yaw)

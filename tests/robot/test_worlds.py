@@ -1,4 +1,5 @@
-"""Worlds: the spec's marker positions and camera intrinsics, validation errors, files."""
+"""Worlds: docs/specs/rosbot_and_worlds.md's marker positions and camera intrinsics, validation
+errors, files."""
 
 from __future__ import annotations
 
@@ -200,3 +201,46 @@ def test_yaml_file(tmp_path: Path) -> None:
             load_world(p)
     else:
         assert load_world(p).boxes[0].pose[0] == 1.0
+
+
+def _camera(**extra: Any) -> dict[str, Any]:
+    return {"name": "c", "pose": [0] * 6, "width": 64, "height": 48, "horizontal_fov": 1.0,
+            **extra}
+
+
+@pytest.mark.parametrize(
+    ("camera", "match"),
+    [
+        (_camera(width=100_000, height=100_000), r"cameras\[0\]\.width: 100000 px is over"),
+        (_camera(width=8192, height=8192), r"width x height: 8192 x 8192 px is over"),
+        (_camera(rate_hz=1e6), r"rate_hz: 1000000.0 Hz is over"),
+    ],
+)
+def test_absurd_cameras_are_refused_at_validation(tmp_path: Path, camera: dict[str, Any],
+                                                   match: str) -> None:
+    """A 100000 x 100000 camera must fail here, not later as a MemoryError per frame.
+    Oracle: the documented limits (MAX_CAMERA_SIDE, MAX_CAMERA_PIXELS, MAX_CAMERA_RATE_HZ)."""
+    with pytest.raises(WorldError, match=match):
+        load_world(_write(tmp_path, _world(cameras=[camera])))
+
+
+def test_limits_are_inclusive(tmp_path: Path) -> None:
+    from posekit.robot.worlds import MAX_CAMERA_PIXELS, MAX_CAMERA_SIDE
+
+    side = math.isqrt(MAX_CAMERA_PIXELS)
+    assert side <= MAX_CAMERA_SIDE
+    world = load_world(_write(tmp_path, _world(cameras=[_camera(width=side, height=side)])))
+    assert world.cameras[0].width * world.cameras[0].height == MAX_CAMERA_PIXELS
+
+
+def test_non_utf8_and_oversized_files_are_named_errors(tmp_path: Path) -> None:
+    from posekit.robot.worlds import MAX_WORLD_FILE_BYTES
+
+    latin = tmp_path / "latin.yaml"
+    latin.write_bytes(b"name: caf\xe9\n")
+    with pytest.raises(WorldError, match=r"latin\.yaml' is not UTF-8 text \(byte 9"):
+        load_world(latin)
+    huge = tmp_path / "huge.json"
+    huge.write_bytes(b" " * (MAX_WORLD_FILE_BYTES + 1))
+    with pytest.raises(WorldError, match="over the limit"):
+        load_world(huge)

@@ -99,7 +99,7 @@ def test_bad_descriptions_are_clear_errors(tmp_path) -> None:
 def test_start_publish_clock_switch() -> None:
     description = LaunchDescription([Node(Talker)])
     quiet = start(description, publish_clock=False)
-    loud = start(description)
+    loud = start(description, publish_clock=True)
     try:
         stamps: list[int] = []
         for run in (quiet, loud):
@@ -112,7 +112,7 @@ def test_start_publish_clock_switch() -> None:
             run.executor.run_until(2.0)  # type: ignore[attr-defined]
             run.nodes.append(observer)
         assert quiet.executor.publish_clock is False  # type: ignore[attr-defined]
-        # Only the run that publishes (the default): one /clock per step of the 0.5 s timer.
+        # Only the run that publishes: one /clock per step of the 0.5 s timer.
         assert stamps == [500_000_000, 1_000_000_000, 1_500_000_000, 2_000_000_000]
     finally:
         quiet.shutdown()

@@ -49,7 +49,7 @@ def test_clock_topic_is_published_each_step(ctx) -> None:
     )
     ticker = Node("ticker", context=ctx)
     ticker.create_timer(0.25, lambda: None)
-    ex = SimulatedTimeExecutor(context=ctx, start_time=10.0)
+    ex = SimulatedTimeExecutor(context=ctx, start_time=10.0, publish_clock=True)
     ex.add_node(ticker)
     ex.add_node(observer)
     ex.run_until(11.0)

@@ -38,7 +38,7 @@ def test_qos_of_broadcasters_and_listener(ctx) -> None:
     dyn = TransformBroadcaster(node).pub_tf.qos_profile
     sta = StaticTransformBroadcaster(node).pub_tf.qos_profile
     listener = TransformListener(Buffer(), node)
-    # specs/tf2.md §9
+    # docs/specs/tf2.md §9
     assert (dyn.depth, dyn.durability, dyn.reliability) == (
         100, DurabilityPolicy.VOLATILE, ReliabilityPolicy.RELIABLE)
     assert (sta.depth, sta.durability, sta.history) == (

@@ -169,4 +169,4 @@ def test_duplicates_at_oldest_and_middle_stamps_sorted_and_shuffled() -> None:
         np.testing.assert_allclose(v, ev, atol=1e-12, rtol=0)
         np.testing.assert_allclose(q, eq, atol=1e-12, rtol=0)
     v, _ = b.lookup_transforms("p", "c", arr)
-    np.testing.assert_allclose(v[:4, 0], [1, 1, 4.5, 8])  # spec 3.1 duplicate model
+    np.testing.assert_allclose(v[:4, 0], [1, 1, 4.5, 8])  # docs/specs/tf2.md 3.1 duplicate model

@@ -1,6 +1,6 @@
-"""BufferCore against tf2's ROS 2 behaviour (spec sections 1, 2, 5, 6, 7, 10, 14).
+"""BufferCore against tf2's ROS 2 behaviour (docs/specs/tf2.md sections 1, 2, 5, 6, 7, 10, 14).
 
-Expected values come from the spec's worked numbers, hand computation, or an independent
+Expected values come from docs/specs/tf2.md's worked numbers, hand computation, or an independent
 4x4-matrix model of the tree (numpy + scipy), never from posekit itself.
 """
 
@@ -75,7 +75,8 @@ def stamp_ns(m: TransformStamped) -> int:
 
 
 def spec_tree() -> BufferCore:
-    """Spec section 10 tree: world->map, base->laser static; map->odom, odom->base dynamic."""
+    """docs/specs/tf2.md section 10 tree: world->map, base->laser static; map->odom, odom->base
+    dynamic."""
     b = BufferCore()
     b.set_transform_static(ts("world", "map", 0, (1, 0, 0)), "auth")
     b.set_transform(ts("map", "odom", 1, (0, 0, 0)), "auth")

@@ -1,4 +1,5 @@
-"""Byte-exact dumps: frames as string, YAML, core dot and view_frames dot (spec 8, 11.3)."""
+"""Byte-exact dumps: frames as string, YAML, core dot and view_frames dot (docs/specs/tf2.md 8,
+11.3)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""tf2 LinearMath kernels against scipy and closed forms (spec section 12)."""
+"""tf2 LinearMath kernels against scipy and closed forms (docs/specs/tf2.md section 12)."""
 
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ def test_canonical_quat_unit_and_sign_rule(q: tuple[float, float, float, float])
 
 
 def test_get_rotation_spec_example_sign_flip() -> None:
-    # spec 5.8: stored (0,0,-0.7071,-0.7071) comes back as (0,0,0.7071,0.7071)
+    # docs/specs/tf2.md 5.8: stored (0,0,-0.7071,-0.7071) comes back as (0,0,0.7071,0.7071)
     h = math.sqrt(0.5)
     assert canonical_quat((0.0, 0.0, -h, -h)) == pytest.approx((0.0, 0.0, h, h), abs=1e-15)
     # 180 deg about z: trace = -1, largest diagonal is m22 -> z positive

@@ -1,4 +1,4 @@
-"""TimeCache and StaticCache rules (spec sections 3 and 4), values checked by hand."""
+"""TimeCache and StaticCache rules (docs/specs/tf2.md sections 3 and 4), values checked by hand."""
 
 from __future__ import annotations
 

@@ -20,6 +20,8 @@ from posekit.transport.zenoh_session import SessionOptions
 from posekit.transport.zenoh_transport import ZenohTransport, options_from_env, wire_qos
 from posekit.transport.zenoh_wire import WireQoS
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 STATIC = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 

@@ -1,4 +1,4 @@
-"""rmw_zenoh wire format against the worked examples of shared/specs/rmw_zenoh.md and against
+"""rmw_zenoh wire format against the worked examples of docs/specs/rmw_zenoh.md and against
 zenoh-ext's own serializer."""
 
 from __future__ import annotations

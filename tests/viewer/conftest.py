@@ -6,7 +6,6 @@ import os
 import shutil
 import threading
 from collections.abc import Iterator
-from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
@@ -94,9 +93,11 @@ def browser(chromium: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator
     """A headless chromium (software GL) with HOME in a temporary directory."""
     from playwright.sync_api import sync_playwright
 
-    three = Path(__file__).parents[2] / "src/posekit/viewer/web/node_modules/three"
-    assert three.is_dir(), (
-        f"{three} is missing: run scripts/install_browser_deps.sh (npm ci in the web dir)"
+    from posekit.viewer.server import THREE_ROOT
+
+    assert (THREE_ROOT / "build" / "three.module.js").is_file(), (
+        f"{THREE_ROOT} is missing: the vendored three.js belongs to the repository "
+        "(scripts/vendor_three.sh re-creates it)"
     )
     home = tmp_path_factory.mktemp("chromium-home")
     with sync_playwright() as p:

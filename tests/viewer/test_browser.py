@@ -17,6 +17,8 @@ from typing import Any
 import numpy as np
 import pytest
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 cv2 = pytest.importorskip("cv2")
 
 BACKGROUND = np.array([58, 48, 48])  # the scene's clear colour 0x30303a as BGR
@@ -158,9 +160,11 @@ def test_image_panels_update_with_the_published_pixels(
              what="more camera images")
     wait_for(lambda: debug(page, "imageUpdates").get("/aruco_detection_image", 0) >= 1,
              what="an aruco_detection_image")
-    # Read the displayed image back through a 2D canvas: size and colour (rgb8 -> RGB).
-    sample = page.evaluate(
+    # Read the displayed image back through a 2D canvas: size and colour (rgb8 -> RGB). The
+    # page swaps in a new frame ~15 times a second; read it back once one is decoded.
+    sample = wait_for(lambda: page.evaluate(
         """() => { const img = document.getElementById('camera-image');
+          if (!img.complete || img.naturalWidth === 0) return null;
           const c = document.createElement('canvas'); c.width = img.naturalWidth;
           c.height = img.naturalHeight; const g = c.getContext('2d'); g.drawImage(img, 0, 0);
           const d = g.getImageData(0, 0, c.width, c.height).data;
@@ -171,7 +175,7 @@ def test_image_panels_update_with_the_published_pixels(
           }
           const med = a => a.sort((x, y) => x - y)[a.length >> 1];
           return [c.width, c.height, med(rs), med(gs), med(bs)]; }"""
-    )
+    ), what="a decoded camera image")
     h, w = support.CAMERA_SIZE
     assert sample[:2] == [w, h]
     assert np.allclose(sample[2:], support.CAMERA_RGB, atol=12), sample
@@ -217,6 +221,29 @@ def test_2d_fallback_draws(browser: Any, viewer: Any) -> None:
         image = canvas_pixels(page, "#scene2d")
         assert drawn_fraction(image) > 0.01
         assert "2D" in page.inner_text("#renderer-note")
+    finally:
+        page.close()
+
+
+def test_missing_three_js_falls_back_to_2d_naming_the_fix_and_recovers_on_reload(
+    browser: Any, viewer: Any, tmp_path: Any, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import posekit.viewer.server as server
+
+    vendored = server.THREE_ROOT
+    monkeypatch.setattr(server, "THREE_ROOT", tmp_path)  # an installation without three.js
+    page = browser.new_page(viewport={"width": 900, "height": 600})
+    try:
+        page.goto(viewer.url)
+        wait_for(lambda: debug(page, "renderer") == "2d", what="the 2D fallback")
+        note = page.inner_text("#renderer-note")
+        assert "three.js is missing" in note
+        assert "pip install --force-reinstall 'posekit[viewer]'" in note
+        assert "scene3d" not in note
+        monkeypatch.setattr(server, "THREE_ROOT", vendored)  # repaired: no server restart
+        page.reload()
+        wait_for(lambda: debug(page, "renderer") == "webgl", what="the 3D view after reload")
+        assert page.is_hidden("#renderer-note")
     finally:
         page.close()
 

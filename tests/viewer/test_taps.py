@@ -231,9 +231,16 @@ def test_images_newest_only_and_rates(ctx: Context, node: Node) -> None:
 
 def test_tap_creates_no_topics_and_skips_unknown_types(ctx: Context, node: Node) -> None:
     transport = ctx.transport()
+    # only the /parameter_events and /rosout publishers every node has (as in ROS 2),
+    # before and after
+    own = [
+        ("/parameter_events", ["rcl_interfaces/msg/ParameterEvent"]),
+        ("/rosout", ["rcl_interfaces/msg/Log"]),
+    ]
+    assert transport.get_topic_names_and_types() == own
     tap = ViewerTap(transport)
     tap.refresh()
-    assert transport.get_topic_names_and_types() == []
+    assert transport.get_topic_names_and_types() == own
 
     @dataclass
     class Custom:  # a type the registry does not know, defined in a function

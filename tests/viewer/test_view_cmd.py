@@ -12,6 +12,8 @@ pytest.importorskip("aiohttp")
 from posekit.cli.view_cmd import attach_to_run, find_world, main
 from posekit.robot.scenarios import start_scenario
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 
 def test_bad_arguments_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["--port", "70000"]) == 2

@@ -16,6 +16,8 @@ from posekit.runtime.node import Node
 from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 from posekit.viewer.taps import ViewerTap
 
+pytestmark = pytest.mark.slow  # real processes, sessions or a browser
+
 
 def tf(parent: str, child: str, x: float, stamp_s: int) -> TransformStamped:
     t = TransformStamped()

@@ -1,4 +1,5 @@
-"""aruco_box model: face table consistency and the marker poses the spec lists for the worlds."""
+"""aruco_box model: face table consistency and the marker poses docs/specs/rosbot_and_worlds.md
+lists for the worlds."""
 
 from __future__ import annotations
 
@@ -53,7 +54,8 @@ def test_box_pose_matrix_is_sdf_rpy():
 
 
 def test_aruco_box_world_markers_match_spec():
-    # spec, aruco_box_worlds.sdf: id 4 at (2.000, 0, 0.25), id 2 at (2.000, -0.5002, 0.25),
+    # docs/specs/rosbot_and_worlds.md, aruco_box_worlds.sdf: id 4 at (2.000, 0, 0.25), id 2 at
+    # (2.000, -0.5002, 0.25),
     # id 5 at (2.000, 0.5002, 0.25), orientations ~ quat (0, -0.7071, 0, 0.7071) +- 3e-4
     boxes = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
              box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]

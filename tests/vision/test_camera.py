@@ -1,4 +1,5 @@
-"""Pinhole camera model: spec intrinsics, projection against closed form and OpenCV, messages."""
+"""Pinhole camera model: intrinsics of docs/specs/rosbot_and_worlds.md, projection against closed
+form and OpenCV, messages."""
 
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ from posekit.vision.errors import CameraModelError
 
 
 def test_oak_intrinsics_match_spec():
-    # spec: 1280x720, HFOV 60 deg, K = [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]]
+    # docs/specs/rosbot_and_worlds.md: 1280x720, HFOV 60 deg, K = [[1108.513, 0, 640], [0,
+    # 1108.513, 360], [0, 0, 1]]
     cam = OAK_RGB_CAMERA
     assert (cam.width, cam.height) == (1280, 720)
     np.testing.assert_allclose(cam.K, [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]],

@@ -169,7 +169,8 @@ def test_robot_sees_markers_2_4_5_in_aruco_box_world():
     boxes = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
              box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
     T_world_optical = np.eye(4)
-    T_world_optical[:3, 3] = (-0.0241, 0.0, 0.1875)  # base_link at the origin (spec)
+    T_world_optical[:3, 3] = (-0.0241, 0.0, 0.1875)  # base_link at the origin
+                                                     # (docs/specs/rosbot_and_worlds.md)
     T_world_optical = T_world_optical @ T_CAMERA_FRAME_OPTICAL
     img = BoxRenderer(CAM, noise_sigma=2.0, seed=1).render(T_world_optical, boxes)
     dets = ArucoMarkerDetector(CAM.K, marker_size=0.2).detect(img)

@@ -1,6 +1,6 @@
 """The lecture's ArUco scenarios end to end (simulator, cameras, detectors, tf2), checked
-against the spec's true marker poses: static_aruco_box within 3 cm, markers 2, 4, 5 within
-5 cm in odom, the KDL composition equal to tf2's direct lookup to 1e-9."""
+against docs/specs/rosbot_and_worlds.md's true marker poses: static_aruco_box within 3 cm, markers
+2, 4, 5 within 5 cm in odom, the KDL composition equal to tf2's direct lookup to 1e-9."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ import posekit.vision.scenarios  # noqa: F401 - registers the scenarios
 from posekit.robot.scenarios import ScenarioError, run_scenario, scenario_names
 from posekit.time import Time
 
-# spec: aruco_box_world front markers; aruco_box_camera_world top marker (id 3)
+# docs/specs/rosbot_and_worlds.md: aruco_box_world front markers; aruco_box_camera_world top marker
+# (id 3)
 FRONT_MARKERS = {"aruco_marker_4": (2.000, 0.000, 0.250),
                  "aruco_marker_2": (2.000, -0.5002, 0.250),
                  "aruco_marker_5": (2.000, 0.5002, 0.250)}
@@ -31,13 +32,14 @@ def test_static_detector_box_in_odom_within_3_cm() -> None:
     t = det.published_transform
     assert (t.header.frame_id, t.child_frame_id) == ("overhead_camera_optical_frame",
                                                      "static_aruco_box")
-    # compose by hand with the launch file's static frames (spec)
+    # compose by hand with the launch file's static frames (docs/specs/rosbot_and_worlds.md)
     R_odom_cam = R.from_euler("xyz", [0, 1.5708, 0]) * R.from_euler("xyz",
                                                                      [-1.5708, 0, -1.5708])
     p = t.transform.translation
     box_in_odom = R_odom_cam.apply([p.x, p.y, p.z]) + np.array([2.0, 2.0, 2.0])
     assert np.linalg.norm(box_in_odom - BOX_TOP_MARKER) < 0.03
-    # the marker's z axis (out of the top face) points up, its x axis along -x (spec table)
+    # the marker's z axis (out of the top face) points up, its x axis along -x
+    # (docs/specs/rosbot_and_worlds.md table)
     q = t.transform.rotation
     R_odom_box = R_odom_cam * R.from_quat([q.x, q.y, q.z, q.w])
     assert R_odom_box.apply([0, 0, 1]) @ [0, 0, 1] > 0.99

@@ -8,6 +8,7 @@
 * :class:`Player`: publishes a bag on its recorded time line with ``/clock`` (stepped in a
   SimulatedTimeExecutor, or in wall-clock time at a rate, optionally looping).
 * :func:`bag_info` / :func:`format_info`: ``ros2 bag info``; :func:`read_messages`: iterate.
+* :func:`reindex`: ``ros2 bag reindex``: a complete bag from what a killed recorder left.
 
 rosbags is imported when one of these runs, not on ``import posekit.bag``. See docs/bags.md.
 """
@@ -25,6 +26,7 @@ from posekit.bag.info import BagInfo, TopicInfo, bag_info, format_info
 from posekit.bag.player import PlaybackTopic, Player
 from posekit.bag.reader import BagMessage, read_messages
 from posekit.bag.recorder import Recorder, attach_recorder, record_scenario
+from posekit.bag.reindex import ReindexResult, reindex
 
 __all__ = [
     "BagError",
@@ -37,10 +39,12 @@ __all__ = [
     "PlaybackTopic",
     "Player",
     "Recorder",
+    "ReindexResult",
     "TopicInfo",
     "attach_recorder",
     "bag_info",
     "format_info",
     "read_messages",
     "record_scenario",
+    "reindex",
 ]

@@ -147,6 +147,11 @@ class SplitWriter:
         return meta
 
     @property
+    def storage(self) -> Any:
+        """rosbags' storage writer of the open file (None when closed), for flushing."""
+        return self._writer.storage if self._writer is not None else None
+
+    @property
     def files(self) -> list[str]:
         """Storage files finished so far."""
         return [str(p["relative_file_paths"][0]) for p in self._parts]

@@ -15,6 +15,13 @@ recorded run. Two ways to drive it:
   player at ``clock_frequency`` Hz (and at each message's time), other nodes run in the
   given executor meanwhile.
 
+Damaged bags: storage that cannot be read raises :class:`BagFormatError`. Damage the reader
+does not notice (a chunk index pointing elsewhere, a lost chunk) shows as fewer messages
+than ``metadata.yaml`` lists: after each pass the player compares what it read with those
+counts, logs the shortfall once as an error and adds it to :attr:`Player.missing`;
+``posekit bag play`` then exits with 1 and a one-line reason. (``ros2 bag play`` has no such
+check and ends silently; posekit says so because a short replay looks like a valid one.)
+
 ``loop`` restarts from the beginning after the last message; the clock then jumps back (tf2
 listeners clear their buffers, as under ROS 2). Recorded ``/clock`` messages are not
 re-published while the player provides the clock. Publisher QoS comes from the recorded
@@ -170,6 +177,11 @@ class Player:
         self.skipped = 0
         #: Completed passes over the bag.
         self.loops_done = 0
+        #: Messages metadata.yaml lists for the played topics (one pass).
+        self.expected = sum(info.message_count for info in self.topics.values())
+        #: Messages listed but not found in the storage, summed over passes (see the module
+        #: docstring); non-zero means the bag is damaged.
+        self.missing = 0
         self._stopped = False
 
     # -- common -----------------------------------------------------------------------
@@ -181,6 +193,19 @@ class Player:
     def messages(self) -> Iterator[BagMessage]:
         """The messages this player publishes, in bag-time order (one pass)."""
         return read_messages(self.path, list(self.topics))
+
+    def _pass_messages(self) -> Iterator[BagMessage]:
+        """:meth:`messages`, checking at the end of a full pass that none were missing."""
+        read = 0
+        for message in self.messages():
+            read += 1
+            yield message
+        if read < self.expected:
+            self.missing += self.expected - read
+            self.node.get_logger().error(
+                f"bag {str(self.path)!r} is damaged: read {read} of the {self.expected} "
+                "messages its metadata lists for the played topics"
+            )
 
     def _publish(self, message: BagMessage) -> None:
         from posekit.msgs.errors import MessageError
@@ -266,7 +291,7 @@ class Player:
         try:
             for _ in self._passes(loops):
                 executor.set_time(_ns_time(self.start_ns))
-                for message in self.messages():
+                for message in self._pass_messages():
                     if self._stopped or not executor.context.ok():
                         break
                     if message.timestamp_ns > executor.now_ns:
@@ -314,7 +339,7 @@ class Player:
             # bag time at wall time w: anchor_bag + (w - anchor_wall) * rate, unless paused
             anchor_wall, anchor_bag, anchor_rate = time.monotonic(), origin, self.rate
             next_clock = anchor_wall
-            for message in self.messages():
+            for message in self._pass_messages():
                 if message.timestamp_ns < origin:
                     continue
                 while not self._stopped:

@@ -41,12 +41,7 @@ def cli_node_name() -> str:
 
 def sync_graph(session: Any, timeout: float = 5.0) -> None:
     """Complete the transport's graph snapshot (liveliness query on Zenoh; no-op otherwise)."""
-    transport = session.node.transport
-    sync = getattr(transport, "sync_graph", None)
-    if sync is not None:
-        sync(timeout)
-    else:
-        session.spin_for(0.0)
+    session.sync_graph(timeout)
 
 
 def is_hidden_name(name: str) -> bool:
@@ -225,17 +220,16 @@ def adapted_qos(session: Any, topic: str, out: TextIO, *, default: Any = None) -
 
 def add_transport_args(parser: argparse.ArgumentParser) -> None:
     """``--transport NAME`` and ``--zenoh``, as every graph tool takes them."""
-    parser.add_argument("--transport", default=None,
-                        help="posekit transport (default: $POSEKIT_TRANSPORT or zenoh)")
-    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+    from posekit.cli._session import add_transport_option
+
+    add_transport_option(parser)
 
 
 def session_for(ns: argparse.Namespace, context: Any) -> Any:
     """A :class:`ToolSession` on the transport ``ns`` names (or on ``context``, for tests)."""
-    from posekit.cli._session import ToolSession
+    from posekit.cli._session import ToolSession, transport_option
 
-    transport = "zenoh" if getattr(ns, "zenoh", False) else getattr(ns, "transport", None)
-    return ToolSession(cli_node_name(), context=context, transport=transport)
+    return ToolSession(cli_node_name(), context=context, transport=transport_option(ns))
 
 
 def resolve_topic(session: Any, topic: str) -> str:

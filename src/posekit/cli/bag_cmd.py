@@ -10,6 +10,10 @@
   ros2 bag play's keyboard controls on a terminal and a progress line on stderr.
 * ``posekit bag info DIR [-t] [-v]`` prints what ``ros2 bag info`` prints.
 * ``posekit bag convert -i DIR [-i DIR..] -o OPTIONS.yaml`` is ``ros2 bag convert``.
+* ``posekit bag reindex DIR`` rebuilds a bag whose recorder was killed (no summary, no
+  metadata.yaml) from the chunks it wrote (``ros2 bag reindex``; see posekit.bag.reindex).
+
+``bag record`` finishes the bag on SIGTERM as on Ctrl-C.
 
 Like the other command-line tools these talk to other processes, so their transport is
 ``--transport NAME``, else $POSEKIT_TRANSPORT, else Zenoh. Errors print one line on stderr
@@ -27,7 +31,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
-__all__ = ["convert", "info", "play", "record"]
+__all__ = ["convert", "info", "play", "record", "reindex"]
 
 
 class _UsageError(Exception):
@@ -40,13 +44,32 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parse(parser: _Parser, argv: Sequence[str]) -> argparse.Namespace | int:
+    from posekit.cli._extras import require
+
     try:
-        return parser.parse_args(list(argv))
+        ns = parser.parse_args(list(argv))
     except _UsageError as exc:
         sys.stderr.write(parser.format_usage() + f"{exc}\n")
         return 2
     except SystemExit as exc:  # --help
         return int(exc.code or 0)
+    problem = require(parser.prog, [("ROS 2 bags", "bag")])
+    if problem:
+        sys.stderr.write(problem + "\n")
+        return 2
+    return ns
+
+
+def _transport_option(parser: argparse.ArgumentParser) -> None:
+    from posekit.cli._session import add_transport_option
+
+    add_transport_option(parser)
+
+
+def _transport_name(ns: argparse.Namespace) -> str | None:
+    from posekit.cli._session import transport_option
+
+    return transport_option(ns)
 
 
 def _context(context: Any, transport: str | None) -> tuple[Any, bool]:
@@ -117,7 +140,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
                              "header.stamp")
     parser.add_argument("--duration", type=float, default=None,
                         help="stop after this many wall seconds (default: until Ctrl-C)")
-    parser.add_argument("--transport", default=None, help="transport (default: zenoh)")
+    _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
@@ -154,7 +177,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
     from posekit.runtime.executors import SingleThreadedExecutor
 
     try:
-        ctx, own = _context(context, ns.transport)
+        ctx, own = _context(context, _transport_name(ns))
     except Exception as exc:
         sys.stderr.write(f"posekit bag record: cannot start the transport: {exc}\n")
         return 1
@@ -378,7 +401,7 @@ def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None)
                         help="disables keyboard controls for playback")
     parser.add_argument("--progress-bar", type=float, default=3.0, metavar="HZ",
                         help="status line updates per second on stderr (0: none; default 3)")
-    parser.add_argument("--transport", default=None, help="transport (default: zenoh)")
+    _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
@@ -392,7 +415,11 @@ def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None)
     from posekit.bag import BagError, Player
     from posekit.runtime.executors import SingleThreadedExecutor
 
-    ctx, own = _context(context, ns.transport)
+    try:
+        ctx, own = _context(context, _transport_name(ns))
+    except Exception as exc:
+        sys.stderr.write(f"posekit bag play: cannot start the transport: {exc}\n")
+        return 1
     restore: Any = None
     try:
         try:
@@ -423,6 +450,12 @@ def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None)
                 err.write("\n")
             executor.shutdown()
             player.close()
+        if player.missing:
+            err.write(
+                f"posekit bag play: {ns.bag} is damaged: {player.missing} of the messages "
+                "its metadata lists could not be read (posekit bag info / reindex)\n"
+            )
+            return 1
         return 0
     finally:
         if restore is not None:
@@ -493,4 +526,30 @@ def convert(argv: Sequence[str]) -> int:
     counts = rewrite([entry[0] for entry in ns.input], load_output_options(ns.output_options))
     for uri, count in counts.items():
         sys.stderr.write(f"posekit bag convert: wrote {count} messages to {uri}\n")
+    return 0
+
+
+def reindex(argv: Sequence[str], *, out: TextIO | None = None) -> int:
+    """``posekit bag reindex DIR``."""
+    parser = _Parser(prog="posekit bag reindex",
+                     description="Rebuild a bag whose recorder died from its MCAP chunks.")
+    parser.add_argument("bag", help="rosbag2 directory")
+    ns = _parse(parser, argv)
+    if isinstance(ns, int):
+        return ns
+    from posekit.bag import BagError
+    from posekit.bag import reindex as reindex_bag
+
+    try:
+        result = reindex_bag(ns.bag)
+    except BagError as exc:
+        sys.stderr.write(f"posekit bag reindex: {exc}\n")
+        return 1
+    stream = out or sys.stdout
+    for name, reason in result.truncated.items():
+        stream.write(f"{name}: read up to the damage ({reason})\n")
+    for topic, reason in result.skipped.items():
+        stream.write(f"skipped {topic}: {reason}\n")
+    stream.write(f"reindexed {ns.bag}: {result.total} messages on {len(result.counts)} topics "
+                 "(originals kept as *.mcap.orig)\n")
     return 0

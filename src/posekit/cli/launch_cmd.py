@@ -2,8 +2,9 @@
 
 Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:=value``
 reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds),
-``--realtime`` (pace to the wall clock; default is as fast as possible), ``--zenoh`` (nodes on
-the Zenoh transport so other processes and ``posekit`` tools see them), ``--record DIR`` (a
+``--realtime`` (pace to the wall clock; default is as fast as possible), ``--transport
+zenoh|dds`` (nodes on the Zenoh or DDS transport so other processes, ``posekit`` tools and, over
+DDS, real ROS 2 nodes see them; ``--zenoh`` is ``--transport zenoh``), ``--record DIR`` (a
 ROS 2 bag), ``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot),
 ``--save-images DIR`` (debug images as PNG, rqt_image_view's role).
 """
@@ -40,7 +41,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--until-sim-time", type=float, default=None, metavar="SECONDS")
     parser.add_argument("--realtime", action="store_true")
-    parser.add_argument("--zenoh", action="store_true")
+    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+    parser.add_argument("--transport", default=None, choices=("inprocess", "zenoh", "dds"),
+                        help="carry the nodes' messages over this transport (dds: join ROS 2 "
+                             "systems on DDS)")
     parser.add_argument("--record", default=None, metavar="DIR")
     parser.add_argument("--viewer", action="store_true")
     parser.add_argument("--host", default="127.0.0.1")
@@ -85,8 +89,21 @@ def main(argv: Sequence[str]) -> int:
             sys.stdout.write(f"{name:<28}{get_scenario(name).description}\n")
         return 0
     ns = _parser().parse_args(argv)
-    if ns.zenoh:
-        os.environ["POSEKIT_TRANSPORT"] = "zenoh"
+    from posekit.cli._extras import require
+
+    problem = require("posekit launch", [
+        (flag, extra) for flag, extra, given in (
+            ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
+            ("--zenoh", "zenoh", ns.zenoh), ("--transport dds", "dds", ns.transport == "dds"),
+            ("--transport zenoh", "zenoh", ns.transport == "zenoh"), ("--record", "bag", ns.record),
+            ("--save-images", "vision", ns.save_images),
+        ) if given
+    ])
+    if problem:  # before anything runs, not after a whole simulation
+        sys.stderr.write(problem + "\n")
+        return 2
+    if ns.zenoh or ns.transport:
+        os.environ["POSEKIT_TRANSPORT"] = "zenoh" if ns.zenoh else ns.transport
     params = dict(ns.assignments + ns.param)
 
     if ns.target.endswith(".py") or Path(ns.target).is_file():
@@ -110,6 +127,7 @@ def main(argv: Sequence[str]) -> int:
         result = run_scenario(
             ns.target, params, seed=ns.seed, until_sim_time=ns.until_sim_time,
             realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
+            record=ns.plot is not None,  # odometry is kept in memory only for the plot
         )
     except ScenarioError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
@@ -121,8 +139,8 @@ def main(argv: Sequence[str]) -> int:
              f"wall ({result.speedup:.0f}x real time), seed {result.seed}"]
     if result.goal_reached_time is not None:
         lines.append(f"goal reached at t = {result.goal_reached_time:.2f} s")
-    if result.rejected_commands:
-        lines.append(f"{len(result.rejected_commands)} cmd_vel messages rejected")
+    if result.rejected_count:
+        lines.append(f"{result.rejected_count} cmd_vel messages rejected")
     if result.plot_path is not None:
         lines.append(f"odometry plot: {result.plot_path}")
     if ns.record:

@@ -6,9 +6,12 @@ byte), so this module only routes and imports a tool when it is used.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import signal
 import sys
-from collections.abc import Sequence
+import threading
+from collections.abc import Iterator, Sequence
 
 __all__ = ["main"]
 
@@ -30,11 +33,24 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("topic", "pub"): ("posekit.cli.topic_pub:main_pub", "publish a message (YAML values)"),
     ("node", "list"): ("posekit.cli.node_cmd:main_list", "list nodes on the graph"),
     ("node", "info"): ("posekit.cli.node_cmd:main_info", "a node's topics, services, actions"),
+    ("interface", None): ("posekit.cli.interface_cmd:main", "list|show|proto msg/srv/action types"),
+    ("param", "list"): ("posekit.cli.param_cmd:main_list", "list a node's parameters"),
+    ("param", "get"): ("posekit.cli.param_cmd:main_get", "print a parameter's value"),
+    ("param", "set"): ("posekit.cli.param_cmd:main_set", "set a parameter (YAML value)"),
+    ("param", "delete"): ("posekit.cli.param_cmd:main_delete", "delete a parameter"),
+    ("param", "describe"): ("posekit.cli.param_cmd:main_describe", "describe parameters"),
+    ("param", "dump"): ("posekit.cli.param_cmd:main_dump", "print a node's parameters as YAML"),
+    ("param", "load"): ("posekit.cli.param_cmd:main_load", "set parameters from a YAML file"),
+    ("service", "list"): ("posekit.cli.service_cmd:main_list", "list services (-t: types)"),
+    ("service", "type"): ("posekit.cli.service_cmd:main_type", "print a service's type"),
+    ("service", "find"): ("posekit.cli.service_cmd:main_find", "services of a type"),
+    ("service", "call"): ("posekit.cli.service_cmd:main_call", "call a service (YAML values)"),
     ("router", None): ("posekit.cli.router_cmd:main", "run a zenoh router until Ctrl-C"),
     ("bag", "record"): ("posekit.cli.bag_cmd:record", "record topics to a ROS 2 bag (MCAP)"),
     ("bag", "play"): ("posekit.cli.bag_cmd:play", "play a bag back on sim time"),
     ("bag", "convert"): ("posekit.cli.bag_cmd:convert", "merge/split/filter bags (YAML options)"),
     ("bag", "info"): ("posekit.cli.bag_cmd:info", "summarise a bag like ros2 bag info"),
+    ("bag", "reindex"): ("posekit.cli.bag_cmd:reindex", "recover a bag whose recorder died"),
     ("view", None): ("posekit.cli.view_cmd:main", "serve the browser viewer (RViz2's role)"),
     ("plot", "odometry"): ("posekit.cli.plot_cmd:main_odometry", "plot odometry vs truth"),
     ("plot", "topic"): ("posekit.cli.plot_cmd:main_topic", "plot fields of a recorded topic"),
@@ -90,7 +106,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     module_name, _, function_name = target.partition(":")
     try:
         function = getattr(importlib.import_module(module_name), function_name)
-        result = function(rest)
+        with _sigterm_as_interrupt():
+            result = function(rest)
     except KeyboardInterrupt:
         return 130
     except SystemExit:  # argparse's usage errors and --help have printed their text
@@ -100,6 +117,27 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         return report(exc, prog)
     return int(result or 0)
+
+
+@contextlib.contextmanager
+def _sigterm_as_interrupt() -> Iterator[None]:
+    """SIGTERM (``timeout``, systemd, ``docker stop``) stops a tool as Ctrl-C does, so it
+    finishes its work (a bag's index and metadata.yaml) instead of dying mid-write."""
+    if threading.current_thread() is not threading.main_thread() or (
+        signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
+    ):
+        yield
+        return
+
+    def interrupt(signum: int, frame: object) -> None:
+        del signum, frame
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 if __name__ == "__main__":

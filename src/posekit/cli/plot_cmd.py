@@ -38,6 +38,12 @@ def main_odometry(argv: Sequence[str]) -> int:
     ns = parser.parse_args(list(argv))
     if (ns.recording is None) == (ns.scenario is None):
         parser.error("give either a recording (bag directory, .mcap or .npz) or --scenario NAME")
+    from posekit.cli._extras import require
+
+    problem = require("posekit plot", [("plotting", "plot")])
+    if problem:  # before a scenario runs
+        print(problem, file=sys.stderr)
+        return 2
 
     from posekit.robot.plot import plot_odometry, plot_odometry_file
 
@@ -77,6 +83,12 @@ def main_topic(argv: Sequence[str]) -> int:
     parser.add_argument("-o", "--output", default="topic.png",
                         help="PNG to write (default topic.png)")
     ns = parser.parse_args(list(argv))
+    from posekit.cli._extras import require
+
+    problem = require("posekit plot topic", [("plotting", "plot"), ("reading bags", "bag")])
+    if problem:
+        print(problem, file=sys.stderr)
+        return 2
 
     from posekit.bag.series import field_series
     from posekit.robot.plot import _pyplot

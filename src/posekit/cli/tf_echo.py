@@ -1,5 +1,8 @@
 """``posekit tf echo SOURCE TARGET [RATE] [--count N]``: tf2_echo with its exact output.
 
+``--use-sim-time`` / ``--wall-time`` choose the clock (default: the simulation's ``/clock``
+when one is published, as tf2_echo with ``use_sim_time``).
+
 As in tf2_ros, the FIRST argument is tf2's target frame: ``posekit tf echo map base`` prints
 the pose of ``base`` in ``map`` (the transform that takes data from ``base`` into ``map``).
 """
@@ -87,6 +90,8 @@ OPTIONS = (
     "  --count N          exit after printing N transforms\n"
     "  --transport NAME   posekit transport (default: $POSEKIT_TRANSPORT or zenoh)\n"
     "  --zenoh            same as --transport zenoh\n"
+    "  --use-sim-time     use the simulation's /clock (default: when one publishes it)\n"
+    "  --wall-time        use the wall clock even when a simulation publishes /clock\n"
     "  -h, --help         show this help and exit\n"
 )
 
@@ -103,10 +108,13 @@ def _count(text: str | None) -> int:
     return value
 
 
-def _split_options(argv: Sequence[str]) -> tuple[list[str], int | None, str | None]:
+def _split_options(
+    argv: Sequence[str],
+) -> tuple[list[str], int | None, str | None, bool | None]:
     positional: list[str] = []
     count: int | None = None
     transport: str | None = None
+    use_sim_time: bool | None = None  # None: follow /clock when a simulation publishes it
     it = iter(argv)
     for token in it:
         if token == "--count":
@@ -117,9 +125,11 @@ def _split_options(argv: Sequence[str]) -> tuple[list[str], int | None, str | No
             transport = next(it, None)
         elif token == "--zenoh":
             transport = "zenoh"
+        elif token in ("--use-sim-time", "--wall-time"):
+            use_sim_time = token == "--use-sim-time"
         else:
             positional.append(token)
-    return positional, count, transport
+    return positional, count, transport, use_sim_time
 
 
 def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
@@ -130,7 +140,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     if any(a in ("-h", "--help") for a in argv):
         out.write(USAGE + OPTIONS)
         return 0
-    positional, count, transport = _split_options(argv)
+    positional, count, transport, use_sim_time = _split_options(argv)
     if len(positional) not in (2, 3):
         out.write(USAGE)
         return 1
@@ -149,6 +159,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     from posekit.time import Time
 
     with ToolSession("tf2_echo", context=context, transport=transport) as session:
+        session.follow_sim_time(use_sim_time)  # "Failure at" times in sim time, as tf2_echo
         buffer = Buffer()
         session.listen_tf(buffer)
         deadline = None if timeout_s is None else time.monotonic() + timeout_s

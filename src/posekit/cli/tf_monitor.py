@@ -16,8 +16,10 @@ seconds, over the last 1000 samples per frame; the rate is messages per second o
 the ``All Broadcasters:`` title goes to stderr. With two frames only the frames of the chain
 between them are listed, and the net delay of ``lookup_transform(A, B)`` is low-pass filtered.
 
-posekit's additions: ``--period S`` (report every S seconds instead of 10.5), ``--count N``
-(exit after N reports), ``--transport``/``--zenoh``.
+Delays are measured on the simulation's clock while one publishes ``/clock``
+(``--use-sim-time`` / ``--wall-time`` force either). posekit's additions: ``--period S``
+(report every S seconds instead of 10.5), ``--count N`` (exit after N reports),
+``--transport``/``--zenoh``.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from collections.abc import Sequence
 from typing import Any, TextIO
 
 from posekit.cli._graph import add_transport_args, hint_if_alone, session_for
+from posekit.cli._session import add_sim_time_args
 from posekit.cli.errors import CliError
 
 __all__ = ["chain_as_vector", "main"]
@@ -116,6 +119,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
                         help="seconds between reports (default 10.5, as tf2_monitor)")
     parser.add_argument("--count", type=int, default=None, help="exit after N reports")
     add_transport_args(parser)
+    add_sim_time_args(parser)
     ns = parser.parse_args(list(argv))
     if len(ns.frames) not in (0, 2):
         raise CliError("usage: posekit tf monitor [framea frameb]", 2)
@@ -129,6 +133,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     arrivals: deque[float] = deque(maxlen=_HISTORY)
 
     with session_for(ns, context) as session:
+        session.follow_sim_time(ns.use_sim_time)  # a simulation's stamps are sim time
         buffer = Buffer()
         session.listen_tf(buffer)
         clock = session.node.get_clock()

@@ -42,6 +42,10 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     if "--zenoh" in argv:
         argv.remove("--zenoh")
         transport = "zenoh"
+    if "--transport" in argv:
+        at = argv.index("--transport")
+        transport = argv[at + 1] if at + 1 < len(argv) else None
+        del argv[at:at + 2]
     try:
         parsed = parse_static_args(argv)
     except StaticArgsError as exc:

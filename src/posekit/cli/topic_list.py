@@ -145,12 +145,12 @@ def _qos_lines(info: Any) -> list[str]:
             return "Infinite"
         return f"{value[0] * 1_000_000_000 + value[1]} nanoseconds"
 
-    history = "KEEP_ALL" if qos.history == 2 else "KEEP_LAST"
+    history = {2: "KEEP_ALL", 3: "UNKNOWN"}.get(qos.history, "KEEP_LAST")
     liveliness = {1: "AUTOMATIC", 3: "MANUAL_BY_TOPIC"}.get(qos.liveliness, "UNKNOWN")
     return [
         "QoS profile:",
         f"  Reliability: {'RELIABLE' if qos.reliable else 'BEST_EFFORT'}",
-        f"  History (Depth): {history} ({qos.depth})",
+        f"  History (Depth): {history}" + ("" if history == "UNKNOWN" else f" ({qos.depth})"),
         f"  Durability: {'TRANSIENT_LOCAL' if qos.transient_local else 'VOLATILE'}",
         f"  Lifespan: {duration(qos.lifespan)}",
         f"  Deadline: {duration(qos.deadline)}",
@@ -162,7 +162,9 @@ def _qos_lines(info: Any) -> list[str]:
 def _endpoint_block(info: Any, kind: str) -> str:
     from posekit.transport.zenoh_wire import entity_gid
 
-    gid = entity_gid(info.keyexpr).hex() if info.keyexpr else ""
+    own_gid = getattr(info, "gid", None)  # DDS endpoints carry their GUID
+    gid = (own_gid.hex() if isinstance(own_gid, bytes)
+           else entity_gid(info.keyexpr).hex() if info.keyexpr else "")
     lines = [
         f"Node name: {info.node_name}",
         f"Node namespace: {info.namespace}",

@@ -27,9 +27,19 @@ from posekit.msgs.yaml_io import (
 __all__ = ["main_pub"]
 
 
+def _uses_now(values: Any) -> bool:
+    """Whether parsed VALUES ask for the current time (``header: auto`` / ``stamp: now``)."""
+    if isinstance(values, dict):
+        return any(_uses_now(v) for v in values.values())
+    if isinstance(values, list):
+        return any(_uses_now(v) for v in values)
+    return values in ("auto", "now")
+
+
 def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
              err: TextIO | None = None, sleep: Callable[[float], None] | None = None) -> int:
     """``topic pub TOPIC TYPE [VALUES] [-r R] [-1] [-t N] [-w N] [-p N] [--keep-alive S]``."""
+    from posekit.cli._session import add_sim_time_args
     from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
     out = out or sys.stdout
@@ -56,6 +66,7 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
                         default="reliable")
     parser.add_argument("--qos-depth", type=int, default=10)
     add_transport_args(parser)
+    add_sim_time_args(parser)
     ns = parser.parse_args(list(argv))
     times = 1 if ns.once else ns.times
     if not (ns.rate > 0 and math.isfinite(ns.rate)):
@@ -88,6 +99,9 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
                      else ReliabilityPolicy.RELIABLE),
     )
     with session_for(ns, context) as session:
+        if ns.use_sim_time or (ns.use_sim_time is None and _uses_now(values)):
+            session.follow_sim_time(ns.use_sim_time)  # header: auto stamps sim time
+        now_ns = session.node.get_clock().now_ns
         topic = resolve_topic(session, ns.topic_name)
         pub = session.node.create_publisher(msg_cls, topic, qos)
         waited = 0
@@ -104,7 +118,7 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
         while session.context.ok():
             # header: auto / stamp: now are re-evaluated for every message, as ros2 does
             fresh = msg_cls()
-            set_message_fields(fresh, values)
+            set_message_fields(fresh, values, now_ns=now_ns)
             pub.publish(fresh)
             count += 1
             if ns.print_nth and count % ns.print_nth == 0:

@@ -2,7 +2,8 @@
 
 * ``hz TOPIC [-w N] [--filter EXPR] [--wall-time]``: at most once per second of message time
   ``average rate: R\\n\\tmin: As max: Bs std dev: Cs window: N`` over the last N inter-arrival
-  times, measured on the tool node's clock (``--wall-time``: the system clock).
+  times, measured on the tool node's clock: the simulation's while one publishes ``/clock``
+  (or with ``--use-sim-time``), else, and with ``--wall-time``, the system clock.
 * ``bw TOPIC [-w N]``: once a second ``B/s from N messages\\n\\tMessage size mean: ... min: ...
   max: ...`` in B, KB or MB (powers of 1000), message sizes being the CDR serialization.
 * ``delay TOPIC [-w N]``: once a second ``average delay: D\\n\\tmin: ... window: N`` of the
@@ -25,6 +26,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
 from posekit.cli._graph import add_transport_args, resolve_topic, session_for, wait_for_topic_type
+from posekit.cli._session import add_sim_time_args
 from posekit.cli.errors import CliError
 from posekit.cli.topic_echo import compile_filter, positive_float, positive_int
 from posekit.msgs.yaml_io import message_class
@@ -88,6 +90,7 @@ def _parser(verb: str, description: str, window: int, topic_help: str) -> argpar
     parser.add_argument("--count", type=positive_int, default=None,
                         help="exit after N reports (posekit addition)")
     add_transport_args(parser)
+    add_sim_time_args(parser)
     return parser
 
 
@@ -151,6 +154,9 @@ class _Monitor:
         from posekit.runtime.qos import qos_profile_sensor_data
 
         with session_for(self.ns, self.context) as session:
+            # the node clock is the simulation's while one publishes /clock (or with
+            # --use-sim-time), as ros2's tools measure with their node's ROS clock
+            session.follow_sim_time(self.ns.use_sim_time)
             topic = resolve_topic(session, self.ns.topic_name)
             type_name = wait_for_topic_type(session, topic, self.err, self.limit_s)
             if type_name is None:
@@ -205,16 +211,13 @@ def main_hz(argv: Sequence[str], *, context: Any = None, out: TextIO | None = No
                      "Name of the ROS topic to listen to (e.g. '/chatter')")
     parser.add_argument("--filter", dest="filter_expr", default=None, metavar="EXPR",
                         help="only measure messages matching the specified Python expression")
-    parser.add_argument("--wall-time", dest="use_wtime", action="store_true",
-                        help="calculates rate using wall time which can be helpful when clock "
-                             "is not published during simulation")
     ns = parser.parse_args(list(argv))
     accept = compile_filter(ns.filter_expr)
     window = _Window(ns.window_size, out)
     printed = [0]
 
     def now_ns(session: Any) -> int:
-        if ns.use_wtime:
+        if ns.use_sim_time is False:  # --wall-time
             return time.time_ns()
         return int(session.node.get_clock().now().nanoseconds)
 

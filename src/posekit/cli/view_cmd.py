@@ -1,14 +1,18 @@
 """``posekit view``: the browser viewer (RViz2's place), and attaching it to a launch run.
 
-    posekit view [--host 127.0.0.1] [--port 8765] [--zenoh] [--world NAME]
+    posekit view [--host 127.0.0.1] [--port 8765] [--zenoh | --transport dds] [--world NAME]
                  [--fixed-frame odom] [--tf-rate 30] [--scenario NAME [--seed N]]
                  [--foxglove [--foxglove-port 8766]]
+                 [--allow-host NAME]... [--allow-origin ORIGIN]...
 
-Alone (or with ``--zenoh``) it views other processes over the Zenoh transport.
+Alone (or with ``--zenoh``) it views other processes over the Zenoh transport; with
+``--transport dds`` a ROS 2 system on DDS (real robots and nodes included).
 ``--scenario NAME`` runs a named scenario in this process, paced to the wall clock, and views
 it. :func:`attach_to_run` is what ``posekit launch SCENARIO --viewer`` calls.
 ``--foxglove`` also serves the same system to the Foxglove app over its WebSocket protocol
 (optional package foxglove-sdk; :mod:`posekit.viewer.foxglove_bridge`), on the same host.
+The page answers only requests addressed to this machine (``Host``) and WebSockets from its
+own pages (``Origin``); ``--allow-host``/``--allow-origin`` widen that (see docs/security.md).
 """
 
 from __future__ import annotations
@@ -91,6 +95,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--port", type=int, default=8765, help="TCP port (default 8765)")
     parser.add_argument("--zenoh", action="store_true",
                         help="view other processes over Zenoh (the default without --scenario)")
+    parser.add_argument("--transport", default=None, choices=("zenoh", "dds"),
+                        help="view other processes over this transport (dds: a ROS 2 system "
+                             "on DDS; default zenoh)")
     parser.add_argument("--scenario", default=None,
                         help="run this named scenario here (wall-clock paced) and view it")
     parser.add_argument("--seed", type=int, default=0, help="scenario seed (with --scenario)")
@@ -99,6 +106,12 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--fixed-frame", default="odom", help="default Fixed Frame (odom)")
     parser.add_argument("--tf-rate", type=float, default=30.0,
                         help="TF updates per second sent to the page (max 100)")
+    parser.add_argument("--allow-host", action="append", default=[], metavar="NAME",
+                        help="also accept this HTTP Host header (name or name:port; '*': any); "
+                             "by default only localhost, 127.0.0.1, [::1] and --host")
+    parser.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                        help="also accept WebSocket connections from pages of this origin "
+                             "(e.g. http://myhost:8765; '*': any)")
     parser.add_argument("--open", action="store_true", help="open the page in a browser")
     parser.add_argument("--foxglove", action="store_true",
                         help="also serve the Foxglove app over its WebSocket protocol "
@@ -111,6 +124,20 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``posekit view``; returns the exit code."""
     ns = _parser().parse_args(argv)
+    from posekit.cli._extras import require
+
+    needs = [("posekit view", "viewer")]
+    if ns.foxglove:
+        needs.append(("--foxglove", "foxglove"))
+    if not ns.scenario:
+        from posekit.cli._session import tool_transport
+
+        remote = "zenoh" if ns.zenoh else tool_transport(ns.transport)
+        needs.append(("viewing other processes", "dds" if remote == "dds" else "zenoh"))
+    problem = require("posekit view", needs)
+    if problem:
+        print(problem, file=sys.stderr)
+        return 2
     from posekit.viewer.errors import ViewerError
 
     if not 0 <= ns.port <= 65535:
@@ -120,15 +147,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"posekit view: --foxglove-port must be in 0..65535, got {ns.foxglove_port}",
               file=sys.stderr)
         return 2
-    if ns.scenario and ns.zenoh:
+    if ns.scenario and (ns.zenoh or ns.transport):
         print("posekit view: --scenario runs in this process; it cannot be combined with "
-              "--zenoh", file=sys.stderr)
+              "--zenoh or --transport", file=sys.stderr)
         return 2
-    options: dict[str, Any] = {"fixed_frame": ns.fixed_frame, "tf_rate": ns.tf_rate}
+    options: dict[str, Any] = {"fixed_frame": ns.fixed_frame, "tf_rate": ns.tf_rate,
+                               "allow_hosts": ns.allow_host, "allow_origins": ns.allow_origin}
     try:
         if ns.scenario:
             return _view_scenario(ns, options)
-        return _view_zenoh(ns, options)
+        from posekit.cli._session import tool_transport
+
+        return _view_remote(ns, options, "zenoh" if ns.zenoh else tool_transport(ns.transport))
     except ViewerError as exc:
         print(f"posekit view: {exc}", file=sys.stderr)
         return 1
@@ -195,13 +225,13 @@ def _view_scenario(ns: argparse.Namespace, options: dict[str, Any]) -> int:
     return 0
 
 
-def _view_zenoh(ns: argparse.Namespace, options: dict[str, Any]) -> int:
+def _view_remote(ns: argparse.Namespace, options: dict[str, Any], transport_name: str) -> int:
     from posekit.runtime.context import Context
     from posekit.runtime.transport import UnknownTransportError
     from posekit.viewer import attach_viewer
 
     context = Context()
-    context.init(transport="zenoh")
+    context.init(transport=transport_name)
     try:
         try:
             transport = context.transport()
@@ -213,7 +243,7 @@ def _view_zenoh(ns: argparse.Namespace, options: dict[str, Any]) -> int:
         try:
             if ns.open:
                 webbrowser.open(server.url)
-            _announce(server, "viewing the Zenoh graph")
+            _announce(server, f"viewing the {'DDS' if transport_name == 'dds' else 'Zenoh'} graph")
             bridge = _start_foxglove(ns, transport)
             server.serve_forever()
         finally:

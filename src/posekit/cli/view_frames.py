@@ -14,6 +14,8 @@ import time
 from collections.abc import Sequence
 from typing import Any, TextIO
 
+from posekit.cli._session import add_sim_time_args, add_transport_option, transport_option
+
 __all__ = ["generate_dot", "main", "main_tree", "parse_frames_yaml", "render_tree"]
 
 
@@ -94,11 +96,15 @@ def render_tree(frames: dict[str, dict[str, float | str]], now_s: float) -> str:
     return "\n".join(lines) + ("\n" if lines else "No tf data received\n")
 
 
-def _collect(wait_s: float, context: Any, transport: str | None) -> tuple[str, Any]:
+def _collect(wait_s: float, context: Any, transport: str | None,
+             use_sim_time: bool | None = None) -> tuple[str, Any]:
+    """tf2's frames YAML after ``wait_s`` s of listening, and "now" on the tool's clock (the
+    simulation's time when one publishes /clock, see ToolSession.follow_sim_time)."""
     from posekit.cli._session import ToolSession
     from posekit.tf2 import Buffer
 
     with ToolSession("view_frames", context=context, transport=transport) as session:
+        session.follow_sim_time(use_sim_time)
         buffer = Buffer()
         session.listen_tf(buffer)
         session.node.get_logger().info(f"Listening to tf data for {wait_s} seconds...")
@@ -113,9 +119,10 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None)
     parser = argparse.ArgumentParser(prog="posekit tf frames")
     parser.add_argument("-t", "--wait-time", type=float, default=5.0)
     parser.add_argument("-o", "--output", default=None)
-    parser.add_argument("--zenoh", action="store_true")
+    add_transport_option(parser)
+    add_sim_time_args(parser)
     ns = parser.parse_args(list(argv))
-    yaml_text, now = _collect(ns.wait_time, context, "zenoh" if ns.zenoh else None)
+    yaml_text, now = _collect(ns.wait_time, context, transport_option(ns), ns.use_sim_time)
     name = ns.output or time.strftime("frames_%Y-%m-%d_%H.%M.%S")
     dot_text = generate_dot(parse_frames_yaml(yaml_text), now.seconds_nanoseconds())
     gv_path, pdf_path = f"{name}.gv", f"{name}.pdf"
@@ -136,8 +143,9 @@ def main_tree(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     out = out or sys.stdout
     parser = argparse.ArgumentParser(prog="posekit tf tree")
     parser.add_argument("-t", "--wait-time", type=float, default=2.0)
-    parser.add_argument("--zenoh", action="store_true")
+    add_transport_option(parser)
+    add_sim_time_args(parser)
     ns = parser.parse_args(list(argv))
-    yaml_text, now = _collect(ns.wait_time, context, "zenoh" if ns.zenoh else None)
+    yaml_text, now = _collect(ns.wait_time, context, transport_option(ns), ns.use_sim_time)
     out.write(render_tree(parse_frames_yaml(yaml_text), now.nanoseconds / 1e9))
     return 0

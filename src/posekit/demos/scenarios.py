@@ -1,12 +1,28 @@
-"""Every named scenario: importing this registers the robot's and the vision demos' scenarios."""
+"""Every named scenario: importing this registers the robot's and the vision demos' scenarios;
+:func:`include_scenario` puts one into a launch file."""
 
 from __future__ import annotations
 
 import importlib
+from collections.abc import Mapping
+from typing import Any
 
+from posekit.launch import Node
 from posekit.robot.scenarios import get_scenario, run_scenario, scenario_names
 
-__all__ = ["get_scenario", "run_scenario", "scenario_names"]
+__all__ = ["get_scenario", "include_scenario", "run_scenario", "scenario_names"]
+
+
+def include_scenario(name: str, params: Mapping[str, Any] | None = None,
+                     seed: int = 0) -> list[Node]:
+    """The launch entries of scenario ``name``, to put in your own launch file next to your
+    nodes (``IncludeLaunchDescription``'s role)::
+
+        LaunchDescription([*include_scenario("aruco_box_world"), Node(MyDetector)])
+
+    ``params`` as ``posekit launch NAME name:=value`` takes them.
+    """
+    return get_scenario(name).factory(dict(params or {}), int(seed)).nodes
 
 # Each module registers its scenarios when imported; vision is optional (needs OpenCV).
 for _module in ("posekit.vision.scenarios",):

@@ -11,6 +11,8 @@ ROS passes ``--ros-args`` to a process, so node classes that hard-code
 from __future__ import annotations
 
 import importlib
+import importlib.util
+import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -40,16 +42,43 @@ def register_executable(package: str, executable: str, factory: Callable[[], Any
     _executables[(package, executable)] = factory
 
 
+def _load_file_module(path: Path) -> Any:
+    """The module of a Python file (a node script next to a launch file), loaded once."""
+    path = path.resolve()
+    name = f"posekit_launch_node_{path.stem}_{abs(hash(str(path))):x}"
+    if name in sys.modules:
+        return sys.modules[name]
+    if not path.is_file():
+        raise LaunchDescriptionError(f"node file {path} does not exist")
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise LaunchDescriptionError(f"cannot load {path} as Python")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module
+
+
 def resolve_factory(target: Callable[[], Any] | str) -> Callable[[], Any]:
-    """A callable from a callable or a ``"module:attr"`` string."""
+    """A callable from a callable, a ``"module:attr"`` string, or ``"path/file.py:attr"``
+    (a node script that is not an installed module, e.g. one next to the launch file:
+    ``f"{Path(__file__).with_name('my_node.py')}:MyNode"``)."""
     if callable(target):
         return target
     if isinstance(target, str) and ":" in target:
-        module_name, _, attr = target.partition(":")
-        try:
-            obj: Any = importlib.import_module(module_name)
-        except ImportError as exc:
-            raise LaunchDescriptionError(f"cannot import {module_name!r}: {exc}") from exc
+        module_name, _, attr = target.rpartition(":")
+        obj: Any
+        if module_name.endswith(".py"):
+            obj = _load_file_module(Path(module_name))
+        else:
+            try:
+                obj = importlib.import_module(module_name)
+            except ImportError as exc:
+                raise LaunchDescriptionError(f"cannot import {module_name!r}: {exc}") from exc
         for part in attr.split("."):
             obj = getattr(obj, part, None)
             if obj is None:

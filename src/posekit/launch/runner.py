@@ -72,21 +72,22 @@ def start(
     launch_arguments: Mapping[str, Any] | None = None,
     context: Context | None = None,
     multithreaded: bool = False,
-    publish_clock: bool = True,
+    publish_clock: bool | None = None,
 ) -> LaunchRun:
     """Create every node of ``description`` in a fresh (or given) context and add them to one
     executor; nothing runs until the caller spins/steps ``run.executor``.
 
     ``publish_clock`` (sim time only): publish ``/clock`` at every simulated step, as
-    Gazebo does. The run's own nodes get the time from the executor either way, so only
-    outside observers (another process, a bag recorder of /clock) need it; switching it off
-    saves one /clock callback per node per step (about 20 % of a ROSbot scenario, see
-    docs/performance.md)."""
+    Gazebo does. Default (None): exactly when the run's nodes are visible to other processes
+    (a network transport), after :meth:`SimulatedTimeExecutor.claim_clock` made sure no
+    other simulation publishes ``/clock`` there (else :class:`ClockConflictError`, with the
+    run shut down). The run's own nodes get the time from the executor either way (they do
+    not follow ``/clock``), so only outside observers need it."""
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
     ctx = context or Context()
     if not ctx.ok():
-        ctx.init()
+        ctx.init(args=[])  # a launch's nodes get their arguments from the description
     executor: Executor
     if sim_time:
         executor = SimulatedTimeExecutor(
@@ -97,6 +98,12 @@ def start(
     else:
         executor = SingleThreadedExecutor(context=ctx)
     run = LaunchRun(ctx, executor)
+    if isinstance(executor, SimulatedTimeExecutor):
+        try:  # before any node exists: a refused run never shows a node to other processes
+            executor.claim_clock(ctx.transport())
+        except BaseException:
+            run.shutdown()
+            raise
     arguments = description.arguments(launch_arguments)
     for entry in description.nodes:
         params = entry.resolved_parameters(arguments)
@@ -132,7 +139,7 @@ def launch(
     launch_arguments: Mapping[str, Any] | None = None,
     context: Context | None = None,
     shutdown: bool = True,
-    publish_clock: bool = True,
+    publish_clock: bool | None = None,
 ) -> LaunchRun:
     """Start ``description`` and run it for ``duration`` seconds (sim seconds in sim time;
     ``None`` = until shutdown / Ctrl-C). Returns the run (already shut down if ``shutdown``).
@@ -204,8 +211,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--rtf", type=float, default=None,
                         help="pace simulated time at this real-time factor (1.0 = real time)")
     parser.add_argument("--no-clock", action="store_true",
-                        help="sim time: do not publish /clock (faster; in-process nodes "
-                             "follow the executor's time regardless)")
+                        help="sim time: never publish /clock (default: published when the "
+                             "nodes are visible to other processes)")
     ns = parser.parse_args(argv)
     arguments: dict[str, Any] = {}
     for item in ns.arguments:
@@ -220,7 +227,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             sim_time=not ns.wall,
             real_time_factor=ns.rtf,
             launch_arguments=arguments,
-            publish_clock=not ns.no_clock,
+            publish_clock=False if ns.no_clock else None,
         )
     except LaunchDescriptionError as exc:
         print(f"posekit launch: {exc}", file=sys.stderr)

@@ -1,6 +1,7 @@
 """ROS 2 message types as light dataclasses (numpy only), laid out as ROS 2 Jazzy defines them.
 
-Import paths mirror ROS packages: ``from posekit.msgs.geometry_msgs import TransformStamped``.
+Import paths mirror ROS packages: ``from posekit.msgs.geometry_msgs import TransformStamped``,
+``from posekit.msgs.std_srvs import SetBool`` (services: ``SetBool.Request`` / ``.Response``).
 Every class has ``__msgtype__`` (e.g. ``"geometry_msgs/msg/TransformStamped"``), is
 constructible with no arguments (ROS defaults) or by keyword, and has assignable fields.
 CDR serialization lives in :mod:`posekit.msgs.cdr` and loads rosbags only when used.
@@ -12,11 +13,14 @@ from posekit.msgs import (
     builtin_interfaces,
     geometry_msgs,
     nav_msgs,
+    rcl_interfaces,
     rosgraph_msgs,
     sensor_msgs,
     std_msgs,
+    std_srvs,
     tf2_msgs,
 )
+from posekit.msgs._service import is_service_type, service_type_name
 from posekit.msgs.cdr import from_cdr, to_cdr, type_hash_rihs01
 from posekit.msgs.errors import (
     CdrError,
@@ -25,10 +29,17 @@ from posekit.msgs.errors import (
     UnknownMessageTypeError,
 )
 from posekit.msgs.image import image_to_numpy, numpy_to_image
-from posekit.msgs.registry import MESSAGE_CLASSES, get_message_class, message_type_name
+from posekit.msgs.registry import (
+    MESSAGE_CLASSES,
+    SERVICE_CLASSES,
+    get_message_class,
+    get_service_class,
+    message_type_name,
+)
 
 __all__ = [
     "MESSAGE_CLASSES",
+    "SERVICE_CLASSES",
     "CdrError",
     "ImageConversionError",
     "MessageError",
@@ -37,13 +48,18 @@ __all__ = [
     "from_cdr",
     "geometry_msgs",
     "get_message_class",
+    "get_service_class",
     "image_to_numpy",
+    "is_service_type",
     "message_type_name",
     "nav_msgs",
     "numpy_to_image",
+    "rcl_interfaces",
     "rosgraph_msgs",
     "sensor_msgs",
+    "service_type_name",
     "std_msgs",
+    "std_srvs",
     "tf2_msgs",
     "to_cdr",
     "type_hash_rihs01",

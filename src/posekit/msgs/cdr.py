@@ -131,7 +131,12 @@ def _build_store() -> Any:
     from rosbags.typesys import get_typestore as rosbags_typestore
     from rosbags.typesys.base import normalize_fieldname
 
+    from posekit.msgs._srv_defs import SERVICE_DEFINITIONS, service_typedefs
+
     store = rosbags_typestore(Stores.ROS2_JAZZY)  # a fresh instance: ours to modify
+    for srv in SERVICE_DEFINITIONS:  # services: rosbags' store has messages only
+        store.register(service_typedefs(srv))
+    _char_as_uint8(store)
     for name, cls in MESSAGE_CLASSES.items():
         ros_fields = [normalize_fieldname(f) for f, _ in store.fielddefs[name][1]]
         ours = [f.name for f in dataclasses.fields(cls)]
@@ -139,6 +144,28 @@ def _build_store() -> Any:
             raise RuntimeError(f"{cls.__qualname__} fields {ours} differ from ROS {ros_fields}")
         store.types[name] = cls
     return store
+
+
+def _char_as_uint8(store: Any) -> None:
+    """Write ``char`` fields as ``uint8``, as rosidl does (``.msg`` char is an alias of uint8
+    in IDL and in type descriptions). Same CDR; fixes the RIHS01 hash of types with char
+    fields (``service_msgs/msg/ServiceEventInfo``, hence every service type)."""
+    from rosbags.interfaces import Nodetype
+
+    def fix(desc: Any) -> Any:
+        kind, info = desc
+        if kind == Nodetype.BASE and info[0] == "char":
+            return (kind, ("uint8", info[1]))
+        if kind in (Nodetype.ARRAY, Nodetype.SEQUENCE):
+            (subkind, subinfo), count = info
+            if subkind == Nodetype.BASE and subinfo[0] == "char":
+                return (kind, ((subkind, ("uint8", subinfo[1])), count))
+        return desc
+
+    for name, (consts, fields) in list(store.fielddefs.items()):
+        fixed = [(fname, fix(desc)) for fname, desc in fields]
+        if fixed != fields:
+            store.fielddefs[name] = (consts, fixed)
 
 
 def _make_plan(store: Any, typename: str, cache: dict[str, _Plan | None]) -> _Plan | None:
@@ -246,6 +273,19 @@ def _compile_fast_check(plan: _Plan) -> Callable[[Any], bool] | None:
 
 
 def _as_array(val: Any, dtype: np.dtype[Any], length: int | None, fname: str) -> Any:
+    if isinstance(val, list | tuple) and dtype.itemsize == 1 and val and all(
+        isinstance(v, bytes) for v in val
+    ):
+        val = b"".join(val)  # rclpy's byte[] form: a list of 1-byte bytes objects
+    if isinstance(val, list | tuple) and not val:
+        val = np.zeros(0, dtype=dtype)
+    elif isinstance(val, list | tuple) and dtype.kind in "iu" and all(
+        type(v) is int for v in val
+    ):
+        try:  # Python ints into any integer width (same_kind casting refuses int64 -> uint8)
+            val = np.array(val, dtype=dtype)
+        except OverflowError as exc:
+            raise CdrError(f"field {fname!r}: {exc}") from exc
     if isinstance(val, (bytes, bytearray, memoryview)) and dtype.itemsize == 1:
         arr = np.frombuffer(val, dtype=dtype)
     else:
@@ -298,7 +338,7 @@ def _checked(msg: Any, plan: _Plan) -> Any:
 def _resolve_name(msg_type: str | type[Any]) -> str:
     if isinstance(msg_type, str):
         return normalize_type_name(msg_type)
-    name = getattr(msg_type, "__msgtype__", None)
+    name = getattr(msg_type, "__msgtype__", None) or getattr(msg_type, "__srvtype__", None)
     if not isinstance(name, str):
         raise UnknownMessageTypeError(f"{msg_type!r} is not a message class (no __msgtype__)")
     return name

@@ -22,6 +22,7 @@ import math
 import re
 import time
 import typing
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -448,17 +449,20 @@ def _list_element_class(msg_cls: type, field_name: str) -> type | None:
     return None
 
 
-def _now_msg() -> Any:
+def _now_msg(now_ns: Callable[[], int] | None = None) -> Any:
     from posekit.msgs.builtin_interfaces import Time
 
-    ns = time.time_ns()
+    ns = (now_ns or time.time_ns)()
     return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
 
 
-def set_message_fields(msg: Any, values: Any, *, path: str = "") -> None:
+def set_message_fields(msg: Any, values: Any, *, path: str = "",
+                       now_ns: Callable[[], int] | None = None) -> None:
     """Assign a parsed YAML mapping to ``msg`` field by field, converting like ros2cli.
 
-    ``header: auto`` -> stamp now and empty frame id; ``stamp: now`` (any Time field) -> now.
+    ``header: auto`` -> stamp now and empty frame id; ``stamp: now`` (any Time field) -> now,
+    read from ``now_ns`` (default the wall clock; ``topic pub`` passes its node clock, which
+    is the simulation's time when one runs).
     Raises :class:`MessageFieldError` naming the field on unknown fields or bad values.
     """
     if values is None:
@@ -475,21 +479,22 @@ def set_message_fields(msg: Any, values: Any, *, path: str = "") -> None:
                 f"{type(msg).__name__} has no field {where!r} (fields: {', '.join(sorted(names))})"
             )
         current = getattr(msg, name)
-        setattr(msg, name, _converted(type(msg), name, current, value, where))
+        setattr(msg, name, _converted(type(msg), name, current, value, where, now_ns))
 
 
-def _converted(owner: type, name: str, current: Any, value: Any, where: str) -> Any:
+def _converted(owner: type, name: str, current: Any, value: Any, where: str,
+               now_ns: Callable[[], int] | None = None) -> Any:
     msgtype = getattr(current, "__msgtype__", "")
     if msgtype == "std_msgs/msg/Header" and value == "auto":
         header = type(current)()
-        header.stamp = _now_msg()
+        header.stamp = _now_msg(now_ns)
         return header
     if msgtype == "builtin_interfaces/msg/Time" and value == "now":
-        return _now_msg()
+        return _now_msg(now_ns)
     try:
         if _is_message(current):
             fresh = type(current)()
-            set_message_fields(fresh, value, path=where)
+            set_message_fields(fresh, value, path=where, now_ns=now_ns)
             return fresh
         if isinstance(current, np.ndarray):
             arr = np.asarray(value, dtype=current.dtype)
@@ -507,7 +512,7 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str) -> 
             out = []
             for i, item in enumerate(value):
                 child = elem()
-                set_message_fields(child, item, path=f"{where}[{i}]")
+                set_message_fields(child, item, path=f"{where}[{i}]", now_ns=now_ns)
                 out.append(child)
             return out
         if isinstance(current, bool):
@@ -529,21 +534,9 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str) -> 
 
 def message_class(type_name: str) -> type:
     """posekit's class for a ROS type, else the rosbags class (any ROS 2 Jazzy type)."""
-    from posekit.msgs.errors import UnknownMessageTypeError
-    from posekit.msgs.registry import get_message_class, normalize_type_name
+    from posekit.msgs.registry import find_message_class
 
-    try:
-        return get_message_class(type_name)
-    except UnknownMessageTypeError:
-        full = normalize_type_name(type_name)
-    try:
-        from posekit.msgs.cdr import get_typestore
-
-        return typing.cast(type, get_typestore().types[full])
-    except (ImportError, KeyError):
-        raise UnknownMessageTypeError(
-            f"The passed message type '{type_name}' is invalid (no definition known)"
-        ) from None
+    return find_message_class(type_name)
 
 
 def parse_values(text: str) -> Any:

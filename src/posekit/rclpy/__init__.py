@@ -2,13 +2,15 @@
 
 Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qos``,
 ``.executors``, ``.parameter``, ``.clock``, ``.logging``, ``.callback_groups``, ``.task``,
-``.exceptions``.
+``.exceptions``, ``.utilities``.
+``.exceptions``, ``.service``, ``.client``, ``.timer``, ``.wait_for_message``.
 """
 
 from __future__ import annotations
 
 from posekit.rclpy import (
     callback_groups,
+    client,
     clock,
     duration,
     exceptions,
@@ -17,8 +19,12 @@ from posekit.rclpy import (
     node,
     parameter,
     qos,
+    service,
     task,
     time,
+    timer,
+    utilities,
+    wait_for_message,
 )
 from posekit.runtime import create_node
 from posekit.runtime.context import Context, get_default_context, init, ok, shutdown, try_shutdown
@@ -33,6 +39,7 @@ from posekit.runtime.logging import get_logger
 __all__ = [
     "Context",
     "callback_groups",
+    "client",
     "clock",
     "create_node",
     "duration",
@@ -47,11 +54,15 @@ __all__ = [
     "ok",
     "parameter",
     "qos",
+    "service",
     "shutdown",
     "spin",
     "spin_once",
     "spin_until_future_complete",
     "task",
     "time",
+    "timer",
     "try_shutdown",
+    "utilities",
+    "wait_for_message",
 ]

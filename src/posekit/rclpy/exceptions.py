@@ -4,24 +4,34 @@ from posekit.runtime.context import NotInitializedException
 from posekit.runtime.names import (
     InvalidNamespaceException,
     InvalidNodeNameException,
+    InvalidServiceNameException,
     InvalidTopicNameException,
 )
 from posekit.runtime.parameters import (
+    InvalidParameterException,
     InvalidParameterTypeException,
     InvalidParameterValueException,
     ParameterAlreadyDeclaredException,
+    ParameterException,
     ParameterImmutableException,
     ParameterNotDeclaredException,
+    ParameterUninitializedException,
 )
+from posekit.runtime.rate import ROSInterruptException
 
 __all__ = [
     "InvalidNamespaceException",
     "InvalidNodeNameException",
+    "InvalidParameterException",
     "InvalidParameterTypeException",
     "InvalidParameterValueException",
+    "InvalidServiceNameException",
     "InvalidTopicNameException",
     "NotInitializedException",
     "ParameterAlreadyDeclaredException",
+    "ParameterException",
     "ParameterImmutableException",
     "ParameterNotDeclaredException",
+    "ParameterUninitializedException",
+    "ROSInterruptException",
 ]

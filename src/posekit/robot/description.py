@@ -2,8 +2,8 @@
 
 Fixed joints go to ``/tf_static`` (:func:`static_transforms`); the four continuous wheel
 joints go to ``/tf`` from ``/joint_states`` (:func:`wheel_transforms`). Offsets (m) and rpy
-(rad, fixed axes x-y-z) are those of the spec (Husarion rosbot_description, basic
-configuration with the OAK-D-PRO camera, depthai frame chain)::
+(rad, fixed axes x-y-z) are those of docs/specs/rosbot_and_worlds.md (Husarion rosbot_description,
+basic configuration with the OAK-D-PRO camera, depthai frame chain)::
 
     base_link -> body_link -> imu_link
                            -> camera_mount_link -> oak_link -> oak_rgb_camera_frame
@@ -37,7 +37,8 @@ _HALF_PI = math.pi / 2
 #: (parent, child, xyz (m), rpy (rad)) of one fixed joint.
 FixedJoint = tuple[str, str, tuple[float, float, float], tuple[float, float, float]]
 
-#: The fixed joints of the course's ROSbot (spec "Geometry / URDF" and "Camera").
+#: The fixed joints of the course's ROSbot (docs/specs/rosbot_and_worlds.md, "Geometry"
+#: and "Camera").
 FIXED_JOINTS: tuple[FixedJoint, ...] = (
     ("base_link", "body_link", (0.0, 0.0, DEFAULT_DRIVE.wheel_radius), (0.0, 0.0, 0.0)),
     ("body_link", "imu_link", (0.003, -0.0495, 0.04332), (0.0, 0.0, 0.0)),

@@ -33,7 +33,11 @@ import numpy as np
 from posekit.robot.kinematics import integrate_exact_arc, wrap_angle
 from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, DriveParams, SlipParams
 
-__all__ = ["BaseState", "CommandResult", "RosbotBase", "stamp_to_seconds"]
+__all__ = ["FUTURE_TOLERANCE", "BaseState", "CommandResult", "RosbotBase", "stamp_to_seconds"]
+
+#: A command stamped more than this (s) after the current time is "in the future" (1 µs:
+#: far below any real clock offset, above the rounding of float seconds near 1e9).
+FUTURE_TOLERANCE = 1e-6
 
 
 def _clamp(value: float, low: float, high: float) -> float:
@@ -50,10 +54,13 @@ class CommandResult:
     """Outcome of :meth:`RosbotBase.submit`: ``accepted`` and, if not, the ``reason``.
 
     ``reason`` is also set for an accepted command that needed fixing (zero stamp).
+    ``kind`` names the rule: ``""`` (accepted as is), ``"zero_stamp"``, ``"stale"``,
+    ``"future"`` or ``"non_finite"``.
     """
 
     accepted: bool
     reason: str = ""
+    kind: str = ""
 
 
 @dataclass(slots=True)
@@ -167,11 +174,22 @@ class RosbotBase:
         Returns whether it was accepted and why not. A zero stamp means "now".
         """
         if not (math.isfinite(v) and math.isfinite(omega) and math.isfinite(stamp)):
-            return CommandResult(False, f"non-finite command (v={v}, omega={omega}, stamp={stamp})")
-        note = ""
+            return CommandResult(
+                False, f"non-finite command (v={v}, omega={omega}, stamp={stamp})", "non_finite"
+            )
+        note = kind = ""
         if stamp == 0.0:
             stamp = now
-            note = "zero header stamp: stamped with the current time"
+            note, kind = "zero header stamp: stamped with the current time", "zero_stamp"
+        if stamp - now > FUTURE_TOLERANCE:
+            return CommandResult(
+                False,
+                f"command stamped in the future: stamp {stamp:.9f} s is {stamp - now:.3f} s "
+                f"ahead of the simulation's time ({now:.9f} s), so cmd_vel_timeout could "
+                "never expire; its sender is not on this simulation's clock (run it with "
+                "use_sim_time:=true, or stamp 0 for 'now')",
+                "future",
+            )
         age = now - stamp
         timeout = self.params.cmd_vel_timeout
         if timeout > 0.0 and age >= timeout:
@@ -179,11 +197,12 @@ class RosbotBase:
                 False,
                 f"stale command: stamp {stamp:.9f} s is {age:.9f} s older than now "
                 f"({now:.9f} s), which exceeds cmd_vel_timeout {timeout:.3f} s",
+                "stale",
             )
         self._target_v = v
         self._target_w = omega
         self._cmd_stamp = stamp
-        return CommandResult(True, note)
+        return CommandResult(True, note, kind)
 
     # ------------------------------------------------------------------ simulation
     def step(self, now: float, dt: float | None = None) -> None:

@@ -1,6 +1,6 @@
 """The course's ROSbot parameters (Husarion rosbot_ros as vendored in ENPM605 spring 2026).
 
-Every default below is read from the spec ``shared/specs/rosbot_and_worlds.md``
+Every default below is read from ``docs/specs/rosbot_and_worlds.md``
 (controllers.yaml, the URDF, the IMU sensor, robot_localization's config). Units are SI:
 metres, seconds, radians. Frames follow REP-103/105 (x forward, y left, z up).
 

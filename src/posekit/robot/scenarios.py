@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections import deque
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -57,7 +58,7 @@ from posekit.robot.nodes import (
 )
 from posekit.robot.worlds import WorldError, load_world
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
+from posekit.runtime.executors import ClockConflictError, SimulatedTimeExecutor
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.parameters import ParameterException
 
@@ -256,16 +257,17 @@ def start_scenario(
     *,
     realtime: bool = False,
     record: bool = True,
-    publish_clock: bool = False,
+    publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
 ) -> LaunchRun:
     """Build and start scenario ``name`` in a fresh context; nothing has run yet (step
     ``run.executor``, a :class:`SimulatedTimeExecutor`, then ``run.shutdown()``).
 
     ``record`` adds an ``odometry_recorder``; ``extra_nodes`` are appended launch entries.
-    ``publish_clock`` publishes ``/clock`` at every step: nodes of the run get the time from
-    the executor directly, so this only matters for outside observers (and costs one callback
-    per node per step).
+    ``publish_clock``: None (default) publishes ``/clock`` at every step exactly when the
+    run's nodes are visible to other processes, and refuses to start (ScenarioError) when
+    another simulation already publishes ``/clock`` there; True/False force it. Nodes of the
+    run get the time from the executor directly either way.
     """
     params = dict(params or {})
     scenario = get_scenario(name)
@@ -282,7 +284,7 @@ def start_scenario(
             context=Context(),
             publish_clock=publish_clock,
         )
-    except (ParameterException, ValueError, TypeError) as exc:
+    except (ParameterException, ValueError, TypeError, ClockConflictError) as exc:
         raise ScenarioError(f"scenario '{name}' cannot start: {exc}") from exc
     try:
         _check_parameters(run, params)
@@ -298,8 +300,9 @@ class ScenarioResult:
 
     ``sim_time`` and ``wall_time`` in s; ``goal_reached_time`` the sim time of the first
     ``goal_reached`` (None if never); ``recording`` the odometry series (if recorded);
-    ``rejected_commands`` ``(t_s, reason)`` from the simulator; ``logs`` every log record
-    emitted during the run; ``plot_path`` the PNG written (if asked); ``run`` the (shut
+    ``rejected_commands`` ``(t_s, reason)`` of the simulator's last refused commands and
+    ``rejected_count`` all of them; ``logs`` the log records emitted during the run (the
+    newest ``max_log_records``); ``plot_path`` the PNG written (if asked); ``run`` the (shut
     down) launch run, whose node objects stay readable (``result.node("world_simulation")``).
     """
 
@@ -312,6 +315,7 @@ class ScenarioResult:
     recording: OdometryRecording | None
     rejected_commands: list[tuple[float, str]]
     logs: list[LogRecord] = field(default_factory=list)
+    rejected_count: int = 0
     plot_path: Path | None = None
     run: LaunchRun | None = None
 
@@ -337,10 +341,11 @@ def run_scenario(
     stop_on_goal: bool = False,
     record: bool = True,
     plot_path: str | Path | None = None,
-    publish_clock: bool = False,
+    publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
     step: float = 0.1,
     on_start: Sequence[Callable[[LaunchRun], Any]] = (),
+    max_log_records: int = 10_000,
 ) -> ScenarioResult:
     """Run scenario ``name`` and return a :class:`ScenarioResult`.
 
@@ -357,6 +362,9 @@ def run_scenario(
         publish_clock, extra_nodes: see :func:`start_scenario`.
         on_start: callables given the started run before any time passes (attach a bag
             recorder or a viewer; whatever they start must end when the run's context does).
+        max_log_records: log records kept for :attr:`ScenarioResult.logs` (the newest; a
+            long run keeps memory flat). ``record=True`` keeps every odometry sample, so
+            leave it off for long runs that need no plot.
     """
     if until_sim_time is not None and not until_sim_time >= 0.0:
         raise ScenarioError(f"until_sim_time must be >= 0 s, got {until_sim_time}")
@@ -387,7 +395,9 @@ def run_scenario(
         node = run.node("odometry_recorder")
         assert isinstance(node, OdometryRecorder)
         recorder = node
-    logs: list[LogRecord] = []
+    if max_log_records < 0:
+        raise ScenarioError(f"max_log_records must be >= 0, got {max_log_records}")
+    logs: deque[LogRecord] = deque(maxlen=max_log_records)
     add_sink(logs.append)
     wall0 = time.perf_counter()
     try:
@@ -410,10 +420,16 @@ def run_scenario(
     sim_time = executor.now_ns / 1e9
     recording = recorder.recording() if recorder is not None else None
     rejected: list[tuple[float, str]] = []
+    rejected_count = 0
     for n in run.nodes:
         if isinstance(n, WorldSimulation):
             rejected.extend((t_ns / 1e9, reason) for t_ns, reason in n.rejected)
+            rejected_count += n.rejected_count
     goal_time = recording.goal_reached[0] if recording and recording.goal_reached else None
+    if recording is None:  # not recorded: the controller knows when it got there
+        reached = [n.goal_reached_ns for n in run.nodes
+                   if isinstance(n, PControllerNode) and n.goal_reached_ns is not None]
+        goal_time = min(reached) / 1e9 if reached else None
     written: Path | None = None
     if plot_path is not None and recording is not None:
         from posekit.robot.plot import plot_odometry
@@ -430,7 +446,8 @@ def run_scenario(
         goal_reached_time=goal_time,
         recording=recording,
         rejected_commands=rejected,
-        logs=logs,
+        rejected_count=rejected_count,
+        logs=list(logs),
         plot_path=written,
         run=run,
     )

@@ -23,6 +23,12 @@ the cube centre). A camera pose is the SDF *model* pose: the camera looks along 
 (the optical frame is the static transform the launch adds). Validation rejects unknown
 keys, wrong types, non-finite numbers, duplicate names and unknown models, with a
 :class:`WorldError` naming the world and the field.
+
+Limits (a world file is input like any other; these keep a typo or a hostile file from
+exhausting memory or CPU): a camera side is at most :data:`MAX_CAMERA_SIDE` pixels and a
+camera image at most :data:`MAX_CAMERA_PIXELS`, its rate at most :data:`MAX_CAMERA_RATE_HZ`;
+at most :data:`MAX_LIST_ITEMS` boxes, cameras and static transforms each; a world file is at
+most :data:`MAX_WORLD_FILE_BYTES` and must be UTF-8.
 """
 
 from __future__ import annotations
@@ -42,6 +48,11 @@ from posekit.geometry.scalar import quat_from_rpy
 
 __all__ = [
     "ARUCO_BOX",
+    "MAX_CAMERA_PIXELS",
+    "MAX_CAMERA_RATE_HZ",
+    "MAX_CAMERA_SIDE",
+    "MAX_LIST_ITEMS",
+    "MAX_WORLD_FILE_BYTES",
     "WORLDS",
     "ArucoBoxModel",
     "BoxSpec",
@@ -55,6 +66,17 @@ __all__ = [
     "pose_matrix",
     "world_names",
 ]
+
+#: Largest camera width or height accepted (pixels).
+MAX_CAMERA_SIDE = 8192
+#: Largest camera image accepted (width x height pixels: 16.7 MP, 50 MB as rgb8).
+MAX_CAMERA_PIXELS = 4096 * 4096
+#: Fastest camera rate accepted (Hz).
+MAX_CAMERA_RATE_HZ = 1000.0
+#: Most boxes, cameras or static transforms in one world (each).
+MAX_LIST_ITEMS = 10_000
+#: Largest world file read (bytes).
+MAX_WORLD_FILE_BYTES = 16 * 1024 * 1024
 
 _FloatArray = npt.NDArray[np.float64]
 _POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
@@ -95,7 +117,8 @@ class ArucoBoxModel:
         return m
 
 
-#: The course's ``aruco_box`` (husarion_gz_worlds/models/aruco_box), spec face table.
+#: The course's ``aruco_box`` (husarion_gz_worlds/models/aruco_box): the face table of
+#: docs/specs/rosbot_and_worlds.md.
 ARUCO_BOX = ArucoBoxModel(
     name="aruco_box",
     size=0.5,
@@ -328,6 +351,8 @@ def _check_keys(
 def _list(ctx: _Ctx, where: str, value: Any) -> Sequence[Any]:
     if isinstance(value, str) or not isinstance(value, Sequence):
         raise ctx.fail(where, f"expected a list, got {type(value).__name__}")
+    if len(value) > MAX_LIST_ITEMS:
+        raise ctx.fail(where, f"{len(value)} entries is over the limit of {MAX_LIST_ITEMS}")
     return value
 
 
@@ -365,7 +390,18 @@ def _parse_camera(ctx: _Ctx, where: str, data: Any) -> CameraSpec:
         v = data[key]
         if isinstance(v, bool) or not isinstance(v, int) or v <= 0:
             raise ctx.fail(f"{where}.{key}", f"expected a positive integer (pixels), got {v!r}")
+        if v > MAX_CAMERA_SIDE:
+            raise ctx.fail(f"{where}.{key}", f"{v} px is over the limit of {MAX_CAMERA_SIDE}")
         size.append(v)
+    if size[0] * size[1] > MAX_CAMERA_PIXELS:
+        raise ctx.fail(
+            f"{where}.width x height",
+            f"{size[0]} x {size[1]} px is over the limit of {MAX_CAMERA_PIXELS} pixels",
+        )
+    rate_hz = _positive(ctx, f"{where}.rate_hz", data.get("rate_hz", 30.0))
+    if rate_hz > MAX_CAMERA_RATE_HZ:
+        raise ctx.fail(f"{where}.rate_hz", f"{rate_hz} Hz is over the limit of "
+                                           f"{MAX_CAMERA_RATE_HZ:g} Hz")
     hfov = _positive(ctx, f"{where}.horizontal_fov", data["horizontal_fov"])
     if hfov >= math.pi:
         raise ctx.fail(f"{where}.horizontal_fov", f"must be < pi rad, got {hfov}")
@@ -378,7 +414,7 @@ def _parse_camera(ctx: _Ctx, where: str, data: Any) -> CameraSpec:
         width=size[0],
         height=size[1],
         horizontal_fov=hfov,
-        rate_hz=_positive(ctx, f"{where}.rate_hz", data.get("rate_hz", 30.0)),
+        rate_hz=rate_hz,
         clip=(near, far),
         image_topic=_string(
             ctx, f"{where}.image_topic", data.get("image_topic", f"{name}/image_raw")
@@ -520,9 +556,20 @@ def load_world(name_or_path: str | Path) -> World:
     if not path.suffix:
         raise WorldError(f"unknown world {key!r}; built-in worlds: {world_names()}")
     try:
-        text = path.read_text(encoding="utf-8")
+        with path.open("rb") as f:
+            raw = f.read(MAX_WORLD_FILE_BYTES + 1)
     except OSError as exc:
         raise WorldError(f"cannot read world file {str(path)!r}: {exc}") from exc
+    if len(raw) > MAX_WORLD_FILE_BYTES:
+        raise WorldError(
+            f"world file {str(path)!r} is over the limit of {MAX_WORLD_FILE_BYTES} bytes"
+        )
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise WorldError(
+            f"world file {str(path)!r} is not UTF-8 text (byte {exc.start}: {exc.reason})"
+        ) from None
     suffix = path.suffix.lower()
     if suffix == ".json":
         try:

@@ -38,7 +38,17 @@ QoS on the bus
   QoS, as DDS / rmw_zenoh do).
 * TRANSIENT_LOCAL publishers keep their last ``depth`` snapshots; a TRANSIENT_LOCAL
   subscription created later receives them (oldest first, in original publish order across
-  publishers). A VOLATILE publisher does not match a TRANSIENT_LOCAL subscription.
+  publishers). A VOLATILE publisher does not match a TRANSIENT_LOCAL subscription. With a
+  ``lifespan`` in the publisher's QoS, snapshots older than it (wall time) are not delivered
+  to late subscriptions and are dropped from the history.
+
+Services on the bus
+-------------------
+A request goes to the oldest live server of the service (snapshot of the request, as a
+publish); its response comes back as a snapshot too, synchronously in the thread that
+answers. With no server the request is dropped (the client's future stays pending, as
+with rmw when no server exists). A server or client of another service type on the same
+name raises :class:`TopicTypeMismatchError`.
 """
 
 from __future__ import annotations
@@ -47,6 +57,7 @@ import copy
 import dataclasses
 import itertools
 import threading
+import time
 import typing
 from collections import deque
 from collections.abc import Callable
@@ -63,6 +74,11 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestSink,
+    ResponseSink,
+    ServiceClientEndpoint,
+    ServiceInfo,
+    ServiceServerEndpoint,
     SubscriptionEndpoint,
     TopicTypeMismatchError,
     Transport,
@@ -275,10 +291,33 @@ class _BusPublisher(PublisherEndpoint):
         self.info = info
         self.alive = True
         self.matched: tuple[_BusSubscription, ...] = ()
-        self.history: deque[tuple[int, Any]] | None = None
+        # TRANSIENT_LOCAL history: (publish sequence number, snapshot, monotonic ns when
+        # the QoS has a lifespan else 0), oldest first.
+        self.history: deque[tuple[int, Any, int]] | None = None
+        self.lifespan_ns = info.qos.lifespan_ns
         if info.qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL:
             self.history = deque(maxlen=info.qos.queue_limit)
         self._type = info.msg_type
+
+    def _keep(self, history: deque[tuple[int, Any, int]], snap: Any) -> None:
+        """Append ``snap`` to the history, first forgetting entries past their lifespan."""
+        lifespan = self.lifespan_ns
+        if lifespan is None:
+            history.append((next(self._bus._seq), snap, 0))
+            return
+        now = time.monotonic_ns()
+        while history and now - history[0][2] > lifespan:
+            history.popleft()
+        history.append((next(self._bus._seq), snap, now))
+
+    def live_history(self) -> list[tuple[int, Any, int]]:
+        """The history entries still within their lifespan."""
+        history = self.history or ()
+        lifespan = self.lifespan_ns
+        if lifespan is None:
+            return list(history)
+        now = time.monotonic_ns()
+        return [entry for entry in history if now - entry[2] <= lifespan]
 
     def _reject(self, msg: Any) -> NoReturn:
         """Raise why ``msg`` cannot be published (kept off the inlined publish checks)."""
@@ -307,7 +346,7 @@ class _BusPublisher(PublisherEndpoint):
                 sub.sink(snap if i == last else snapshot(snap))
             return
         snap = snapshot(msg)
-        history.append((next(self._bus._seq), snap))
+        self._keep(history, snap)
         for sub in subs:
             sub.sink(snapshot(snap))
 
@@ -328,7 +367,7 @@ class _BusPublisher(PublisherEndpoint):
             return
         # The history keeps the handed-over object as its snapshot; subscribers get copies
         # (which freeze its large arrays, as publish() does, before anyone shares them).
-        history.append((next(self._bus._seq), msg))
+        self._keep(history, msg)
         for sub in subs:
             sub.sink(snapshot(msg))
 
@@ -342,15 +381,162 @@ class _BusPublisher(PublisherEndpoint):
         return len(self.matched)
 
 
+class _ServiceName:
+    __slots__ = ("clients", "name", "servers", "srv_type")
+
+    def __init__(self, name: str, srv_type: type) -> None:
+        self.name = name
+        self.srv_type = srv_type
+        self.servers: list[_BusServer] = []
+        self.clients: list[_BusClient] = []
+
+
+class _BusServer(ServiceServerEndpoint):
+    def __init__(self, bus: InProcessBus, info: ServiceInfo, sink: RequestSink) -> None:
+        self._bus = bus
+        self.info = info
+        self.sink = sink
+        self.alive = True
+
+    def destroy(self) -> None:
+        if self.alive:
+            self.alive = False
+            self._bus._remove_service_endpoint(self.info.service, self)
+
+
+class _BusClient(ServiceClientEndpoint):
+    def __init__(self, bus: InProcessBus, info: ServiceInfo) -> None:
+        self._bus = bus
+        self.info = info
+        self.alive = True
+
+    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+        if not self.alive:
+            raise RuntimeError(f"client of '{self.info.service}' has been destroyed")
+        server = self._bus._server_for(self.info.service)
+        if server is None:
+            return
+        answered = False
+
+        def respond(response: Any) -> None:
+            nonlocal answered
+            if answered or not self.alive:
+                return
+            answered = True
+            on_response(snapshot(response))
+
+        server.sink(snapshot(request), respond)
+
+    @property
+    def server_count(self) -> int:
+        entry = self._bus._services.get(self.info.service)
+        return len(entry.servers) if entry is not None else 0
+
+    def destroy(self) -> None:
+        if self.alive:
+            self.alive = False
+            self._bus._remove_service_endpoint(self.info.service, self)
+
+
 class InProcessBus(Transport):
     """Topic registry and zero-serialization delivery inside one process."""
 
     name = "inprocess"
+    supports_services = True
 
     def __init__(self) -> None:
         self._topics: dict[str, _Topic] = {}
+        self._services: dict[str, _ServiceName] = {}
+        self._nodes: list[tuple[str, str]] = []  # (namespace, name) per declare_node
         self._lock = threading.RLock()
         self._seq = itertools.count()
+
+    # -- nodes --------------------------------------------------------------------------
+    def declare_node(self, name: str, namespace: str = "/") -> None:
+        with self._lock:
+            self._nodes.append((namespace or "/", name))
+
+    def undeclare_node(self, name: str, namespace: str = "/") -> None:
+        with self._lock:
+            if (namespace or "/", name) in self._nodes:
+                self._nodes.remove((namespace or "/", name))
+
+    def get_node_names(self) -> list[str]:
+        """Fully qualified names of the nodes of this bus (duplicates kept), sorted."""
+        with self._lock:
+            return sorted(("" if ns == "/" else ns) + "/" + name for ns, name in self._nodes)
+
+    # -- services ---------------------------------------------------------------------
+    def _service_for(self, info: ServiceInfo) -> _ServiceName:
+        entry = self._services.get(info.service)
+        if entry is None or not (entry.servers or entry.clients):
+            entry = self._services[info.service] = _ServiceName(info.service, info.srv_type)
+        elif entry.srv_type is not info.srv_type:
+            raise TopicTypeMismatchError(
+                f"service '{info.service}' already has type {entry.srv_type.__qualname__}; "
+                f"cannot create an endpoint of type {info.srv_type.__qualname__} (node "
+                f"'{info.node_name}')"
+            )
+        return entry
+
+    def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        with self._lock:
+            server = _BusServer(self, info, sink)
+            self._service_for(info).servers.append(server)
+            return server
+
+    def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        with self._lock:
+            client = _BusClient(self, info)
+            self._service_for(info).clients.append(client)
+            return client
+
+    def _server_for(self, service: str) -> _BusServer | None:
+        entry = self._services.get(service)
+        if entry is None:
+            return None
+        servers = entry.servers
+        return servers[0] if servers else None
+
+    def _remove_service_endpoint(self, service: str, endpoint: _BusServer | _BusClient) -> None:
+        with self._lock:
+            entry = self._services.get(service)
+            if entry is None:
+                return
+            if isinstance(endpoint, _BusServer) and endpoint in entry.servers:
+                entry.servers.remove(endpoint)
+            elif isinstance(endpoint, _BusClient) and endpoint in entry.clients:
+                entry.clients.remove(endpoint)
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        with self._lock:
+            return sorted(
+                (e.name, [(e.servers or e.clients)[0].info.type_name])
+                for e in self._services.values()
+                if e.servers or e.clients
+            )
+
+    def _by_node(self, node_name: str, node_namespace: str,
+                 servers: bool) -> list[tuple[str, list[str]]]:
+        with self._lock:
+            out = []
+            for e in self._services.values():
+                endpoints: list[Any] = e.servers if servers else e.clients
+                for ep in endpoints:
+                    if ep.info.node_name == node_name and ep.info.node_namespace == node_namespace:
+                        out.append((e.name, [ep.info.type_name]))
+                        break
+            return sorted(out)
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self._by_node(node_name, node_namespace, servers=True)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self._by_node(node_name, node_namespace, servers=False)
 
     # -- graph ------------------------------------------------------------------------
     def _topic_for(self, info: EndpointInfo) -> _Topic:
@@ -404,16 +590,16 @@ class InProcessBus(Transport):
         with self._lock:
             topic = self._topic_for(info)
             sub = _BusSubscription(self, info, sink)
-            late: list[tuple[int, Any]] = []
+            late: list[tuple[int, Any, int]] = []
             for pub in topic.publishers:
                 if self._compatible(pub, sub) and pub.history is not None and (
                     info.qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL
                 ):
-                    late.extend(pub.history)
+                    late.extend(pub.live_history())
             topic.subscriptions.append(sub)
             self._rematch(topic)
         late.sort(key=lambda item: item[0])
-        for _, snap in late:
+        for _, snap, _ in late:
             sink(snapshot(snap))
         return sub
 
@@ -463,3 +649,9 @@ class InProcessBus(Transport):
                 for sub in topic.subscriptions:
                     sub.alive = False
             self._topics.clear()
+            for entry in self._services.values():
+                for server in entry.servers:
+                    server.alive = False
+                for client in entry.clients:
+                    client.alive = False
+            self._services.clear()

@@ -1,9 +1,11 @@
 """Context: the lifetime of a "ROS process" (``init`` / ``ok`` / ``shutdown``).
 
 A context owns the transports its nodes use (one instance per transport name, so nodes of a
-context share one in-process bus), the global command-line rules given to ``init(args=...)``
-(``--ros-args -p name:=value -r from:=to``) and a sequence counter that orders every message
-and timer of the context (what makes simulated runs deterministic).
+context share one in-process bus), the global ROS arguments given to ``init(args=...)`` (as
+rclpy: ``args=None`` reads ``sys.argv``; ``--ros-args -p name:=value -r from:=to
+--params-file FILE --log-level LEVEL``, see :mod:`posekit.runtime.arguments`) and a sequence
+counter that orders every message and timer of the context (what makes simulated runs
+deterministic).
 
 Different contexts are isolated from each other, like separate processes; tests use a fresh
 ``Context()`` each to avoid leaking latched messages.
@@ -12,13 +14,13 @@ Different contexts are isolated from each other, like separate processes; tests 
 from __future__ import annotations
 
 import itertools
+import sys
 import threading
 import weakref
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from posekit.runtime.names import RemapRule, parse_remap_rules
-from posekit.runtime.parameters import parse_parameter_value
+from posekit.runtime.arguments import RosArguments, parse_arguments
 from posekit.runtime.transport import Transport, create_transport, selected_transport_name
 
 if TYPE_CHECKING:
@@ -30,7 +32,6 @@ __all__ = [
     "get_default_context",
     "init",
     "ok",
-    "parse_ros_args",
     "shutdown",
     "try_shutdown",
 ]
@@ -46,58 +47,6 @@ class NotInitializedException(RuntimeError):  # noqa: N818 - rclpy name
         )
 
 
-def parse_ros_args(args: Sequence[str] | None) -> tuple[dict[str, Any], list[RemapRule]]:
-    """Parameters (``-p name:=value``) and remaps (``-r from:=to``) after ``--ros-args``."""
-    params: dict[str, Any] = {}
-    remaps: list[str] = []
-    if not args:
-        return params, []
-    in_ros = False
-    it = iter(args)
-    for arg in it:
-        if arg == "--ros-args":
-            in_ros = True
-            continue
-        if arg == "--":
-            in_ros = False
-            continue
-        if not in_ros:
-            continue
-        if arg in ("-p", "--param"):
-            spec = next(it, None)
-            if spec is None or ":=" not in spec:
-                raise ValueError(f"expected name:=value after {arg}, got {spec!r}")
-            name, value = spec.split(":=", 1)
-            params[name] = parse_parameter_value(value)
-        elif arg in ("-r", "--remap"):
-            spec = next(it, None)
-            if spec is None or ":=" not in spec:
-                raise ValueError(f"expected from:=to after {arg}, got {spec!r}")
-            remaps.append(spec)
-        elif arg == "--log-level":
-            spec = next(it, None)
-            if spec is None:
-                raise ValueError("expected a level after --log-level")
-            _apply_log_level(spec)
-        else:
-            raise ValueError(
-                f"unsupported ROS argument {arg!r} (supported: -p, -r, --log-level)"
-            )
-    return params, parse_remap_rules(remaps)
-
-
-def _apply_log_level(spec: str) -> None:
-    """``--log-level debug`` (every logger) or ``--log-level talker:=debug`` (one logger)."""
-    from posekit.runtime.logging import LoggingSeverity, set_logger_level
-
-    name, _, level = spec.rpartition(":=")
-    try:
-        severity = LoggingSeverity[level.strip().upper().replace("WARNING", "WARN")]
-    except KeyError:
-        raise ValueError(f"unknown log level {level!r} in --log-level {spec}") from None
-    set_logger_level(name, severity)
-
-
 class Context:
     """Lifetime, transports and global rules of a set of nodes."""
 
@@ -109,17 +58,22 @@ class Context:
         self._on_shutdown: list[Callable[[], None]] = []
         self._executors: weakref.WeakSet[Executor] = weakref.WeakSet()
         self.seq = itertools.count()
-        self.global_parameters: dict[str, Any] = {}
-        self.global_remaps: list[RemapRule] = []
+        #: The parsed global ROS arguments (parameters, remaps, log levels) of init().
+        self.arguments = RosArguments()
         self.args: list[str] = []
 
     def init(self, args: Sequence[str] | None = None, *, transport: str | None = None) -> None:
-        """Initialize; ``args`` may carry ``--ros-args -p k:=v -r a:=b`` for every node."""
+        """Initialize with the ROS arguments in ``args`` (None: ``sys.argv``, as rclpy).
+
+        Raises :class:`~posekit.runtime.arguments.RCLError` for a malformed argument and
+        :class:`~posekit.runtime.arguments.UnknownROSArgsError` for an unknown one."""
         with self._lock:
             if self._ok:
                 raise RuntimeError("Context.init() must only be called once")
-            self.global_parameters, self.global_remaps = parse_ros_args(args)
-            self.args = list(args or [])
+            args = list(sys.argv if args is None else args)
+            self.arguments = parse_arguments(args)
+            self.arguments.apply_log_levels()
+            self.args = args
             self._transport_name = transport
             self.seq = itertools.count()
             self._ok = True

@@ -7,10 +7,23 @@
   MutuallyExclusiveCallbackGroup (the node default) never overlap.
 * :class:`SimulatedTimeExecutor` (a stepped executor): owns simulated time. It runs every
   callback that is ready at the current sim time, then jumps straight to the next timer due
-  time (no sleeping), sets every node's clock and publishes ``/clock``. Messages are delivered
-  at the sim time they were published (zero latency). With the same inputs the sequence of
-  callbacks and messages is identical run after run. ``real_time_factor=1.0`` paces it to the
-  wall clock instead.
+  time (no sleeping) and sets every node's clock. Messages are delivered at the sim time they
+  were published (zero latency). With the same inputs the sequence of callbacks and messages
+  is identical run after run. ``real_time_factor=1.0`` paces it to the wall clock instead.
+
+The simulation owns ``/clock`` (the one clock story):
+
+* its own nodes are *driven*: the executor sets their time; they neither follow nor receive
+  ``/clock``, so a foreign ``/clock`` publisher can never disturb them;
+* it publishes ``/clock`` at every step exactly when its nodes are visible to other processes
+  (one of them is on a transport with ``crosses_processes``, e.g. Zenoh), so nodes and tools
+  elsewhere can follow it (``publish_clock`` True/False forces it either way);
+* :meth:`SimulatedTimeExecutor.claim_clock` (called by ``posekit.launch`` before a run
+  starts) refuses to start a second simulation clock: if another publisher of ``/clock`` is
+  already on the graph it raises :class:`ClockConflictError` with one line naming it;
+* a ``/clock`` publisher that appears later is reported once (WARN, naming its node) and
+  changes nothing: the simulation keeps its time and followers keep following it (they
+  ignore a second source, see :mod:`posekit.runtime.time_source`).
 
 An exception raised by a callback is logged by the callback's node logger with the traceback
 (``[ERROR] [...] [node]: Exception in timer callback ...``) and does not stop the executor
@@ -19,6 +32,7 @@ or other callbacks. ``KeyboardInterrupt``/``SystemExit`` still propagate.
 
 from __future__ import annotations
 
+import functools
 import heapq
 import inspect
 import os
@@ -27,7 +41,7 @@ import time
 import traceback
 from collections import deque
 from collections.abc import Callable, Coroutine
-from typing import Any
+from typing import Any, TypeVar, cast
 
 from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
 from posekit.runtime.callback_groups import CallbackGroup
@@ -37,11 +51,13 @@ from posekit.runtime.entities import Subscription, Timer
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
 from posekit.runtime.qos import QoSProfile
+from posekit.runtime.services import set_current_executor
 from posekit.runtime.task import Future, Task
 from posekit.runtime.time_source import TimeSource
 from posekit.time import ClockType, Duration, Time
 
 __all__ = [
+    "ClockConflictError",
     "Executor",
     "ExternalShutdownException",
     "Future",
@@ -50,6 +66,7 @@ __all__ = [
     "SingleThreadedExecutor",
     "Task",
     "get_global_executor",
+    "graph_clock_publishers",
     "spin",
     "spin_once",
     "spin_until_future_complete",
@@ -58,6 +75,23 @@ __all__ = [
 _TIMER = 0
 _MESSAGE = 1
 _TASK = 2
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _runs_callbacks(method: _F) -> _F:
+    """Mark the calling thread as running this executor's callbacks for the call's
+    duration (what ``Client.call`` checks to serve a request instead of deadlocking)."""
+
+    @functools.wraps(method)
+    def wrapper(self: Executor, *args: Any, **kwargs: Any) -> Any:
+        previous = set_current_executor(self)
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            set_current_executor(previous)
+
+    return cast(_F, wrapper)
 
 
 class _WakeSignal:
@@ -92,6 +126,10 @@ class _WakeSignal:
             self.set()  # stay signalled, like an Event, until clear()
             return True
         return False
+
+
+class ClockConflictError(RuntimeError):
+    """Another ``/clock`` publisher is on the graph: a second simulation clock is refused."""
 
 
 class ExternalShutdownException(Exception):  # noqa: N818 - rclpy name
@@ -134,7 +172,7 @@ class Executor:
             self._nodes.append(node)
             node._executor = self
             pending = sorted(
-                ((seq, sub) for sub in node._subscriptions for seq, _ in list(sub.queue)),
+                ((seq, sub) for sub in node._queued_entities() for seq, _ in list(sub.queue)),
                 key=lambda item: item[0],
             )
             self._fifo.extend(pending)
@@ -307,7 +345,8 @@ class Executor:
     @staticmethod
     def _describe(kind: int, entity: Any) -> str:
         if kind == _MESSAGE:
-            return f"subscription callback on '{entity.topic_name}'"
+            what = getattr(entity, "callback_description", None)
+            return what or f"subscription callback on '{entity.topic_name}'"
         return "timer callback"
 
     def _report(self, node: Node, what: str, tb: str) -> None:
@@ -332,7 +371,12 @@ class Executor:
                 best = remaining
         return None if best is None else max(0.0, best / 1e9)
 
-    def _wait_for_work(self, timeout_sec: float | None) -> tuple[int, Any, Any] | None:
+    def _wait_for_work(
+        self, timeout_sec: float | None, condition: Callable[[], bool] | None = None
+    ) -> tuple[int, Any, Any] | None:
+        """The next ready callback, waiting up to ``timeout_sec`` (None: forever); None on
+        timeout, shutdown, or once ``condition()`` is true (rclpy's wait condition: whoever
+        makes it true must call :meth:`wake`, e.g. a future's done-callback)."""
         deadline = None
         if timeout_sec is not None and timeout_sec >= 0:
             deadline = time.monotonic() + timeout_sec
@@ -347,6 +391,8 @@ class Executor:
                 # appended after the look sees _waiting and sets the event.
                 self._waiting = True
                 self._wake_event.clear()
+                if condition is not None and condition():
+                    return None
                 work = self._take_ready()
                 if work is not None:
                     return work
@@ -361,6 +407,24 @@ class Executor:
         finally:
             self._waiting = self._always_wake
 
+    def _serve_until(self, future: Future, timeout_sec: float | None) -> None:
+        """Run ready callbacks (never moving simulated time) until ``future`` is done or
+        ``timeout_sec`` wall seconds passed: a blocking call made inside a callback."""
+        end = None if timeout_sec is None or timeout_sec < 0 else time.monotonic() + timeout_sec
+        while not future.done() and self._context.ok():
+            work = self._take_ready()
+            if work is not None:
+                self._execute(work)
+                continue
+            wait = 0.01
+            if end is not None:
+                remaining = end - time.monotonic()
+                if remaining <= 0:
+                    return
+                wait = min(wait, remaining)
+            future.wait(wait)
+
+    @_runs_callbacks
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""
         work = self._wait_for_work(timeout_sec)
@@ -372,6 +436,7 @@ class Executor:
         while self._context.ok() and not self._is_shutdown:
             self.spin_once()
 
+    @_runs_callbacks
     def spin_some(self, max_duration: float = 0.0) -> None:
         """Run what is ready now (and for up to ``max_duration`` s more), then return."""
         end = time.monotonic() + max_duration
@@ -388,19 +453,27 @@ class Executor:
             if work[0] == _MESSAGE:
                 self._drain_messages(64)
 
+    def _spin_once_until(self, timeout_sec: float | None, future: Future) -> None:
+        """spin_once that also returns when ``future`` completes (in any thread)."""
+        work = self._wait_for_work(timeout_sec, future.done)
+        if work is not None:
+            self._execute(work)
+
+    @_runs_callbacks
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
-        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed."""
+        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed. A future
+        completed by another thread ends the wait at once (its done-callback wakes us)."""
         future.add_done_callback(lambda _f: self.wake())
         if timeout_sec is None or timeout_sec < 0:
             while self._context.ok() and not self._is_shutdown and not future.done():
-                self.spin_once()
+                self._spin_once_until(None, future)
             return
         end = time.monotonic() + timeout_sec
-        while self._context.ok() and not future.done():
+        while self._context.ok() and not self._is_shutdown and not future.done():
             remaining = end - time.monotonic()
             if remaining <= 0:
                 return
-            self.spin_once(remaining)
+            self._spin_once_until(remaining, future)
 
     def spin_once_until_future_complete(
         self, future: Future, timeout_sec: float | None = None
@@ -408,7 +481,7 @@ class Executor:
         """spin_once, returning early if ``future`` completes."""
         future.add_done_callback(lambda _f: self.wake())
         if not future.done():
-            self.spin_once(timeout_sec)
+            self._spin_once_until(timeout_sec, future)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
         """Stop spinning and drop the nodes."""
@@ -440,6 +513,7 @@ class MultiThreadedExecutor(Executor):
         """How many workers spin() starts."""
         return self._num_threads
 
+    @_runs_callbacks
     def _worker(self) -> None:
         while self._context.ok() and not self._is_shutdown:
             work = self._wait_for_work(0.05)
@@ -466,6 +540,32 @@ class MultiThreadedExecutor(Executor):
             w.join(timeout=1.0)
 
 
+def _clock_publisher_names(transport: Any) -> list[str]:
+    infos = getattr(transport, "get_publishers_info_by_topic", None)
+    return sorted(i.node_fqn for i in infos("/clock")) if callable(infos) else []
+
+
+def graph_clock_publishers(transport: Any, *, settle_s: float = 0.3) -> list[str]:
+    """The publishers of ``/clock`` on ``transport``'s graph (node names where the graph
+    says, else ``"N publisher(s)"``); empty when there is none.
+
+    A network graph is completed with its ``sync_graph`` query, repeated for up to
+    ``settle_s`` wall seconds until a publisher shows up: one query right after a session
+    opened can come back before the network answered."""
+    deadline = time.monotonic() + settle_s
+    sync = getattr(transport, "sync_graph", None)
+    while True:
+        if callable(sync):
+            sync(max(0.05, deadline - time.monotonic()))
+        count = int(transport.count_publishers("/clock"))
+        if count > 0 or not callable(sync) or time.monotonic() >= deadline:
+            break
+        time.sleep(0.05)
+    if count <= 0:
+        return []
+    return sorted(set(_clock_publisher_names(transport))) or [f"{count} publisher(s)"]
+
+
 def _to_ns(t: float | int | Time | Duration) -> int:
     if isinstance(t, Time | Duration):
         return t.nanoseconds
@@ -486,7 +586,7 @@ class SimulatedTimeExecutor(Executor):
         context: Context | None = None,
         start_time: float | Time = 0.0,
         real_time_factor: float | None = None,
-        publish_clock: bool = True,
+        publish_clock: bool | None = None,
     ) -> None:
         super().__init__(context=context)
         self._now_ns = _to_ns(start_time)
@@ -495,7 +595,11 @@ class SimulatedTimeExecutor(Executor):
         if real_time_factor is not None and real_time_factor <= 0:
             raise ValueError("real_time_factor must be > 0 (or None for as fast as possible)")
         self.real_time_factor = real_time_factor
-        self._publish_clock = publish_clock
+        self._publish_clock_choice = publish_clock
+        self._publish_clock = bool(publish_clock)  # effective value, see _rebuild_timers
+        self._foreign_check_at = 0.0
+        self._foreign_reported: set[str] = set()
+        self._claimed: Any = None  # the transport claim_clock checked, if any
         self._clock_node: Node | None = None
         self._clock_pub: Any = None
         self._anchor: tuple[float, int] | None = None
@@ -518,31 +622,117 @@ class SimulatedTimeExecutor(Executor):
         return Time(nanoseconds=self._now_ns, clock_type=ClockType.ROS_TIME)
 
     def add_node(self, node: Node) -> bool:
+        # Driven first: the node never subscribes to /clock while the executor owns its time.
+        node._time_source.set_driven(True)
         if not node.get_parameter("use_sim_time").value:
             node.set_parameters([Parameter("use_sim_time", value=True)])
         node._time_source.set_time_ns(self._now_ns)
         return super().add_node(node)
 
+    def remove_node(self, node: Node) -> None:
+        super().remove_node(node)
+        if not self._is_shutdown and node._executor is None and not node._destroyed:
+            node._time_source.set_driven(False)  # on its own again: follow /clock
+
     @property
     def publish_clock(self) -> bool:
-        """Whether ``/clock`` is published at every step (settable; see ``__init__``)."""
+        """Whether ``/clock`` is published at every step. Default (``publish_clock=None``):
+        exactly when a node of the executor is visible to other processes; setting True or
+        False forces it."""
         return self._publish_clock
 
     @publish_clock.setter
-    def publish_clock(self, enabled: bool) -> None:
-        self._publish_clock = bool(enabled)
+    def publish_clock(self, enabled: bool | None) -> None:
+        self._publish_clock_choice = enabled
+        self._update_publish_clock()
+
+    def _update_publish_clock(self) -> None:
+        choice = self._publish_clock_choice
+        claimed = self._claimed is not None and self._claimed.crosses_processes
+        self._publish_clock = bool(choice) if choice is not None else claimed or any(
+            n._transport.crosses_processes for n in self._nodes
+        )
+
+    def _clock_transport(self) -> Any:
+        if self._claimed is not None:
+            return self._claimed
+        for node in self._nodes:
+            if node._transport.crosses_processes:
+                return node._transport
+        return self._context.transport()
+
+    def claim_clock(self, transport: Any = None, *, timeout_sec: float = 0.3) -> None:
+        """Refuse a second simulation clock. ``transport``: where the simulation's nodes are
+        (or will be: ``posekit.launch`` claims before it creates any node, so a refused run
+        never shows a node to others); default: the nodes' transport.
+
+        When ``/clock`` is to be published there (``publish_clock`` True, or None and the
+        transport crosses processes) and another publisher of ``/clock`` is already on its
+        graph (see :func:`graph_clock_publishers`), raise :class:`ClockConflictError`;
+        otherwise start publishing ``/clock`` there."""
+        if self._clock_pub is not None:
+            return
+        transport = transport if transport is not None else self._clock_transport()
+        choice = self._publish_clock_choice
+        if choice is False or (choice is None and not transport.crosses_processes
+                               and not self._publish_clock):
+            return
+        others = graph_clock_publishers(transport, settle_s=timeout_sec)
+        if others:
+            raise ClockConflictError(
+                f"another clock source already publishes /clock ({', '.join(others)}): a "
+                "second simulation would fight over sim time. Stop it first, or run your "
+                "nodes against it (use_sim_time:=true) instead of starting another simulation"
+            )
+        self._claimed = transport
+        self._update_publish_clock()
+        self._ensure_clock_publisher()
+
+    def _foreign_clock_publishers(self, transport: Any) -> list[str]:
+        """Who else publishes /clock on ``transport`` now (the live graph, no query)."""
+        count = transport.count_publishers("/clock") - (self._clock_pub is not None)
+        if count <= 0:
+            return []
+        names = _clock_publisher_names(transport)
+        if self._clock_node is not None and self._clock_pub is not None:
+            own = self._clock_node.get_fully_qualified_name()
+            if own in names:
+                names.remove(own)  # ours, once
+        return sorted(set(names)) or [f"{count} publisher(s)"]
+
+    def _ensure_clock_publisher(self) -> None:
+        if self._clock_pub is None:
+            self._clock_node = Node(
+                "posekit_sim_clock", context=self._context, transport=self._clock_transport()
+            )
+            self._clock_pub = self._clock_node.create_publisher(
+                ClockMsg, "/clock", QoSProfile(depth=1)
+            )
 
     def _publish_clock_msg(self) -> None:
         if not self._publish_clock:
             return
         if self._clock_pub is None:
-            self._clock_node = Node("posekit_sim_clock", context=self._context)
-            self._clock_pub = self._clock_node.create_publisher(
-                ClockMsg, "/clock", QoSProfile(depth=1)
-            )
+            self._ensure_clock_publisher()
         msg = ClockMsg()
         msg.clock.sec, msg.clock.nanosec = divmod(self._now_ns, 1_000_000_000)
         self._clock_pub.publish(msg)
+        transport = self._clock_node._transport if self._clock_node else None
+        if transport is not None and transport.crosses_processes:
+            wall = time.monotonic()
+            if wall >= self._foreign_check_at:  # a graph lookup, once a wall second
+                self._foreign_check_at = wall + 1.0
+                self._report_foreign_clocks(transport)
+
+    def _report_foreign_clocks(self, transport: Any) -> None:
+        new = [n for n in self._foreign_clock_publishers(transport)
+               if n not in self._foreign_reported]
+        if new and self._clock_node is not None:
+            self._foreign_reported.update(new)
+            self._clock_node.get_logger().warning(
+                f"Ignoring a second /clock publisher ({', '.join(new)}): this simulation owns "
+                "/clock; its nodes keep its time and followers elsewhere keep following it"
+            )
 
     def set_time(self, t: float | Time) -> None:
         """Jump to ``t`` (seconds or Time), forwards or backwards; jump callbacks fire."""
@@ -585,6 +775,7 @@ class SimulatedTimeExecutor(Executor):
         super()._rebuild_timers()
         self._time_sources = [node._time_source for node in self._nodes]
         self._schedule_dirty = True
+        self._update_publish_clock()
 
     def _timer_changed(self, timer: Timer) -> None:
         self._schedule_dirty = True
@@ -737,6 +928,7 @@ class SimulatedTimeExecutor(Executor):
         self.callbacks_run += count
         return count
 
+    @_runs_callbacks
     def run_until(self, t: float | Time) -> int:
         """Advance simulated time to ``t`` (seconds or Time), running every callback due on
         the way in time order; returns the number of callbacks run."""
@@ -761,6 +953,7 @@ class SimulatedTimeExecutor(Executor):
         """run_until(now + seconds)."""
         return self.run_until(Time(nanoseconds=self._now_ns + _to_ns(seconds)))
 
+    @_runs_callbacks
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Run one ready callback; if none, jump to the next timer and run one there. With no
         timers at all, wait up to ``timeout_sec`` wall seconds for an outside message."""
@@ -776,6 +969,7 @@ class SimulatedTimeExecutor(Executor):
             self._execute(work)
             self.callbacks_run += 1
 
+    @_runs_callbacks
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
         """Step until ``future`` is done; ``timeout_sec`` counts *simulated* seconds."""
         future.add_done_callback(lambda _f: self.wake())
@@ -784,7 +978,14 @@ class SimulatedTimeExecutor(Executor):
             if not self._run_ready():
                 nxt = self._next_timer_ns()
                 if nxt is None:
-                    self._wait_for_work(0.01)
+                    # Nothing moves sim time: wait for outside work, the future itself, or
+                    # a new timer (a timer change marks the schedule dirty and wakes us).
+                    work = self._wait_for_work(
+                        None, lambda: future.done() or self._schedule_dirty
+                    )
+                    if work is not None:
+                        self._execute(work)
+                        self.callbacks_run += 1
                     continue
                 if end is not None and nxt > end:
                     self._advance(max(end, self._now_ns))

@@ -16,11 +16,19 @@ output every time (rclpy always uses the wall clock). Standalone loggers use the
 
 Output goes to the registered sinks (default: one that writes to ``sys.stderr``); tests and
 tools can add their own with :func:`add_sink` (each receives a :class:`LogRecord`).
+
+``/rosout``: a node (``enable_rosout=True``, the default) registers a rosout handler under its
+logger's name (:func:`register_rosout`); every emitted record of a logger with that name, of
+``get_logger(<that name>)``, and of loggers made from them with ``get_child`` is also handed
+to the handler with the caller's file, function and line, as rcl's rosout output handler
+does. A record logged while a rosout handler of the same thread runs (the transport logging
+while publishing a log) is printed but not published again.
 """
 
 from __future__ import annotations
 
 import enum
+import os
 import sys
 import threading
 import time
@@ -36,8 +44,10 @@ __all__ = [
     "format_line",
     "get_logger",
     "get_logger_level",
+    "register_rosout",
     "remove_sink",
     "set_logger_level",
+    "unregister_rosout",
 ]
 
 
@@ -88,7 +98,14 @@ def _stderr_sink(record: LogRecord) -> None:
     stream.flush()
 
 
+#: A rosout handler: ``handler(record, file, function, line)``.
+RosoutHandler = Callable[[LogRecord, str, str, int], None]
+
 _sinks: list[Callable[[LogRecord], None]] = [_stderr_sink]
+# Logger name -> rosout handlers (first registered wins; later ones wait as fallbacks).
+_rosout: dict[str, list[RosoutHandler]] = {}
+_rosout_busy = threading.local()
+_abspaths: dict[str, str] = {}  # code file name -> absolute path (rclpy's CallerId path)
 _levels: dict[str, LoggingSeverity] = {}
 _default_level = LoggingSeverity.INFO
 _lock = threading.Lock()
@@ -105,6 +122,44 @@ def remove_sink(sink: Callable[[LogRecord], None]) -> None:
     with _lock:
         if sink in _sinks:
             _sinks.remove(sink)
+
+
+def register_rosout(name: str, handler: RosoutHandler) -> None:
+    """Hand records of the logger ``name`` (and its ``get_child`` loggers) to ``handler``.
+
+    With several handlers for one name (two nodes of the same name) the first one publishes,
+    as rcl keeps the first node's publisher.
+    """
+    with _lock:
+        _rosout.setdefault(name, []).append(handler)
+
+
+def unregister_rosout(handler: RosoutHandler) -> None:
+    """Remove ``handler`` under every name it was registered for."""
+    with _lock:
+        for name in list(_rosout):
+            handlers = [h for h in _rosout[name] if h is not handler]
+            if handlers:
+                _rosout[name] = handlers
+            else:
+                del _rosout[name]
+
+
+def _publish_rosout(handler: RosoutHandler, record: LogRecord, frame: FrameType | None) -> None:
+    if getattr(_rosout_busy, "active", False):
+        return  # logged by the rosout publish itself: print only, never recurse
+    _rosout_busy.active = True
+    try:
+        if frame is not None:
+            code = frame.f_code
+            path = _abspaths.get(code.co_filename)
+            if path is None:
+                path = _abspaths[code.co_filename] = os.path.abspath(code.co_filename)
+            handler(record, path, code.co_name, frame.f_lineno)
+        else:
+            handler(record, "", "", 0)
+    finally:
+        _rosout_busy.active = False
 
 
 def set_logger_level(name: str, level: LoggingSeverity | int) -> None:
@@ -138,6 +193,12 @@ class RcutilsLogger:
         if not name:
             raise ValueError("child logger name must not be empty")
         full = f"{self.name}.{name}" if self.name else name
+        with _lock:
+            handlers = _rosout.get(self.name)
+            if handlers and self.name:  # rcl's rosout sublogger
+                for handler in handlers:
+                    if handler not in _rosout.setdefault(full, []):
+                        _rosout[full].append(handler)
         return RcutilsLogger(full, self._clock_ns)
 
     def set_level(self, level: LoggingSeverity | int) -> None:
@@ -188,6 +249,9 @@ class RcutilsLogger:
             sinks = list(_sinks)
         for sink in sinks:
             sink(record)
+        handlers = _rosout.get(self.name)
+        if handlers:
+            _publish_rosout(handlers[0], record, frame)
         return True
 
     def log(self, message: object, severity: LoggingSeverity | int, **kwargs: object) -> bool:

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 __all__ = [
     "InvalidNamespaceException",
     "InvalidNodeNameException",
+    "InvalidServiceNameException",
     "InvalidTopicNameException",
     "NameValidationError",
     "RemapRule",
@@ -32,6 +33,7 @@ __all__ = [
     "expand_topic_name",
     "normalize_namespace",
     "parse_remap_rules",
+    "resolve_service_name",
     "resolve_topic_name",
     "validate_full_topic_name",
     "validate_namespace",
@@ -62,6 +64,12 @@ class InvalidTopicNameException(NameValidationError):  # noqa: N818 - rclpy name
     """A topic name is not valid (rclpy.exceptions.InvalidTopicNameException)."""
 
     kind = "topic name"
+
+
+class InvalidServiceNameException(NameValidationError):  # noqa: N818 - rclpy name
+    """A service name is not valid (rclpy.exceptions.InvalidServiceNameException)."""
+
+    kind = "service name"
 
 
 class InvalidNodeNameException(NameValidationError):  # noqa: N818 - rclpy name
@@ -272,3 +280,16 @@ def resolve_topic_name(
     """Validate, expand and remap a topic name as a node would."""
     full = expand_topic_name(name, node_name, namespace)
     return apply_remappings(full, rules, node_name, namespace)
+
+
+def resolve_service_name(
+    name: str, node_name: str, namespace: str, rules: Iterable[RemapRule] = ()
+) -> str:
+    """Validate, expand and remap a service name (a topic name's rules; errors raise
+    :class:`InvalidServiceNameException`)."""
+    try:
+        return resolve_topic_name(name, node_name, namespace, rules)
+    except InvalidTopicNameException as exc:
+        raise InvalidServiceNameException(
+            exc.name, exc.reason.replace("topic name", "service name"), exc.index
+        ) from None

@@ -5,18 +5,23 @@ names are validated, expanded in the node's namespace and remapped (posekit.runt
 the QoS argument is a :class:`QoSProfile` or an int depth. Every node declares
 ``use_sim_time`` (default False); setting it true makes ``get_clock()`` follow ``/clock``.
 
-Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context,
-the :func:`node_defaults` scope (used by posekit.launch), then the constructor arguments.
+Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context
+(``sys.argv`` by default, as rclpy; see :mod:`posekit.runtime.arguments`), the
+:func:`node_defaults` scope (used by posekit.launch), ``cli_args``, then the constructor's
+``parameter_overrides``. Remap rules are tried in this order (the first match wins): the
+constructor's ``remappings``, ``cli_args``, the scope, the global arguments.
 """
 
 from __future__ import annotations
 
 import contextvars
+import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent
 from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from posekit.runtime.clock import Clock, ROSClock
 from posekit.runtime.context import Context, NotInitializedException, get_default_context
@@ -26,6 +31,7 @@ from posekit.runtime.names import (
     RemapRule,
     normalize_namespace,
     parse_remap_rules,
+    resolve_service_name,
     resolve_topic_name,
     validate_node_name,
 )
@@ -34,11 +40,21 @@ from posekit.runtime.parameters import (
     Parameter,
     ParameterDescriptor,
     ParameterStore,
+    PostSetCallback,
+    PreSetCallback,
     SetParametersResult,
 )
-from posekit.runtime.qos import QoSProfile, to_qos_profile
+from posekit.runtime.qos import (
+    QoSProfile,
+    qos_profile_parameter_events,
+    qos_profile_services_default,
+    to_qos_profile,
+)
+from posekit.runtime.rate import Rate
+from posekit.runtime.rosout import RosoutPublisher
+from posekit.runtime.services import Client, Service
 from posekit.runtime.time_source import TimeSource
-from posekit.runtime.transport import EndpointInfo, Transport
+from posekit.runtime.transport import EndpointInfo, ServiceInfo, Transport
 
 if TYPE_CHECKING:
     from posekit.runtime.executors import Executor
@@ -87,15 +103,21 @@ def node_defaults(
 
 
 def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | None, str | None]:
+    """The node name and namespace remaps for ``node_name``: the first matching rule of
+    each kind wins, as in rcl."""
     name = ns = None
     for rule in rules:
         if rule.node is not None and rule.node != node_name:
             continue
-        if rule.from_name == "__node" or rule.from_name == "__name":
+        if name is None and rule.from_name in ("__node", "__name"):
             name = rule.to_name
-        elif rule.from_name == "__ns":
+        elif ns is None and rule.from_name == "__ns":
             ns = rule.to_name
     return name, ns
+
+
+def _no_callback() -> None:
+    """Placeholder timer callback a Rate replaces with its own."""
 
 
 class Node:
@@ -117,26 +139,20 @@ class Node:
         remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
         transport: str | Transport | None = None,
     ) -> None:
-        del enable_rosout, start_parameter_services  # no /rosout or parameter services
         scope = _defaults.get()
         self._context = context or (scope.context if scope else None) or get_default_context()
         if not self._context.ok():
             raise NotInitializedException(f"cannot create node '{node_name}'")
         validate_node_name(node_name)
 
-        from posekit.runtime.context import parse_ros_args
+        from posekit.runtime.arguments import RosArguments, parse_arguments
 
-        cli_params, cli_remaps = parse_ros_args(cli_args)
-        rules: list[RemapRule] = []
-        overrides: dict[str, Any] = {}
-        if use_global_arguments:
-            rules.extend(self._context.global_remaps)
-            overrides.update(self._context.global_parameters)
+        local = parse_arguments(cli_args) if cli_args else RosArguments()
+        glob = self._context.arguments if use_global_arguments else RosArguments()
+        rules: list[RemapRule] = parse_remap_rules(remappings) + local.remaps
         if scope is not None:
-            rules = list(scope.remappings) + rules
-            overrides.update(scope.parameters)
-        rules = parse_remap_rules(remappings) + cli_remaps + rules
-        overrides.update(cli_params)
+            rules += scope.remappings
+        rules += glob.remaps
 
         name_remap, ns_remap = _special_remaps(rules, node_name)
         if scope is not None and scope.name:
@@ -151,6 +167,13 @@ class Node:
         self._namespace = normalize_namespace(namespace)
         self._remap_rules = [r for r in rules if not r.from_name.startswith("__")]
 
+        # Parameter overrides, weakest first: global arguments, launch scope, cli_args,
+        # then the constructor's parameter_overrides.
+        fqn = self.get_fully_qualified_name()
+        overrides: dict[str, Any] = glob.parameters_for(fqn)
+        if scope is not None:
+            overrides.update(scope.parameters)
+        overrides.update(local.parameters_for(fqn))
         if isinstance(parameter_overrides, Mapping):
             overrides.update(parameter_overrides)
         elif parameter_overrides is not None:
@@ -166,9 +189,12 @@ class Node:
         self._publishers: list[Publisher] = []
         self._subscriptions: list[Subscription] = []
         self._timers: list[Timer] = []
+        self._services: list[Service] = []
+        self._clients: list[Client] = []
         self._destroyed = False
         self.default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
         self._callback_groups: list[CallbackGroup] = [self.default_callback_group]
+        self._rate_group: CallbackGroup | None = None  # rates' own group (made on first use)
 
         self._clock = ROSClock()
         logger_name = (self._namespace.strip("/").replace("/", ".") + "." + self._name).lstrip(".")
@@ -176,15 +202,25 @@ class Node:
         self._parameters = ParameterStore.create(
             self._name, overrides, allow_undeclared_parameters
         )
+        self._parameter_event_publisher = self.create_publisher(
+            ParameterEvent, "/parameter_events", qos_profile_parameter_events
+        )
+        self._parameters.on_event = self._publish_parameter_event
         self._time_source = TimeSource(self)
         self._time_source.attach_clock(self._clock)
         self._parameters.add_post_set(self._on_parameters_set)
         self._parameters.add_on_set(self._check_use_sim_time)
         self.declare_parameter("use_sim_time", False)
+        self._rosout: RosoutPublisher | None = RosoutPublisher(self) if enable_rosout else None
         if automatically_declare_parameters_from_overrides:
             for pname, value in overrides.items():
                 if not self._parameters.has(pname):
                     self.declare_parameter(pname, value)
+        self._parameter_service: Any = None
+        if start_parameter_services and self._transport.supports_services:
+            from posekit.runtime.parameter_service import ParameterService
+
+            self._parameter_service = ParameterService(self)
 
     # -- identity ---------------------------------------------------------------------
     @property
@@ -236,6 +272,11 @@ class Node:
         rules: Sequence[RemapRule] = () if only_expand else self._remap_rules
         return resolve_topic_name(topic, self._name, self._namespace, rules)
 
+    def resolve_service_name(self, service: str, *, only_expand: bool = False) -> str:
+        """Expand (and unless ``only_expand``, remap) a service name as this node would."""
+        rules: Sequence[RemapRule] = () if only_expand else self._remap_rules
+        return resolve_service_name(service, self._name, self._namespace, rules)
+
     # -- entities ---------------------------------------------------------------------
     def _check_alive(self) -> None:
         if self._destroyed:
@@ -286,6 +327,19 @@ class Node:
         del event_callbacks, qos_overriding_options
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
+        return self._subscribe(msg_type, topic, callback, qos_profile, callback_group, False)
+
+    def _subscribe(
+        self,
+        msg_type: type,
+        topic: str,
+        callback: Callable[[Any], Any],
+        qos_profile: QoSProfile | int,
+        callback_group: CallbackGroup | None,
+        with_source: bool,
+    ) -> Subscription:
+        """create_subscription; ``with_source``: the callback gets ``(msg, source)`` with the
+        sending publisher's id (see Transport.subscribe_with_source)."""
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"subscription callback must be callable, got {callback!r}")
@@ -294,8 +348,15 @@ class Node:
         group = callback_group or self.default_callback_group
         sub = Subscription(self, msg_type, full, callback, qos, group)
         self._subscriptions.append(sub)
+        info = self._info(msg_type, full, qos)
         try:
-            endpoint = self._transport.subscribe(self._info(msg_type, full, qos), sub._enqueue)
+            if with_source:
+                enqueue = sub._enqueue
+                endpoint = self._transport.subscribe_with_source(
+                    info, lambda msg, source: enqueue((msg, source))
+                )
+            else:
+                endpoint = self._transport.subscribe(info, sub._enqueue)
         except BaseException:
             self._subscriptions.remove(sub)
             raise
@@ -317,9 +378,15 @@ class Node:
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"timer callback must be callable, got {callback!r}")
-        period_ns = round(float(timer_period_sec) * 1e9)
+        period_s = float(timer_period_sec)
+        # rclpy raises ValueError for NaN, OverflowError for inf, an error for negatives.
+        if math.isnan(period_s):
+            raise ValueError(f"timer period must be a number of seconds, got {period_s}")
+        if math.isinf(period_s):
+            raise OverflowError(f"timer period must be finite, got {period_s} s")
+        period_ns = round(period_s * 1e9)
         if period_ns < 0:
-            raise ValueError(f"timer period must be >= 0 s, got {timer_period_sec}")
+            raise ValueError(f"timer period must be non-negative, got {timer_period_sec} s")
         timer = Timer(
             self,
             callback,
@@ -333,9 +400,112 @@ class Node:
             self._executor._node_changed(self)
         return timer
 
-    def create_rate(self, frequency: float, clock: Clock | None = None) -> Any:
-        """Not provided: sleeping in callbacks blocks executors; use a timer."""
-        raise NotImplementedError("create_rate is not supported; use create_timer")
+    def create_rate(self, frequency: float, clock: Clock | None = None) -> Rate:
+        """A :class:`Rate` ticking at ``frequency`` Hz on ``clock`` (default: the node clock).
+
+        ``rate.sleep()`` needs the node to be spun in another thread (posekit.runtime.rate):
+        from a callback of a single-threaded executor it blocks forever, as in rclpy.
+        """
+        if frequency <= 0:
+            raise ValueError("frequency must be > 0")
+        if self._rate_group is None:
+            from posekit.runtime.callback_groups import ReentrantCallbackGroup
+
+            self._rate_group = ReentrantCallbackGroup()
+        timer = self.create_timer(1.0 / frequency, _no_callback, self._rate_group, clock)
+        return Rate(timer, context=self._context)
+
+    def destroy_rate(self, rate: Rate) -> bool:
+        """Destroy a Rate's timer and wake its sleepers; False if the timer is unknown."""
+        success = self.destroy_timer(rate._timer)
+        rate.destroy()
+        return success
+
+    def _queued_entities(self) -> list[Any]:
+        """Everything whose queue the executor drains: subscriptions, servers, clients."""
+        return [
+            *self._subscriptions,
+            *(s._queued for s in self._services),
+            *(c._queued for c in self._clients),
+        ]
+
+    def _service_info(self, srv_type: type, name: str, qos: QoSProfile) -> ServiceInfo:
+        from posekit.msgs._service import is_service_type
+
+        if not is_service_type(srv_type):
+            raise TypeError(
+                f"service type must be a service class with Request and Response, "
+                f"got {srv_type!r}"
+            )
+        return ServiceInfo(name, srv_type, qos, self._name, self._namespace, self._logger)
+
+    def create_service(
+        self,
+        srv_type: type,
+        srv_name: str,
+        callback: Callable[[Any, Any], Any],
+        *,
+        qos_profile: QoSProfile = qos_profile_services_default,
+        callback_group: CallbackGroup | None = None,
+    ) -> Service:
+        """Service server calling ``callback(request, response) -> response`` from the
+        executor for each request (see :mod:`posekit.runtime.services`)."""
+        self._check_alive()
+        if not callable(callback):
+            raise TypeError(f"service callback must be callable, got {callback!r}")
+        full = self.resolve_service_name(srv_name)
+        qos = to_qos_profile(qos_profile)
+        info = self._service_info(srv_type, full, qos)
+        group = callback_group or self.default_callback_group
+        service = Service(self, srv_type, full, callback, qos, group)
+        service._attach(self._transport.create_service_server(info, service._receive))
+        self._services.append(service)
+        return service
+
+    def create_client(
+        self,
+        srv_type: type,
+        srv_name: str,
+        *,
+        qos_profile: QoSProfile = qos_profile_services_default,
+        callback_group: CallbackGroup | None = None,
+    ) -> Client:
+        """Service client (``call_async``, ``call``, ``wait_for_service``)."""
+        self._check_alive()
+        full = self.resolve_service_name(srv_name)
+        qos = to_qos_profile(qos_profile)
+        info = self._service_info(srv_type, full, qos)
+        group = callback_group or self.default_callback_group
+        endpoint = self._transport.create_service_client(info)
+        client = Client(self, srv_type, full, qos, group, endpoint)
+        self._clients.append(client)
+        return client
+
+    def destroy_service(self, service: Service) -> bool:
+        """Remove a service server; False if it is not this node's."""
+        if service in self._services:
+            self._services.remove(service)
+            service._destroy()
+            return True
+        return False
+
+    def destroy_client(self, client: Client) -> bool:
+        """Remove a client (pending futures never complete); False if unknown."""
+        if client in self._clients:
+            self._clients.remove(client)
+            client._destroy()
+            return True
+        return False
+
+    @property
+    def services(self) -> Iterator[Service]:
+        """This node's service servers."""
+        return iter(list(self._services))
+
+    @property
+    def clients(self) -> Iterator[Client]:
+        """This node's service clients."""
+        return iter(list(self._clients))
 
     def destroy_publisher(self, publisher: Publisher) -> bool:
         """Remove a publisher; False if it is not this node's."""
@@ -402,7 +572,13 @@ class Node:
             self.destroy_subscription(sub)
         for timer in list(self._timers):
             self.destroy_timer(timer)
+        for service in list(self._services):
+            self.destroy_service(service)
+        for client in list(self._clients):
+            self.destroy_client(client)
         self._time_source.destroy()
+        if self._rosout is not None:
+            self._rosout.destroy()
         self._transport.undeclare_node(self._name, self._namespace)
         self._destroyed = True
         return True
@@ -413,6 +589,22 @@ class Node:
         del no_demangle
         return self._transport.get_topic_names_and_types()
 
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every service known to the node's transport, with type names."""
+        return self._transport.get_service_names_and_types()
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services served by node ``node_name`` in ``node_namespace``."""
+        return self._transport.get_service_names_and_types_by_node(node_name, node_namespace)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services node ``node_name`` in ``node_namespace`` has clients for."""
+        return self._transport.get_client_names_and_types_by_node(node_name, node_namespace)
+
     def count_publishers(self, topic_name: str) -> int:
         """Publishers on ``topic_name`` (expanded and remapped like the node's own topics)."""
         return self._transport.count_publishers(self.resolve_topic_name(topic_name))
@@ -422,11 +614,19 @@ class Node:
         return self._transport.count_subscribers(self.resolve_topic_name(topic_name))
 
     # -- parameters -------------------------------------------------------------------
+    def _publish_parameter_event(self, event: ParameterEvent) -> None:
+        event.node = self.get_fully_qualified_name()
+        sec, nanosec = divmod(self._clock.now_ns(), 1_000_000_000)
+        event.stamp.sec, event.stamp.nanosec = sec, nanosec
+        self._parameter_event_publisher.publish(event)
+
     def _check_use_sim_time(self, params: list[Parameter]) -> SetParametersResult:
         for p in params:
             if p.name == "use_sim_time" and p.type_ != Parameter.Type.BOOL:
-                return SetParametersResult(False, "use_sim_time parameter must be a boolean")
-        return SetParametersResult(True)
+                return SetParametersResult(
+                    successful=False, reason="use_sim_time parameter must be a boolean"
+                )
+        return SetParametersResult(successful=True)
 
     def _on_parameters_set(self, params: list[Parameter]) -> None:
         for p in params:
@@ -442,7 +642,9 @@ class Node:
         descriptor: ParameterDescriptor | None = None,
         ignore_override: bool = False,
     ) -> Parameter:
-        """Declare ``name`` with a default; a launch/override value wins. Returns it."""
+        """Declare ``name`` with a default value (or a ``Parameter.Type``); a launch or
+        override value wins. Returns the parameter (rclpy's rules, see
+        :mod:`posekit.runtime.parameters`)."""
         return self._parameters.declare(name, value, descriptor, ignore_override)
 
     def declare_parameters(
@@ -451,17 +653,11 @@ class Node:
         parameters: Sequence[tuple[Any, ...]],
         ignore_override: bool = False,
     ) -> list[Parameter]:
-        """Declare ``(name, value[, descriptor])`` tuples under ``namespace.``."""
-        out = []
-        for item in parameters:
-            name = f"{namespace}.{item[0]}" if namespace else str(item[0])
-            value = item[1] if len(item) > 1 else None
-            desc = item[2] if len(item) > 2 else None
-            out.append(self.declare_parameter(name, value, desc, ignore_override))
-        return out
+        """Declare ``(name[, value[, descriptor]])`` tuples under ``namespace.``."""
+        return self._parameters.declare_many(namespace, parameters, ignore_override)
 
     def undeclare_parameter(self, name: str) -> None:
-        """Remove a declared parameter."""
+        """Remove a declared parameter (ParameterImmutableException if read-only)."""
         self._parameters.undeclare(name)
 
     def has_parameter(self, name: str) -> bool:
@@ -474,25 +670,35 @@ class Node:
 
     def get_parameters(self, names: Sequence[str]) -> list[Parameter]:
         """Several declared parameters."""
+        if not all(isinstance(n, str) for n in names):
+            raise TypeError("All names must be instances of type str")
         return [self._parameters.get(n) for n in names]
 
     def get_parameter_or(self, name: str, alternative_value: Parameter | None = None) -> Parameter:
-        """The parameter if declared, else ``alternative_value`` (or a NOT_SET one)."""
-        if self._parameters.has(name):
-            return self._parameters.get(name)
-        return alternative_value if alternative_value is not None else Parameter(name)
+        """The parameter if declared and set, else ``alternative_value`` (or a NOT_SET one)."""
+        return self._parameters.get_or(name, alternative_value)
+
+    def get_parameter_type(self, name: str) -> int:
+        """The ParameterType constant of a declared parameter."""
+        return self._parameters.get_type(name)
+
+    def get_parameter_types(self, names: Sequence[str]) -> list[int]:
+        """ParameterType constants of several declared parameters."""
+        if not all(isinstance(n, str) for n in names):
+            raise TypeError("All names must be instances of type str")
+        return [self._parameters.get_type(n) for n in names]
 
     def get_parameters_by_prefix(self, prefix: str) -> dict[str, Parameter]:
         """Declared parameters under ``prefix.`` keyed by the rest of the name."""
         pre = prefix + "." if prefix else ""
-        return {
-            n[len(pre):]: self._parameters.get(n)
-            for n in self._parameters.names()
-            if n.startswith(pre)
-        }
+        return {n[len(pre):]: p for n, p in self._parameters.items() if n.startswith(pre)}
+
+    def list_parameters(self, prefixes: list[str], depth: int) -> ListParametersResult:
+        """Names (and their prefixes) under ``prefixes`` down to ``depth`` levels (0: all)."""
+        return self._parameters.list_names(prefixes, depth)
 
     def set_parameters(self, parameter_list: Sequence[Parameter]) -> list[SetParametersResult]:
-        """Set each parameter; one result per parameter."""
+        """Set each parameter; one result per parameter (undeclared names raise)."""
         return self._parameters.set(parameter_list)
 
     def set_parameters_atomically(self, parameter_list: Sequence[Parameter]) -> SetParametersResult:
@@ -503,6 +709,18 @@ class Node:
         """The descriptor of a declared parameter."""
         return self._parameters.descriptor(name)
 
+    def describe_parameters(self, names: Sequence[str]) -> list[ParameterDescriptor]:
+        """Descriptors of several declared parameters."""
+        return [self._parameters.descriptor(n) for n in names]
+
+    def add_pre_set_parameters_callback(self, callback: PreSetCallback) -> None:
+        """Rewrite the list of parameters about to be set (before validation)."""
+        self._parameters.add_pre_set(callback)
+
+    def remove_pre_set_parameters_callback(self, callback: PreSetCallback) -> None:
+        """Undo add_pre_set_parameters_callback."""
+        self._parameters.remove_pre_set(callback)
+
     def add_on_set_parameters_callback(self, callback: OnSetCallback) -> None:
         """Validate (and possibly refuse) parameter changes."""
         self._parameters.add_on_set(callback)
@@ -510,6 +728,14 @@ class Node:
     def remove_on_set_parameters_callback(self, callback: OnSetCallback) -> None:
         """Undo add_on_set_parameters_callback."""
         self._parameters.remove_on_set(callback)
+
+    def add_post_set_parameters_callback(self, callback: PostSetCallback) -> None:
+        """React to parameters that were set (after they changed)."""
+        self._parameters.add_post_set(callback)
+
+    def remove_post_set_parameters_callback(self, callback: PostSetCallback) -> None:
+        """Undo add_post_set_parameters_callback."""
+        self._parameters.remove_post_set(callback)
 
     def __repr__(self) -> str:
         return f"Node('{self.get_fully_qualified_name()}')"

@@ -11,6 +11,9 @@ A :class:`QoSProfile` says how a publisher or subscription treats its message hi
   ``depth`` messages and hands them to TRANSIENT_LOCAL subscriptions that join later (the
   "latched" /tf_static). A VOLATILE publisher does not connect to a TRANSIENT_LOCAL
   subscription (incompatible offer).
+* ``lifespan``: a :class:`posekit.time.Duration` (None: infinite). A TRANSIENT_LOCAL
+  publisher's history forgets messages older than this (wall time since publishing), so a
+  late subscription receives only recent ones (``/rosout`` keeps 10 s, as rcl does).
 
 Everywhere a profile is accepted, an ``int`` means ``QoSProfile(depth=n)`` (rclpy's shorthand).
 """
@@ -19,6 +22,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass, replace
+from typing import Any
 
 __all__ = [
     "DurabilityPolicy",
@@ -28,6 +32,7 @@ __all__ = [
     "ReliabilityPolicy",
     "check_qos_compatibility",
     "qos_profile_clock",
+    "qos_profile_parameter_events",
     "qos_profile_parameters",
     "qos_profile_sensor_data",
     "qos_profile_services_default",
@@ -78,6 +83,7 @@ class QoSProfile:
     depth: int = 10
     reliability: ReliabilityPolicy = ReliabilityPolicy.RELIABLE
     durability: DurabilityPolicy = DurabilityPolicy.VOLATILE
+    lifespan: Any = None  # posekit.time.Duration, None = infinite
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "history", HistoryPolicy(self.history))
@@ -89,6 +95,16 @@ class QoSProfile:
             raise ValueError(f"QoSProfile depth must be >= 0, got {self.depth}")
         if self.history == HistoryPolicy.KEEP_LAST and self.depth == 0:
             raise ValueError("QoSProfile with KEEP_LAST history needs depth >= 1")
+        if self.lifespan is not None and not hasattr(self.lifespan, "nanoseconds"):
+            raise TypeError(f"QoSProfile lifespan must be a Duration, got {self.lifespan!r}")
+
+    @property
+    def lifespan_ns(self) -> int | None:
+        """The lifespan in nanoseconds, None when infinite (unset or >= rmw's infinity)."""
+        if self.lifespan is None:
+            return None
+        ns = int(self.lifespan.nanoseconds)
+        return None if ns <= 0 or ns >= _INFINITE_NS else ns
 
     @property
     def resolved_reliability(self) -> ReliabilityPolicy:
@@ -125,6 +141,10 @@ def to_qos_profile(qos: QoSProfile | int) -> QoSProfile:
     raise TypeError(f"expected a QoSProfile or an int history depth, got {qos!r}")
 
 
+#: rmw's "infinite" duration (9223372036 s 854775807 ns).
+_INFINITE_NS = 9223372036 * 1_000_000_000 + 854775807
+
+
 class QoSCompatibility(enum.Enum):
     """Result of matching an offered (publisher) and a requested (subscription) profile."""
 
@@ -159,6 +179,8 @@ qos_profile_system_default = QoSProfile(
 )
 #: rclpy's qos_profile_parameters: KEEP_LAST 1000, RELIABLE, VOLATILE.
 qos_profile_parameters = QoSProfile(depth=1000)
+#: rclpy's qos_profile_parameter_events (/parameter_events): KEEP_LAST 1000, RELIABLE, VOLATILE.
+qos_profile_parameter_events = QoSProfile(depth=1000)
 #: rclpy's qos_profile_services_default: KEEP_LAST 10, RELIABLE, VOLATILE.
 qos_profile_services_default = QoSProfile(depth=10)
 #: Subscription QoS of rclpy's TimeSource on /clock: KEEP_LAST 1, BEST_EFFORT.

@@ -1,7 +1,20 @@
-"""TimeSource: drives a node's ROS clocks from /clock when ``use_sim_time`` is true."""
+"""TimeSource: drives a node's ROS clocks from /clock when ``use_sim_time`` is true.
+
+One clock per simulation: a node follows the first publisher of ``/clock`` it hears from.
+Where the transport identifies the sending publisher (Zenoh: rmw_zenoh's GID in every
+sample), ``/clock`` messages from any other publisher are ignored, with one warning, so a
+second simulation or a stray ``topic pub /clock`` cannot move this node's time. If the
+followed source falls silent for :data:`SOURCE_SILENCE_S` wall seconds (a simulation that
+was stopped and started again), the next source that speaks is followed instead (logged).
+
+A node on a :class:`~posekit.runtime.executors.SimulatedTimeExecutor` is *driven*: the
+executor sets its time at every step, and the node does not follow (nor receive) ``/clock``
+at all, so nothing outside the simulation can disturb the simulation's own nodes.
+"""
 
 from __future__ import annotations
 
+import time
 from typing import TYPE_CHECKING, Any
 
 from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
@@ -12,9 +25,11 @@ if TYPE_CHECKING:
     from posekit.runtime.entities import Subscription
     from posekit.runtime.node import Node
 
-__all__ = ["CLOCK_TOPIC", "TimeSource"]
+__all__ = ["CLOCK_TOPIC", "SOURCE_SILENCE_S", "TimeSource"]
 
 CLOCK_TOPIC = "/clock"
+#: Wall seconds without a message from the followed /clock source before another may take over.
+SOURCE_SILENCE_S = 2.0
 
 
 class TimeSource:
@@ -24,12 +39,18 @@ class TimeSource:
         self._node = node
         self._clocks: list[ROSClock] = []
         self._active = False
+        self._driven = False
         self._last_ns = 0
         self._sub: Subscription | None = None
+        self._source: bytes | None = None
+        self._source_seen = 0.0
+        self._warned_sources: set[bytes] = set()
+        #: /clock messages ignored because a second source sent them.
+        self.ignored_messages = 0
 
     @property
     def ros_time_is_active(self) -> bool:
-        """True while clocks follow /clock."""
+        """True while clocks follow simulated time."""
         return self._active
 
     @ros_time_is_active.setter
@@ -38,16 +59,30 @@ class TimeSource:
         if active == self._active:
             return
         self._active = active
-        if active and self._sub is None:
-            self._sub = self._node.create_subscription(
-                ClockMsg, CLOCK_TOPIC, self._on_clock, qos_profile_clock
-            )
-        elif not active and self._sub is not None:
-            self._node.destroy_subscription(self._sub)
-            self._sub = None
+        self._update_subscription()
         for clock in self._clocks:
             clock._set_ros_time_override(self._last_ns)
             clock._set_ros_time_is_active(active)
+
+    @property
+    def driven(self) -> bool:
+        """True while an executor sets the time directly (no /clock subscription)."""
+        return self._driven
+
+    def set_driven(self, driven: bool) -> None:
+        """A simulated-time executor calls this when it takes (or gives back) the node."""
+        self._driven = bool(driven)
+        self._update_subscription()
+
+    def _update_subscription(self) -> None:
+        want = self._active and not self._driven
+        if want and self._sub is None:
+            self._sub = self._node._subscribe(
+                ClockMsg, CLOCK_TOPIC, self._on_clock, qos_profile_clock, None, True
+            )
+        elif not want and self._sub is not None:
+            self._node.destroy_subscription(self._sub)
+            self._sub = None
 
     def attach_clock(self, clock: ROSClock) -> None:
         """Drive ``clock`` too."""
@@ -57,8 +92,33 @@ class TimeSource:
         clock._set_ros_time_is_active(self._active)
         self._clocks.append(clock)
 
-    def _on_clock(self, msg: Any) -> None:
+    def _on_clock(self, item: tuple[Any, bytes | None]) -> None:
+        msg, source = item
+        if source is not None and not self._accept(source):
+            return
         self.set_time_ns(int(msg.clock.sec) * 1_000_000_000 + int(msg.clock.nanosec))
+
+    def _accept(self, source: bytes) -> bool:
+        """Whether a /clock message from publisher ``source`` is followed (see module doc)."""
+        now = time.monotonic()
+        current = self._source
+        if current is None or source == current or now - self._source_seen > SOURCE_SILENCE_S:
+            if current is not None and source != current:
+                self._node.get_logger().info(
+                    f"/clock source {current.hex()} fell silent for {SOURCE_SILENCE_S:g} s; "
+                    f"following /clock from {source.hex()} now"
+                )
+            self._source, self._source_seen = source, now
+            return True
+        self.ignored_messages += 1
+        if source not in self._warned_sources:
+            self._warned_sources.add(source)
+            self._node.get_logger().warning(
+                f"Ignoring /clock from a second source (publisher {source.hex()}): this node "
+                f"follows the simulation clock of publisher {current.hex()}; only one "
+                "simulation may publish /clock on a network"
+            )
+        return False
 
     def set_time_ns(self, ns: int) -> None:
         """Set the simulated time of every attached clock (jump callbacks may fire)."""

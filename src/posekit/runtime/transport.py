@@ -18,10 +18,23 @@ Contract for implementations:
   Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
+* ``crosses_processes`` says whether the endpoints are visible to other processes (a network
+  transport). A :class:`~posekit.runtime.executors.SimulatedTimeExecutor` publishes
+  ``/clock`` exactly when one of its nodes sits on such a transport.
+* ``subscribe_with_source(info, sink)`` is ``subscribe`` whose sink also gets an opaque id of
+  the sending publisher (bytes, e.g. rmw_zenoh's GID) or None when the transport cannot tell;
+  nodes following ``/clock`` use it to ignore a second clock source. The default passes None.
+* Services are an optional capability (``supports_services``). ``create_service_server(info,
+  sink)`` returns a :class:`ServiceServerEndpoint`; the transport calls ``sink(request,
+  respond)`` once per request (an object the server owns), and the runtime calls
+  ``respond(response)`` exactly once, from any thread, possibly later. A client's
+  ``send_request(request, on_response)`` (:class:`ServiceClientEndpoint`) delivers the
+  request to one server and calls ``on_response(response)`` at most once. The base class
+  raises :class:`ServicesNotSupportedError` so a transport without services says so.
 
-Selection: ``Node(..., transport="zenoh")``, else ``init(transport=...)`` of the context,
-else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names map to
-factories in a registry (:func:`register_transport`); each context creates one instance per
+Selection: ``Node(..., transport="zenoh")`` (or ``"dds"``), else ``init(transport=...)`` of
+the context, else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names
+map to factories in a registry (:func:`register_transport`); each context creates one instance per
 name and shares it among its nodes.
 """
 
@@ -42,6 +55,13 @@ __all__ = [
     "EndpointInfo",
     "MessageSink",
     "PublisherEndpoint",
+    "RequestSink",
+    "ResponseSink",
+    "ServiceClientEndpoint",
+    "ServiceInfo",
+    "ServiceServerEndpoint",
+    "ServicesNotSupportedError",
+    "SourcedMessageSink",
     "SubscriptionEndpoint",
     "TopicTypeMismatchError",
     "Transport",
@@ -55,6 +75,16 @@ __all__ = [
 ENV_TRANSPORT = "POSEKIT_TRANSPORT"
 
 MessageSink = Callable[[Any], None]
+#: ``sink(msg, source)``: ``source`` identifies the sending publisher (bytes) or is None.
+SourcedMessageSink = Callable[[Any, bytes | None], None]
+#: ``on_response(response)``: a client's reply sink.
+ResponseSink = Callable[[Any], None]
+#: ``sink(request, respond)``: a server's request sink; ``respond(response)`` answers it.
+RequestSink = Callable[[Any, ResponseSink], None]
+
+
+class ServicesNotSupportedError(NotImplementedError):
+    """The selected transport carries topics only (no service servers or clients)."""
 
 
 class TopicTypeMismatchError(TypeError):
@@ -88,6 +118,52 @@ class EndpointInfo:
     def type_name(self) -> str:
         """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``."""
         return message_type_name(self.msg_type)
+
+
+@dataclass(frozen=True, slots=True)
+class ServiceInfo:
+    """Who creates a service server or client, on which (fully qualified) service name,
+    with what service type (``SetBool``, with ``Request``/``Response``) and QoS."""
+
+    service: str
+    srv_type: type
+    qos: QoSProfile
+    node_name: str
+    node_namespace: str
+    logger: RcutilsLogger
+
+    @property
+    def type_name(self) -> str:
+        """The ROS service type name, e.g. ``std_srvs/srv/SetBool``."""
+        name = getattr(self.srv_type, "__srvtype__", None)
+        if isinstance(name, str):
+            return name
+        return f"{self.srv_type.__module__}.{self.srv_type.__qualname__}"
+
+
+class ServiceServerEndpoint(ABC):
+    """A service server's handle on the transport."""
+
+    @abstractmethod
+    def destroy(self) -> None:
+        """Leave the graph; no further requests are delivered."""
+
+
+class ServiceClientEndpoint(ABC):
+    """A service client's handle on the transport."""
+
+    @abstractmethod
+    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+        """Send ``request`` to one server; ``on_response(response)`` at most once."""
+
+    @property
+    @abstractmethod
+    def server_count(self) -> int:
+        """How many servers of this service (with this type) are known now."""
+
+    @abstractmethod
+    def destroy(self) -> None:
+        """Leave the graph; pending responses are dropped."""
 
 
 class PublisherEndpoint(ABC):
@@ -129,6 +205,8 @@ class Transport(ABC):
     """Carries messages between endpoints (see the module docstring for the contract)."""
 
     name: str = "abstract"
+    #: Whether other processes see (and can talk to) this transport's endpoints.
+    crosses_processes: bool = False
 
     @abstractmethod
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
@@ -137,6 +215,13 @@ class Transport(ABC):
     @abstractmethod
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
         """Create a subscription endpoint delivering to ``sink``."""
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """:meth:`subscribe`, calling ``sink(msg, source)`` with the sending publisher's id
+        (default: None, the transport cannot tell publishers apart)."""
+        return self.subscribe(info, lambda msg: sink(msg, None))
 
     @abstractmethod
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
@@ -149,6 +234,39 @@ class Transport(ABC):
     @abstractmethod
     def count_subscribers(self, topic: str) -> int:
         """Subscriptions on a fully qualified topic."""
+
+    #: Whether :meth:`create_service_server` / :meth:`create_service_client` work.
+    supports_services: bool = False
+
+    def _no_services(self) -> ServicesNotSupportedError:
+        return ServicesNotSupportedError(
+            f"the '{self.name}' transport does not carry services "
+            "(posekit's 'inprocess' and 'zenoh' transports do)"
+        )
+
+    def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        """Create a service server endpoint delivering requests to ``sink``."""
+        raise self._no_services()
+
+    def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        """Create a service client endpoint."""
+        raise self._no_services()
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every service with at least one server or client, sorted, with its type names."""
+        return []
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services a node serves (its servers, as rcl reports them)."""
+        return []
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services a node has clients for."""
+        return []
 
     def declare_node(self, name: str, namespace: str = "/") -> Any:  # noqa: B027 - optional
         """Announce a node on the graph (called by ``Node.__init__``); default: nothing."""
@@ -163,8 +281,9 @@ class Transport(ABC):
 TransportFactory = Callable[[], Transport]
 _registry: dict[str, TransportFactory | str] = {
     "inprocess": "posekit.runtime.bus:InProcessBus",
-    # Registered lazily by name so importing the runtime never imports zenoh.
+    # Registered lazily by name so importing the runtime never imports zenoh or cyclonedds.
     "zenoh": "posekit.transport.zenoh:ZenohTransport",
+    "dds": "posekit.transport.dds_transport:DdsTransport",
 }
 
 

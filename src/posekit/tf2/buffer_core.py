@@ -16,8 +16,10 @@ from __future__ import annotations
 
 import logging
 import math
+import numbers
 import threading
 from bisect import bisect_right as _bisect_right
+from collections.abc import Iterable
 from typing import Any
 
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
@@ -93,6 +95,28 @@ def _edge_evaluates(edge: _Edge, t: int) -> bool:
     """Whether TimeCache.get(t) certainly succeeds on this edge (static edges always do)."""
     stamps = edge[0]
     return stamps is None or bool(stamps and stamps[0] < t <= stamps[-1])
+
+
+_INT32 = 1 << 31
+_UINT32 = 1 << 32
+
+
+def _check_stamp(sec: Any, nanosec: Any, child: Any) -> tuple[int, int]:
+    """``(sec, nanosec)`` as ints, or raise for a header stamp that is not a
+    builtin_interfaces/Time (int32 sec, uint32 nanosec), as rclpy refuses such values when
+    they are assigned to the message. numpy integers are accepted."""
+    where = f"transform for child_frame_id {child!r}: header.stamp"
+    out = []
+    for field_name, value, low, high in (("sec", sec, -_INT32, _INT32),
+                                         ("nanosec", nanosec, 0, _UINT32)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise TypeError(f"{where}.{field_name} must be an int, got {value!r}")
+        if not low <= int(value) < high:
+            raise ValueError(
+                f"{where}.{field_name} must be in [{low}, {high - 1}], got {value}"
+            )
+        out.append(int(value))
+    return out[0], out[1]
 
 
 def time_to_ns(time: Any) -> int:
@@ -234,7 +258,10 @@ class BufferCore:
     def set_transform(self, transform: Any, authority: str) -> bool:
         """Insert a dynamic ``TransformStamped`` (parent ``header.frame_id``, child
         ``child_frame_id``). Returns True if stored, False if tf2 rejects it (reason logged
-        on logger ``posekit.tf2`` with tf2's text)."""
+        on logger ``posekit.tf2`` with tf2's text). A stamp that is no
+        builtin_interfaces/Time (``sec`` not an int32, ``nanosec`` not a uint32, e.g. 1.5 or
+        2**70) raises TypeError or ValueError naming the field, as rclpy refuses it on the
+        message."""
         return self._set(transform, authority, False)
 
     def set_transform_static(self, transform: Any, authority: str) -> bool:
@@ -278,7 +305,15 @@ class BufferCore:
             qx, qy, qz, qw = quat_from_matrix(matrix_from_quat((x, y, z, w)))
         header = msg.header
         stamp = header.stamp
-        stamp_ns = stamp.sec * _NS + stamp.nanosec if type(stamp) is TimeMsg else time_to_ns(stamp)
+        if type(stamp) is TimeMsg:
+            sec = stamp.sec
+            nanosec = stamp.nanosec
+            if not (type(sec) is int and -_INT32 <= sec < _INT32 and type(nanosec) is int
+                    and 0 <= nanosec < _UINT32):
+                sec, nanosec = _check_stamp(sec, nanosec, msg.child_frame_id)
+            stamp_ns = sec * _NS + nanosec
+        else:
+            stamp_ns = time_to_ns(stamp)
         parent = header.frame_id
         child = msg.child_frame_id
         if parent[:1] == "/":
@@ -393,6 +428,54 @@ class BufferCore:
             for cache in self._caches:
                 if cache is not None:
                     cache.clear()
+
+    def forget_frames(self, frames: Iterable[str]) -> int:
+        """Forget frames entirely (posekit extension; tf2 has no way to drop a frame): their
+        transforms (dynamic and static), their authority, and their names unless a frame
+        that stays still has one of them as its parent; frames left with no data and no
+        child go too. Returns how many names were dropped. Waiting lookups are unaffected;
+        a forgotten frame is unknown until it is set again."""
+        with self._lock:
+            caches = self._caches
+            for name in frames:
+                fid = self._ids.get(name[1:] if name[:1] == "/" else name)
+                if fid:
+                    caches[fid] = None
+                    self._authority.pop(fid, None)
+            # Frames that stay: those with a cache, and every parent one of them refers to.
+            keep = {0}
+            for fid, cache in enumerate(caches):
+                if cache is None:
+                    continue
+                keep.add(fid)
+                if isinstance(cache, StaticCache):
+                    keep.add(cache.parent)
+                else:
+                    keep.update(cache.parents)
+            dropped = len(caches) - len(keep)
+            if not dropped:
+                return 0
+            remap = {old: new for new, old in enumerate(sorted(keep))}
+            names = [self._names[old] for old in sorted(keep)]
+            new_caches: list[Cache | None] = [caches[old] for old in sorted(keep)]
+            for cache in new_caches:
+                if cache is None:
+                    continue
+                if isinstance(cache, StaticCache):
+                    cache.parent = remap[cache.parent]
+                else:
+                    cache.parents[:] = [remap[p] for p in cache.parents]
+                cache._arrays = None
+            # In place: readers such as tf2.batch hold references to these containers.
+            self._names[:] = names
+            caches[:] = new_caches
+            self._ids.clear()
+            self._ids.update((name, fid) for fid, name in enumerate(names))
+            authority = {remap[f]: a for f, a in self._authority.items() if f in remap}
+            self._authority.clear()
+            self._authority.update(authority)
+            self._paths.clear()
+            return dropped
 
     # ------------------------------------------------------------------------------------------
     # validation

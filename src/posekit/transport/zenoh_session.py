@@ -17,9 +17,12 @@ subscriptions AdvancedSubscribers with history and late-publisher detection, as 
 does. Every entity is announced by an rmw_zenoh liveliness token.
 
 Received samples that do not decode (no or malformed attachment, type-hash mismatch, bad
-CDR) are dropped; the first drop per (publisher, reason) is logged with the reason, and all
-are counted in :attr:`WireSubscription.dropped`. Exceptions from user callbacks are logged,
-never propagated into zenoh's threads.
+CDR) are dropped and counted in :attr:`WireSubscription.dropped`; each subscription logs at
+most one line per second per reason (with how many were suppressed), whatever GIDs or key
+expressions the senders use, and tracks sequence numbers for at most
+:data:`MAX_TRACKED_PUBLISHERS` publishers. The graph keeps at most
+:data:`~posekit.transport.zenoh_wire.MAX_GRAPH_TOKENS` liveliness tokens. Exceptions from
+user callbacks are logged, never propagated into zenoh's threads.
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ import zenoh.ext as zext
 from posekit.msgs.cdr import from_cdr, to_cdr
 from posekit.msgs.errors import CdrError
 from posekit.msgs.registry import normalize_type_name
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.transport.zenoh_wire import (
     LIVELINESS_PREFIX,
     Attachment,
@@ -69,9 +73,12 @@ __all__ = [
     "ENV_CONFIG_OVERRIDE",
     "ENV_CONFIG_URI",
     "ENV_DOMAIN_ID",
+    "MAX_TRACKED_PUBLISHERS",
     "NodeEntity",
     "SessionOptions",
     "WirePublisher",
+    "WireServiceClient",
+    "WireServiceServer",
     "WireSubscription",
     "ZenohGraph",
     "ZenohSession",
@@ -84,6 +91,9 @@ __all__ = [
 _log = logging.getLogger("posekit.transport.zenoh")
 _PUT = zenoh.SampleKind.PUT
 _CHANNEL_CAPACITY = 4096
+#: Publishers (GIDs) whose sequence numbers a subscription tracks for lost-message counts;
+#: the least recently heard is forgotten first, so senders cannot grow the table.
+MAX_TRACKED_PUBLISHERS = 1024
 
 DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"
 ENV_CONFIG_URI = "ZENOH_SESSION_CONFIG_URI"
@@ -267,7 +277,9 @@ class ZenohSession:
         self._ids = itertools.count()
         self._lock = threading.Lock()
         self._tokens: dict[str, Any] = {}
-        self._entities: list[WirePublisher | WireSubscription] = []
+        self._entities: list[
+            WirePublisher | WireSubscription | WireServiceServer | WireServiceClient
+        ] = []
         self._graph: ZenohGraph | None = None
         self._closed = False
         _open_sessions.add(self)
@@ -351,6 +363,33 @@ class ZenohSession:
         with self._lock:
             self._entities.append(sub)
         return sub
+
+    def create_service_server(
+        self,
+        node: NodeEntity,
+        service: str,
+        srv_type: type[Any],
+        qos: WireQoS,
+        on_request: Callable[[Any, Callable[[Any], None]], None],
+        *,
+        warn: Callable[[str], object] | None = None,
+    ) -> WireServiceServer:
+        """Serve ``service``: ``on_request(request, respond)`` per query (zenoh thread);
+        ``respond(response)`` replies, from any thread."""
+        server = WireServiceServer(self, node, service, srv_type, qos, on_request, warn)
+        with self._lock:
+            self._entities.append(server)
+        return server
+
+    def create_service_client(
+        self, node: NodeEntity, service: str, srv_type: type[Any], qos: WireQoS,
+        *, warn: Callable[[str], object] | None = None,
+    ) -> WireServiceClient:
+        """A client of ``service`` (requests are zenoh queries)."""
+        client = WireServiceClient(self, node, service, srv_type, qos, warn)
+        with self._lock:
+            self._entities.append(client)
+        return client
 
     @property
     def graph(self) -> ZenohGraph:
@@ -512,14 +551,17 @@ class WireSubscription:
         self.key = data_key(owner.domain_id, topic, ros_type)
         self._match_key = f"{owner.domain_id}/{topic_chunk(topic)}/{dds_type_name(ros_type)}/*"
         self._callback = callback
-        self._warn = warn or _log.warning
-        self._warned: set[tuple[str, str]] = set()
+        warn_fn = warn or _log.warning
+        # Keyed by posekit's reason, never by what the sender chose (GID, key expression):
+        # at most one line per second per reason, with the count of those suppressed.
+        self._warn = RateLimitedLog(lambda line: warn_fn(f"dropping samples on {topic}: {line}"))
         #: Dropped samples by reason ("attachment", "type_hash", "cdr", "callback").
         self.dropped: collections.Counter[str] = collections.Counter()
         self.received = 0
-        #: Sequence-number gaps seen per publisher GID (ROS's MESSAGE_LOST).
+        #: Sequence-number gaps seen per publisher GID (ROS's MESSAGE_LOST), for the
+        #: :data:`MAX_TRACKED_PUBLISHERS` publishers heard from most recently.
         self.lost: collections.Counter[bytes] = collections.Counter()
-        self._last_seq: dict[bytes, int] = {}
+        self._last_seq: collections.OrderedDict[bytes, int] = collections.OrderedDict()
         self._destroyed = False
         self.entity_id = owner.next_entity_id()
         self.token_key = endpoint_token(
@@ -574,19 +616,18 @@ class WireSubscription:
         while not self._destroyed:
             try:
                 sample = recv()
+                while sample is not None:
+                    on_sample(sample)
+                    if self._destroyed:  # the callback destroyed its own subscription
+                        return
+                    sample = try_recv()
             except Exception:  # the channel closed: undeclared or session closed
                 return
-            while sample is not None:
-                on_sample(sample)
-                sample = try_recv()
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
-        if (source, reason) in self._warned:
-            return
-        self._warned.add((source, reason))
         try:
-            self._warn(f"dropping sample on {self.topic} from {source}: {detail}")
+            self._warn(reason, f"from {source[:160]}: {detail[:300]}")
         except Exception:  # a broken logger must not kill zenoh's thread
             _log.exception("warning callback failed")
 
@@ -627,11 +668,17 @@ class WireSubscription:
             self._drop("cdr", att.gid.hex(), str(exc))
             return
         gid, seq = att.gid, att.sequence_number
-        last = self._last_seq.get(gid)
+        last_seq = self._last_seq
+        last = last_seq.get(gid)
         if last is None or seq > last:
             if last is not None and seq > last + 1:
                 self.lost[gid] += seq - last - 1
-            self._last_seq[gid] = seq
+            last_seq[gid] = seq
+            if last is None and len(last_seq) > MAX_TRACKED_PUBLISHERS:
+                gone, _ = last_seq.popitem(last=False)  # the longest silent one
+                self.lost.pop(gone, None)
+        if last is not None:
+            last_seq.move_to_end(gid)
         self.received += 1
         try:
             self._callback(msg, att)
@@ -646,6 +693,208 @@ class WireSubscription:
         self._destroyed = True
         _quiet(self._token.undeclare)
         _quiet(self._sub.undeclare)
+
+
+def _service_token(
+    owner: ZenohSession, node: NodeEntity, entity_id: int, kind: EntityKind, service: str,
+    srv_name: str, qos: WireQoS,
+) -> str:
+    return endpoint_token(
+        owner.domain_id, owner.zid, node.node_id, entity_id, kind, node.namespace, node.name,
+        service, srv_name, qos, enclave=owner.options.enclave,
+        explicit_qos=owner.options.explicit_qos,
+    )
+
+
+#: How long a client's query may wait for its reply (rmw_zenoh: no limit; zenoh needs one).
+_QUERY_TIMEOUT_S = 7 * 24 * 3600.0
+
+
+class WireServiceServer:
+    """A service server: a *complete* queryable on the service key; announced by ``SS``.
+
+    As rmw_zenoh: each query carries the request CDR and an attachment with the client's
+    sequence number and GID; the reply carries the response CDR on the service key and an
+    attachment with that same sequence number and client GID, and this side's time.
+    """
+
+    def __init__(
+        self,
+        owner: ZenohSession,
+        node: NodeEntity,
+        service: str,
+        srv_type: type[Any],
+        qos: WireQoS,
+        on_request: Callable[[Any, Callable[[Any], None]], None],
+        warn: Callable[[str], object] | None,
+    ) -> None:
+        self.service = service
+        self.srv_type = srv_type
+        self.srv_name: str = srv_type.__srvtype__
+        self.qos = qos
+        self.key = data_key(owner.domain_id, service, self.srv_name)
+        self.entity_id = owner.next_entity_id()
+        self.token_key = _service_token(
+            owner, node, self.entity_id, EntityKind.SERVICE, service, self.srv_name, qos
+        )
+        self._on_request = on_request
+        self._warn = warn or _log.warning
+        self._warned: set[str] = set()
+        self._encode = (
+            encode_attachment_legacy if owner.options.legacy_attachment else encode_attachment
+        )
+        #: Dropped queries by reason ("attachment", "cdr", "callback").
+        self.dropped: collections.Counter[str] = collections.Counter()
+        self._destroyed = False
+        session = owner.session
+        try:
+            self._queryable = session.declare_queryable(self.key, self._on_query, complete=True)
+            self._token = session.liveliness().declare_token(self.token_key)
+        except Exception as exc:
+            raise ZenohSessionError(f"cannot declare a service on {self.key}: {exc}") from exc
+
+    def _drop(self, reason: str, detail: str) -> None:
+        self.dropped[reason] += 1
+        if reason in self._warned:
+            return
+        self._warned.add(reason)
+        try:
+            self._warn(f"dropping request on {self.service}: {detail}")
+        except Exception:
+            _log.exception("warning callback failed")
+
+    def _on_query(self, query: zenoh.Query) -> None:
+        if self._destroyed:
+            return
+        try:
+            raw = query.attachment
+            if raw is None:
+                self._drop("attachment", "no attachment (rmw_zenoh requires one)")
+                return
+            try:
+                att = decode_attachment(raw.to_bytes())
+            except WireFormatError as exc:
+                self._drop("attachment", str(exc))
+                return
+            payload = query.payload
+            try:
+                request = from_cdr(
+                    payload.to_bytes() if payload is not None else b"", self.srv_type.Request
+                )
+            except CdrError as exc:
+                self._drop("cdr", str(exc))
+                return
+            key, encode = self.key, self._encode
+            answered = threading.Lock()
+
+            def respond(response: Any) -> None:
+                if self._destroyed or not answered.acquire(blocking=False):
+                    return
+                try:
+                    query.reply(
+                        key,
+                        to_cdr(response, self.srv_type.Response.__msgtype__),
+                        attachment=encode(att.sequence_number, time.time_ns(), att.gid),
+                    )
+                finally:
+                    _quiet(query.drop)  # finalizes the query: the client sees the end
+
+            self._on_request(request, respond)
+        except Exception as exc:  # never raise into zenoh
+            self._drop("callback", f"unexpected {type(exc).__name__}: {exc}")
+
+    def destroy(self) -> None:
+        """Leave the graph; no further requests are delivered."""
+        if self._destroyed:
+            return
+        self._destroyed = True
+        _quiet(self._token.undeclare)
+        _quiet(self._queryable.undeclare)
+
+
+class WireServiceClient:
+    """A service client: each request is a zenoh query (target ALL_COMPLETE, consolidation
+    LATEST, as rmw_zenoh sends it); announced by ``SC``."""
+
+    def __init__(
+        self,
+        owner: ZenohSession,
+        node: NodeEntity,
+        service: str,
+        srv_type: type[Any],
+        qos: WireQoS,
+        warn: Callable[[str], object] | None,
+    ) -> None:
+        self.service = service
+        self.srv_type = srv_type
+        self.srv_name: str = srv_type.__srvtype__
+        self.qos = qos
+        self.key = data_key(owner.domain_id, service, self.srv_name)
+        self.entity_id = owner.next_entity_id()
+        self.token_key = _service_token(
+            owner, node, self.entity_id, EntityKind.CLIENT, service, self.srv_name, qos
+        )
+        self.gid = entity_gid(self.token_key)
+        self._session = owner.session
+        self._warn = warn or _log.warning
+        self._encode = (
+            encode_attachment_legacy if owner.options.legacy_attachment else encode_attachment
+        )
+        self._seq = itertools.count(1)
+        self._destroyed = False
+        try:
+            self._token = owner.session.liveliness().declare_token(self.token_key)
+        except Exception as exc:
+            raise ZenohSessionError(f"cannot declare a client on {self.key}: {exc}") from exc
+
+    def send_request(self, request: Any, on_response: Callable[[Any], None]) -> int:
+        """Send ``request``; ``on_response(response)`` (zenoh thread) for the first matching
+        reply. Returns the request's sequence number."""
+        if self._destroyed:
+            raise ZenohSessionError(f"client of {self.service} was destroyed")
+        payload = to_cdr(request, self.srv_type.Request.__msgtype__)
+        seq = next(self._seq)
+        done = threading.Lock()
+
+        def on_reply(reply: zenoh.Reply) -> None:
+            if self._destroyed:
+                return
+            try:
+                sample = reply.ok
+                if sample is None:
+                    self._warn(f"service {self.service} answered with an error: {reply.err}")
+                    return
+                raw = sample.attachment
+                att = decode_attachment(raw.to_bytes()) if raw is not None else None
+                if att is not None and att.sequence_number != seq:
+                    return  # not the answer to this request
+                response = from_cdr(sample.payload.to_bytes(), self.srv_type.Response)
+            except (WireFormatError, CdrError) as exc:
+                self._warn(f"dropping a reply from {self.service}: {exc}")
+                return
+            if done.acquire(blocking=False):
+                try:
+                    on_response(response)
+                except Exception:
+                    _log.exception("response callback of %s raised", self.service)
+
+        self._session.get(
+            self.key,
+            on_reply,
+            target=zenoh.QueryTarget.ALL_COMPLETE,
+            consolidation=zenoh.ConsolidationMode.LATEST,
+            payload=payload,
+            attachment=self._encode(seq, time.time_ns(), self.gid),
+            timeout=_QUERY_TIMEOUT_S,
+        )
+        return seq
+
+    def destroy(self) -> None:
+        """Leave the graph; replies still in flight are ignored."""
+        if self._destroyed:
+            return
+        self._destroyed = True
+        _quiet(self._token.undeclare)
 
 
 class ZenohGraph:
@@ -714,6 +963,23 @@ class ZenohGraph:
         """Subscriptions announced on ``topic``."""
         with self._cond:
             return self.cache.endpoints(topic, EntityKind.SUBSCRIPTION)
+
+    def services(self, service: str) -> list[TokenInfo]:
+        """Servers announced for ``service``."""
+        with self._cond:
+            return self.cache.endpoints(service, EntityKind.SERVICE)
+
+    def service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Services (with a server or a client) and their types, sorted."""
+        with self._cond:
+            return self.cache.service_names_and_types()
+
+    def names_and_types_by_node(
+        self, node_name: str, namespace: str, kind: EntityKind
+    ) -> list[tuple[str, list[str]]]:
+        """Names one node announced endpoints of ``kind`` on, with types, sorted."""
+        with self._cond:
+            return self.cache.names_and_types_by_node(node_name, namespace, (kind,))
 
     def close(self) -> None:
         """Stop following the graph."""

@@ -13,6 +13,11 @@ reaches a RELIABLE subscription (logged once as a warning, since DDS would refus
 Messages published in this process reach this process's subscriptions through Zenoh too
 (serialized, so subscribers never share objects with publishers).
 
+Services are rmw_zenoh's: a server is a complete queryable on
+``<domain>/<service>/<pkg>::srv::dds_::<Srv>_/<RIHS01 hash>`` announced by an ``SS`` token, a
+request a query carrying the request CDR and the client's sequence number and GID in the
+attachment (``SC`` token), the reply the response CDR with the same sequence number and GID.
+
 Environment: ``POSEKIT_ZENOH_ROUTER`` (router endpoint, default ``tcp/127.0.0.1:7447``),
 ``POSEKIT_ZENOH_ATTACHMENT=legacy`` (77-byte attachment for Jazzy rmw_zenoh <= 0.2.3), plus
 ``ROS_DOMAIN_ID``, ``ZENOH_SESSION_CONFIG_URI`` and ``ZENOH_CONFIG_OVERRIDE``.
@@ -23,6 +28,7 @@ from __future__ import annotations
 import os
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -31,6 +37,12 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestSink,
+    ResponseSink,
+    ServiceClientEndpoint,
+    ServiceInfo,
+    ServiceServerEndpoint,
+    SourcedMessageSink,
     SubscriptionEndpoint,
     Transport,
 )
@@ -39,12 +51,20 @@ from posekit.transport.zenoh_session import (
     NodeEntity,
     SessionOptions,
     WirePublisher,
+    WireServiceClient,
+    WireServiceServer,
     WireSubscription,
     ZenohGraph,
     ZenohSession,
     open_session,
 )
-from posekit.transport.zenoh_wire import Attachment, EntityKind, TokenInfo, WireQoS
+from posekit.transport.zenoh_wire import (
+    DEFAULT_WIRE_QOS,
+    Attachment,
+    EntityKind,
+    TokenInfo,
+    WireQoS,
+)
 
 __all__ = ["ENV_ATTACHMENT", "ENV_ROUTER", "ZenohTransport", "options_from_env", "wire_qos"]
 
@@ -54,11 +74,14 @@ ENV_ATTACHMENT = "POSEKIT_ZENOH_ATTACHMENT"
 
 def wire_qos(qos: QoSProfile) -> WireQoS:
     """Map an rclpy-style profile to rmw_zenoh's QoS (rmw enum values are rclpy's)."""
+    lifespan = qos.lifespan_ns
     return WireQoS(
         reliability=2 if qos.resolved_reliability == ReliabilityPolicy.BEST_EFFORT else 1,
         durability=1 if qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL else 2,
         history=2 if qos.history == HistoryPolicy.KEEP_ALL else 1,
         depth=qos.depth if qos.depth > 0 else 42,
+        lifespan=DEFAULT_WIRE_QOS.lifespan if lifespan is None
+        else divmod(lifespan, 1_000_000_000),
     )
 
 
@@ -129,6 +152,39 @@ class _Subscription(SubscriptionEndpoint):
         return len(self._owner._endpoints(self.info.topic, EntityKind.PUBLISHER))
 
 
+class _Server(ServiceServerEndpoint):
+    def __init__(self, owner: ZenohTransport, info: ServiceInfo) -> None:
+        self._owner = owner
+        self.info = info
+        self.wire: WireServiceServer | None = None
+
+    def destroy(self) -> None:
+        if self.wire is not None:
+            wire, self.wire = self.wire, None
+            self._owner._forget(wire, self.info)
+
+
+class _Client(ServiceClientEndpoint):
+    def __init__(self, owner: ZenohTransport, info: ServiceInfo, wire: WireServiceClient) -> None:
+        self._owner = owner
+        self.info = info
+        self.wire: WireServiceClient | None = wire
+
+    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+        if self.wire is None:
+            raise RuntimeError(f"client of '{self.info.service}' has been destroyed")
+        self.wire.send_request(request, on_response)
+
+    @property
+    def server_count(self) -> int:
+        return len(self._owner._graph.services(self.info.service))
+
+    def destroy(self) -> None:
+        if self.wire is not None:
+            wire, self.wire = self.wire, None
+            self._owner._forget(wire, self.info)
+
+
 @dataclass(slots=True)
 class _NodeRef:
     node: NodeEntity
@@ -139,6 +195,8 @@ class ZenohTransport(Transport):
     """Nodes' endpoints as rmw_zenoh entities on one Zenoh session."""
 
     name = "zenoh"
+    crosses_processes = True
+    supports_services = True
 
     def __init__(
         self, options: SessionOptions | None = None, *, session: ZenohSession | None = None
@@ -205,20 +263,41 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        with_info = bool(getattr(getattr(sink, "__self__", None), "wants_message_info", False))
+
+        def deliver(endpoint: _Subscription, msg: Any, att: Attachment) -> None:
+            if not endpoint.alive:
+                return
+            if with_info:  # rclpy's MessageInfo from rmw_zenoh's attachment
+                sink(msg, {"source_timestamp": att.source_timestamp,  # type: ignore[call-arg]
+                           "received_timestamp": time.time_ns(),
+                           "publication_sequence_number": att.sequence_number,
+                           "reception_sequence_number": 0})
+            else:
+                sink(msg)
+
+        return self._subscribe(info, deliver)
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """:meth:`subscribe` whose sink also gets the sending publisher's GID (16 bytes)."""
+
+        def deliver(endpoint: _Subscription, msg: Any, att: Attachment) -> None:
+            if endpoint.alive:
+                sink(msg, att.gid)
+
+        return self._subscribe(info, deliver)
+
+    def _subscribe(
+        self, info: EndpointInfo, deliver_to: Callable[[_Subscription, Any, Attachment], None]
+    ) -> SubscriptionEndpoint:
         _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Subscription(self, info)
-        with_info = bool(getattr(getattr(sink, "__self__", None), "wants_message_info", False))
 
         def deliver(msg: Any, att: Attachment) -> None:
-            if endpoint.alive:
-                if with_info:  # rclpy's MessageInfo from rmw_zenoh's attachment
-                    sink(msg, {"source_timestamp": att.source_timestamp,  # type: ignore[call-arg]
-                               "received_timestamp": time.time_ns(),
-                               "publication_sequence_number": att.sequence_number,
-                               "reception_sequence_number": 0})
-                else:
-                    sink(msg)
+            deliver_to(endpoint, msg, att)
 
         qos = wire_qos(info.qos)
         self._check_qos(info, qos, EntityKind.SUBSCRIPTION)
@@ -256,7 +335,61 @@ class ZenohTransport(Transport):
                     )
                 return
 
-    def _forget(self, wire: WirePublisher | WireSubscription, info: EndpointInfo) -> None:
+    # -- services ----------------------------------------------------------------------
+    @staticmethod
+    def _check_service_type(info: ServiceInfo) -> None:
+        if not isinstance(getattr(info.srv_type, "__srvtype__", None), str):
+            raise TypeError(
+                f"the zenoh transport carries ROS services only; {info.srv_type!r} on "
+                f"'{info.service}' has no __srvtype__"
+            )
+
+    def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        self._check_service_type(info)
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        endpoint = _Server(self, info)
+        try:
+            endpoint.wire = self.session.create_service_server(
+                node, info.service, info.srv_type, wire_qos(info.qos), sink,
+                warn=info.logger.warning,
+            )
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        self._graph.add_local(endpoint.wire.token_key)
+        return endpoint
+
+    def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        self._check_service_type(info)
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        try:
+            wire = self.session.create_service_client(
+                node, info.service, info.srv_type, wire_qos(info.qos), warn=info.logger.warning
+            )
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        self._graph.add_local(wire.token_key)
+        return _Client(self, info, wire)
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return self._graph.service_names_and_types()
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self._graph.names_and_types_by_node(node_name, node_namespace, EntityKind.SERVICE)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        return self._graph.names_and_types_by_node(node_name, node_namespace, EntityKind.CLIENT)
+
+    def _forget(
+        self,
+        wire: WirePublisher | WireSubscription | WireServiceServer | WireServiceClient,
+        info: EndpointInfo | ServiceInfo,
+    ) -> None:
         wire.destroy()
         self._graph.remove_local(wire.token_key)
         self._release_node(info.node_namespace, info.node_name)

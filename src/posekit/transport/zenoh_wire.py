@@ -1,7 +1,7 @@
 """rmw_zenoh's wire format, as pure functions (no zenoh import): keys, tokens, QoS, attachments.
 
 Everything here follows ROS 2's rmw_zenoh (Jazzy >= 0.2.4, Kilted, Rolling); section numbers
-refer to ``shared/specs/rmw_zenoh.md``.
+refer to ``docs/specs/rmw_zenoh.md``.
 
 * Data key (§1): ``<domain>/<topic>/<pkg>::msg::dds_::<Type>_/<RIHS01 hash>``, the topic
   without its leading and trailing ``/`` (inner ``/`` stay chunk separators).
@@ -36,6 +36,7 @@ __all__ = [
     "DEFAULT_WIRE_QOS",
     "LEGACY_ATTACHMENT_SIZE",
     "LIVELINESS_PREFIX",
+    "MAX_GRAPH_TOKENS",
     "Attachment",
     "EntityKind",
     "GraphCache",
@@ -446,19 +447,32 @@ def decode_attachment(data: bytes) -> Attachment:
 # Graph
 
 
+#: Liveliness tokens (nodes and endpoints of the whole graph) a :class:`GraphCache` keeps.
+MAX_GRAPH_TOKENS = 20_000
+
+
 class GraphCache:
     """The ROS graph as announced by liveliness tokens (posekit's and real ROS 2 nodes').
 
     Feed it with :meth:`add` / :meth:`remove` (liveliness PUT / DELETE); malformed tokens
-    are ignored and counted in :attr:`rejected`. Not thread-safe by itself: callers lock.
+    are ignored and counted in :attr:`rejected`. At most ``max_tokens`` tokens are kept
+    (peers choose how many they announce): new ones past that are counted in
+    :attr:`overflowed` and ignored until others leave. Not thread-safe by itself: callers
+    lock.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, max_tokens: int | None = None) -> None:
         self._tokens: dict[str, TokenInfo] = {}
+        self.max_tokens = MAX_GRAPH_TOKENS if max_tokens is None else int(max_tokens)
         self.rejected = 0
+        self.overflowed = 0
 
     def add(self, keyexpr: str) -> TokenInfo | None:
-        """Record a token; returns the parsed entity or None if malformed."""
+        """Record a token; returns the parsed entity or None if malformed or over the
+        bound."""
+        if keyexpr not in self._tokens and len(self._tokens) >= self.max_tokens:
+            self.overflowed += 1
+            return None
         try:
             info = parse_token(keyexpr)
         except WireFormatError:
@@ -488,6 +502,28 @@ class GraphCache:
                 topics.setdefault(t.topic, set()).add(t.ros_type)
         return [(name, sorted(types)) for name, types in sorted(topics.items())]
 
+    def service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Sorted services (servers or clients) with their sorted type names
+        (``ros2 service list -t``)."""
+        services: dict[str, set[str]] = {}
+        for t in self._tokens.values():
+            if t.kind in (EntityKind.SERVICE, EntityKind.CLIENT) and t.topic:
+                assert t.ros_type is not None
+                services.setdefault(t.topic, set()).add(t.ros_type)
+        return [(name, sorted(types)) for name, types in sorted(services.items())]
+
+    def names_and_types_by_node(
+        self, node_name: str, namespace: str, kinds: tuple[EntityKind, ...]
+    ) -> list[tuple[str, list[str]]]:
+        """Sorted endpoint names of ``kinds`` one node announced, with their types."""
+        found: dict[str, set[str]] = {}
+        for t in self._tokens.values():
+            if t.kind in kinds and t.node_name == node_name and t.namespace == namespace:
+                assert t.topic is not None
+                assert t.ros_type is not None
+                found.setdefault(t.topic, set()).add(t.ros_type)
+        return [(name, sorted(types)) for name, types in sorted(found.items())]
+
     def endpoints(self, topic: str, kind: EntityKind) -> list[TokenInfo]:
-        """Publishers or subscriptions on a fully qualified topic."""
+        """Endpoints of ``kind`` on a fully qualified topic (or service) name."""
         return [t for t in self._tokens.values() if t.kind is kind and t.topic == topic]

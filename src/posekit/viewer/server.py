@@ -3,8 +3,10 @@
 Routes:
 
 * ``GET /``: the page (``web/index.html``); ``/app/...``: its scripts and styles;
-  ``/vendor/three/...``: three.js from ``web/node_modules/three`` (``npm ci`` in ``web/``;
-  the page falls back to its 2D canvas and says so when it is missing);
+  ``/vendor/three/...``: the three.js vendored in the package (``web/vendor/three``, a pinned
+  release with its licence; nothing is fetched at install or run time). Files are looked up
+  per request, so a repaired installation is served without a restart; if three.js is
+  missing the page falls back to its 2D canvas and names the fix;
 * ``GET /ws``: the WebSocket (protocol below);
 * ``GET /api/state``: a JSON snapshot (frames in the default fixed frame, TF tree, topics,
   odometry trails) for scripts and tests.
@@ -26,6 +28,14 @@ Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "t
 [...]}``, ``{"op": "pause", "paused": BOOL}``. A malformed request gets ``{"type": "error",
 "message": ...}`` and the connection stays open.
 
+Who may talk to it (against other web pages in the user's browser and DNS rebinding, as
+local development servers check): every HTTP request's ``Host`` header must name this
+server, i.e. ``localhost``, ``127.0.0.1``, ``[::1]`` or the bound host, with the served port
+(plus any ``allow_hosts``); a WebSocket whose ``Origin`` header is present must come from such
+an address (``http://localhost:PORT`` ...; plus any ``allow_origins``). Otherwise 403.
+Clients that are not browsers send no ``Origin`` and are accepted. ``"*"`` in either list
+turns that check off.
+
 Slow clients: each client has one slot per channel (``tf``, ``odom``, ``graph``, one per
 image topic) holding the newest payload not yet sent; a new payload replaces an unsent one
 (counted in :attr:`ViewerServer.stats` as ``dropped``), so memory stays bounded however slow
@@ -37,10 +47,11 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
+import math
 import struct
 import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,23 +60,27 @@ from typing import Any
 from aiohttp import WSMsgType, web
 
 from posekit.robot.worlds import World
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.viewer.errors import ViewerError, ViewerOptionError
 from posekit.viewer.images import encode_jpeg
 from posekit.viewer.taps import ViewerTap
 from posekit.viewer.world import world_payload
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "WEB_ROOT", "ViewerServer"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "THREE_ROOT", "WEB_ROOT", "ViewerServer"]
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
-#: The page sources (and node_modules after ``npm ci``).
+#: The page sources.
 WEB_ROOT = Path(__file__).parent / "web"
+#: three.js, vendored (see ``VERSION`` there and ``scripts/vendor_three.sh``).
+THREE_ROOT = WEB_ROOT / "vendor" / "three"
 _MAX_TF_RATE = 100.0
 _ODOM_PERIOD = 0.1
 _GRAPH_PERIOD = 0.5
 _IDLE_TF_PERIOD = 0.5
 _MAX_NAME = 256
 _MAX_WATCH = 16
+_RESTART_DELAY_S = 0.5
 
 
 @dataclass(eq=False)
@@ -89,8 +104,36 @@ class _Client:
         self.wake.set()
 
 
+@dataclass
+class _Feed:
+    """What the producer last sent (versions) and when it sends next (monotonic s)."""
+
+    tf_version: int = -1
+    tf_sent: float = 0.0
+    odom_version: int = -1
+    next_odom: float = 0.0
+    next_graph: float = 0.0
+    next_image: float = 0.0
+    encoding: set[str] = field(default_factory=set)  # image topics being encoded now
+
+
+def _finite(obj: Any) -> Any:
+    """``obj`` with every non-finite float replaced by None (JSON has no inf/NaN)."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, Mapping):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_finite(v) for v in obj]
+    return obj
+
+
 def _dumps(obj: Any) -> str:
-    return json.dumps(obj, separators=(",", ":"), allow_nan=False)
+    """Compact JSON; a non-finite number anywhere becomes ``null`` instead of failing."""
+    try:
+        return json.dumps(obj, separators=(",", ":"), allow_nan=False)
+    except ValueError:  # "Out of range float values are not JSON compliant"
+        return json.dumps(_finite(obj), separators=(",", ":"), allow_nan=False)
 
 
 class ViewerServer:
@@ -108,6 +151,10 @@ class ViewerServer:
         max_image_width: wider images are downscaled before encoding (px).
         fps: the page's rendering cap (frames per second).
         close_tap: close ``tap`` in :meth:`stop` (when the server owns it).
+        allow_hosts: more ``Host`` header values accepted (``name`` or ``name:port``;
+            ``"*"``: any), e.g. when the page is reached through a proxy or a host name.
+        allow_origins: more WebSocket ``Origin`` values accepted (``scheme://host:port``;
+            ``"*"``: any).
     """
 
     def __init__(
@@ -124,6 +171,8 @@ class ViewerServer:
         max_image_width: int = 1280,
         fps: float = 30.0,
         close_tap: bool = False,
+        allow_hosts: Iterable[str] = (),
+        allow_origins: Iterable[str] = (),
     ) -> None:
         if not 0 < tf_rate <= _MAX_TF_RATE:
             raise ViewerOptionError(f"tf_rate must be in (0, {_MAX_TF_RATE:g}] Hz, got {tf_rate}")
@@ -145,6 +194,10 @@ class ViewerServer:
         self.max_image_width = int(max_image_width)
         self.fps = float(fps)
         self.close_tap = close_tap
+        self.allow_hosts = frozenset(h.strip().lower() for h in allow_hosts if h.strip())
+        self.allow_origins = frozenset(
+            o.strip().lower().rstrip("/") for o in allow_origins if o.strip()
+        )
         self._world = world_payload(world)
         self._clients: set[_Client] = set()
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -155,7 +208,10 @@ class ViewerServer:
         self._image_tasks: set[asyncio.Task[None]] = set()
         self._ready = threading.Event()
         self._start_error: BaseException | None = None
-        self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0}
+        self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0,
+                          "producer_errors": 0, "producer_restarts": 0, "forbidden": 0}
+        self._producers: set[asyncio.Task[None]] = set()
+        self._warn = RateLimitedLog(tap.logger.warning)
 
     # -- lifecycle ---------------------------------------------------------------------------
     @property
@@ -194,11 +250,11 @@ class ViewerServer:
             loop.close()
             return
         self._ready.set()
-        producer = loop.create_task(self._produce())
+        self._start_producer(loop)
         try:
             loop.run_forever()
         finally:
-            pending = [producer, *self._image_tasks]
+            pending = [*self._producers, *self._image_tasks]
             for task in pending:
                 task.cancel()
             with contextlib.suppress(BaseException):
@@ -206,16 +262,79 @@ class ViewerServer:
             loop.run_until_complete(self._cleanup())
             loop.close()
 
+    def _start_producer(self, loop: asyncio.AbstractEventLoop) -> None:
+        """Run :meth:`_produce`, restarting it (after one logged line) if it ever fails."""
+        task = loop.create_task(self._produce())
+        self._producers.add(task)
+
+        def on_done(done: asyncio.Task[None]) -> None:
+            self._producers.discard(done)
+            if self._stopping or done.cancelled():
+                return
+            exc = done.exception()
+            if exc is not None:
+                self._counters["producer_restarts"] += 1
+                self._warn("viewer: producer failed, restarted",
+                           f"{type(exc).__name__}: {exc}")
+                loop.call_later(_RESTART_DELAY_S, self._start_producer, loop)
+
+        task.add_done_callback(on_done)
+
+    # -- who may connect ---------------------------------------------------------------------
+    def _own_hosts(self) -> set[str]:
+        """``host:port`` values that name this server (loopback names and the bound host)."""
+        names = {"localhost", "127.0.0.1", "[::1]"}
+        if self.host not in ("", "0.0.0.0", "::"):
+            names.add(f"[{self.host}]" if ":" in self.host else self.host)
+        return {f"{n.lower()}:{self.port}" for n in names}
+
+    def host_allowed(self, host: str | None) -> bool:
+        """Whether a request's ``Host`` header names this server (see the module docstring)."""
+        if "*" in self.allow_hosts:
+            return True
+        if not host:
+            return False
+        host = host.strip().lower()
+        if host in self.allow_hosts or host in self._own_hosts():
+            return True
+        name = host.rsplit(":", 1)[0] if not host.endswith("]") else host
+        return name in self.allow_hosts
+
+    def origin_allowed(self, origin: str | None) -> bool:
+        """Whether a WebSocket ``Origin`` may connect (absent: not a browser, allowed)."""
+        if origin is None or "*" in self.allow_origins:
+            return True
+        origin = origin.strip().lower().rstrip("/")
+        if origin in self.allow_origins:
+            return True
+        return any(origin == f"{scheme}://{h}" for h in self._own_hosts()
+                   for scheme in ("http", "https"))
+
+    @web.middleware
+    async def _guard(self, request: web.Request, handler: Any) -> web.StreamResponse:
+        if not self.host_allowed(request.headers.get("Host")):
+            self._counters["forbidden"] += 1
+            self._warn("viewer: request refused (Host header names another server)",
+                       f"{request.headers.get('Host', '')[:_MAX_NAME]!r}; "
+                       "posekit view --allow-host NAME accepts it")
+            return web.Response(status=403, text="Host not allowed\n")
+        if request.path == "/ws" and not self.origin_allowed(request.headers.get("Origin")):
+            self._counters["forbidden"] += 1
+            self._warn("viewer: WebSocket refused (page from another origin)",
+                       f"{request.headers.get('Origin', '')[:_MAX_NAME]!r}; "
+                       "posekit view --allow-origin ORIGIN accepts it")
+            return web.Response(status=403, text="Origin not allowed\n")
+        response: web.StreamResponse = await handler(request)
+        return response
+
     async def _startup(self) -> None:
-        app = web.Application()
+        app = web.Application(middlewares=[self._guard])
         app.router.add_get("/", self._index)
         app.router.add_get("/ws", self._websocket)
         app.router.add_get("/api/state", self._state)
         app.router.add_get("/favicon.ico", self._no_content)
         app.router.add_static("/app/", WEB_ROOT / "app", follow_symlinks=False)
-        three = WEB_ROOT / "node_modules" / "three"
-        if three.is_dir():
-            app.router.add_static("/vendor/three/", three, follow_symlinks=False)
+        app.router.add_get("/vendor/three/{path:.+}", self._three)
         self._runner = web.AppRunner(app, access_log=None)
         await self._runner.setup()
         site = web.TCPSite(self._runner, self.host, self.port)
@@ -278,15 +397,22 @@ class ViewerServer:
         del request
         return web.FileResponse(WEB_ROOT / "index.html", headers={"Cache-Control": "no-cache"})
 
+    async def _three(self, request: web.Request) -> web.StreamResponse:
+        root = THREE_ROOT.resolve()
+        path = (root / request.match_info["path"]).resolve()
+        if not path.is_relative_to(root) or not path.is_file():
+            raise web.HTTPNotFound(text=f"{request.path} is not part of the vendored three.js")
+        return web.FileResponse(path)
+
     async def _no_content(self, request: web.Request) -> web.Response:
         del request
         return web.Response(status=204)
 
     async def _state(self, request: web.Request) -> web.Response:
         fixed = request.query.get("fixed_frame", self.fixed_frame)[:_MAX_NAME]
-        error, frames = self.tap.frames_in(fixed)
-        return web.json_response(
-            {
+        try:
+            error, frames = self.tap.frames_in(fixed)
+            state = {
                 "fixed_frame": fixed,
                 "error": error,
                 "frames": frames,
@@ -294,9 +420,14 @@ class ViewerServer:
                 "topics": self.tap.topics(),
                 "odometry": self.tap.trails(),
                 "stats": self.stats,
-            },
-            dumps=_dumps,
-        )
+            }
+        except Exception as exc:  # whatever the data, the API answers
+            self._warn("viewer: /api/state failed", f"{type(exc).__name__}: {exc}")
+            return web.json_response(
+                {"fixed_frame": fixed, "error": f"state unavailable: {exc}"},
+                status=503, dumps=_dumps,
+            )
+        return web.json_response(state, dumps=_dumps)
 
     def _hello(self) -> dict[str, Any]:
         return {
@@ -410,58 +541,64 @@ class ViewerServer:
         )
 
     async def _produce(self) -> None:
-        loop = asyncio.get_running_loop()
+        """Feed every client; a failing round is logged (rate-limited) and skipped, so no
+        data (a non-finite pose, a broken message) can stop the feed."""
         period = 1.0 / self.tf_rate
-        last_tf_version = -1
-        last_tf_send = 0.0
-        last_odom_version = -1
-        next_odom = next_graph = next_image = 0.0
-        encoding: set[str] = set()
-        tasks = self._image_tasks
+        feed = _Feed()
         while not self._stopping:
-            now = time.monotonic()
-            active = [c for c in self._clients if not c.paused and not c.ws.closed]
-            if now >= next_graph:
-                next_graph = now + _GRAPH_PERIOD
-                await loop.run_in_executor(None, self.tap.refresh)
-                if active:
-                    graph = self._graph_message()
-                    for c in active:
-                        c.put("graph", graph)
-            version = self.tap.tf_version
-            if active and (version != last_tf_version or now - last_tf_send >= _IDLE_TF_PERIOD):
-                last_tf_version, last_tf_send = version, now
-                by_frame: dict[str, str] = {}
-                for c in active:
-                    if c.fixed_frame not in by_frame:
-                        by_frame[c.fixed_frame] = self._tf_message(c.fixed_frame)
-                    c.put("tf", by_frame[c.fixed_frame])
-            if active and now >= next_odom:
-                next_odom = now + _ODOM_PERIOD
-                odom_version = self.tap.trails_version()
-                if odom_version != last_odom_version:
-                    last_odom_version = odom_version
-                    self._counters["odom"] += 1
-                    odom = _dumps({"type": "odom", "displays": self.tap.trails()})
-                    for c in active:
-                        c.put("odom", odom)
-            if active and now >= next_image:
-                next_image = now + 1.0 / self.image_rate
-                for topic in {t for c in active for t in c.watched} - encoding:
-                    latest = self.tap.latest_image(topic)
-                    if latest is None:
-                        continue
-                    seq, msg = latest
-                    watchers = [c for c in active if topic in c.watched
-                                and c.image_seq.get(topic, 0) < seq]
-                    if watchers:
-                        encoding.add(topic)
-                        task = loop.create_task(
-                            self._send_image(topic, seq, msg, watchers, encoding)
-                        )
-                        tasks.add(task)  # keep a reference until it is done
-                        task.add_done_callback(tasks.discard)
+            try:
+                await self._produce_round(feed)
+            except Exception as exc:
+                self._counters["producer_errors"] += 1
+                self._warn("viewer: update failed", f"{type(exc).__name__}: {exc}")
             await asyncio.sleep(period)
+
+    async def _produce_round(self, feed: _Feed) -> None:
+        """One round of :meth:`_produce`: graph, TF, odometry and image slots."""
+        loop = asyncio.get_running_loop()
+        now = time.monotonic()
+        active = [c for c in self._clients if not c.paused and not c.ws.closed]
+        if now >= feed.next_graph:
+            feed.next_graph = now + _GRAPH_PERIOD
+            await loop.run_in_executor(None, self.tap.refresh)
+            if active:
+                graph = self._graph_message()
+                for c in active:
+                    c.put("graph", graph)
+        version = self.tap.tf_version
+        if active and (version != feed.tf_version or now - feed.tf_sent >= _IDLE_TF_PERIOD):
+            feed.tf_version, feed.tf_sent = version, now
+            by_frame: dict[str, str] = {}
+            for c in active:
+                if c.fixed_frame not in by_frame:
+                    by_frame[c.fixed_frame] = self._tf_message(c.fixed_frame)
+                c.put("tf", by_frame[c.fixed_frame])
+        if active and now >= feed.next_odom:
+            feed.next_odom = now + _ODOM_PERIOD
+            odom_version = self.tap.trails_version()
+            if odom_version != feed.odom_version:
+                feed.odom_version = odom_version
+                self._counters["odom"] += 1
+                odom = _dumps({"type": "odom", "displays": self.tap.trails()})
+                for c in active:
+                    c.put("odom", odom)
+        if active and now >= feed.next_image:
+            feed.next_image = now + 1.0 / self.image_rate
+            encoding = feed.encoding
+            for topic in {t for c in active for t in c.watched} - encoding:
+                latest = self.tap.latest_image(topic)
+                if latest is None:
+                    continue
+                seq, msg = latest
+                watchers = [c for c in active if topic in c.watched
+                            and c.image_seq.get(topic, 0) < seq]
+                if watchers:
+                    encoding.add(topic)
+                    task = loop.create_task(
+                        self._send_image(topic, seq, msg, watchers, encoding)
+                    )
+                    self._image_tasks.add(task)  # keep a reference until it is done
+                    task.add_done_callback(self._image_tasks.discard)
 
     async def _send_image(
         self, topic: str, seq: int, msg: Any, watchers: list[_Client], encoding: set[str]

@@ -31,7 +31,6 @@ a topic of its own in the graph.
 
 from __future__ import annotations
 
-import importlib
 import math
 import threading
 import time
@@ -41,13 +40,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from posekit.msgs.errors import UnknownMessageTypeError
-from posekit.msgs.registry import get_message_class
+from posekit.msgs.registry import find_message_class
 from posekit.runtime.logging import RcutilsLogger, get_logger
 from posekit.runtime.qos import (
     DurabilityPolicy,
     QoSProfile,
     ReliabilityPolicy,
 )
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
     SubscriptionEndpoint,
@@ -179,23 +179,13 @@ def _stamp_ns(stamp: Any) -> int:
 
 
 def _resolve_class(type_name: str) -> type | None:
-    """posekit's class for a ROS type name, or a ``module.Class`` name of a custom type."""
+    """The class for a ROS type name: posekit's registry, else rosbags' typestore; None if
+    neither knows it. Type names come from other peers, so nothing is ever imported by
+    name here."""
     try:
-        return get_message_class(type_name)
+        return find_message_class(type_name)
     except UnknownMessageTypeError:
-        pass
-    module_name, _, attr = type_name.rpartition(".")
-    if not module_name:
         return None
-    try:
-        obj: Any = importlib.import_module(module_name)
-    except ImportError:
-        return None
-    for part in attr.split("."):
-        obj = getattr(obj, part, None)
-        if obj is None:
-            return None
-    return obj if isinstance(obj, type) else None
 
 
 class ViewerTap:
@@ -244,6 +234,8 @@ class ViewerTap:
         self._closed = False
         #: Number of transforms the tf2 buffer refused (logged once each by reason).
         self.rejected_transforms = 0
+        #: Data problems (non-finite poses, bad messages): one line per second per reason.
+        self._warn = RateLimitedLog(self.logger.warning)
 
     # -- discovery -------------------------------------------------------------------------
     def refresh(self) -> None:
@@ -438,6 +430,12 @@ class ViewerTap:
                     tr, rot = t.transform.translation, t.transform.rotation
                     pose = [tr.x, tr.y, tr.z, rot.x, rot.y, rot.z, rot.w]
                     ok = True
+            if ok and not all(math.isfinite(v) for v in pose):
+                # inf/NaN (an infinite static, or finite ones composing past 1e308): shown
+                # as not available; JSON has no such numbers and the page could not draw it.
+                pose, ok = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0], False
+                self._warn("viewer: non-finite pose not shown",
+                           f"{name} in {fixed_frame}")
             rows.append([name, parent, *(round(v, 5) for v in pose), round(age, 3), static, ok])
         return error, rows
 

@@ -9,8 +9,8 @@ Frames
   out of the face. Corner order of a detection: TL (-L/2, +L/2), TR (+L/2, +L/2),
   BR (+L/2, -L/2), BL (-L/2, -L/2) in marker coordinates.
 
-The face-to-marker table was derived from the model's UV coordinates (spec
-``rosbot_and_worlds.md``): no face is mirrored, every marker's z points outward.
+The face-to-marker table was derived from the model's UV coordinates
+(``docs/specs/rosbot_and_worlds.md``): no face is mirrored, every marker's z points outward.
 """
 
 from __future__ import annotations
@@ -65,7 +65,8 @@ def marker_corners_local(side: float) -> F64Array:
 
 
 def _faces_of_world_model() -> tuple[BoxFace, ...]:
-    """The spec's face table, kept once in :data:`posekit.robot.worlds.ARUCO_BOX`."""
+    """docs/specs/rosbot_and_worlds.md's face table, kept once in
+    :data:`posekit.robot.worlds.ARUCO_BOX`."""
     def as_float(v: Sequence[float]) -> tuple[float, float, float]:
         return (float(v[0]), float(v[1]), float(v[2]))
 

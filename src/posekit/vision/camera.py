@@ -193,7 +193,7 @@ class PinholeCamera:
 
 
 #: ROSbot's OAK-D-PRO colour camera in simulation: 1280x720, horizontal FOV 60 degrees, 30 Hz
-#: (spec: husarion_components_description). K = [[1108.513, 0, 640], [0, 1108.513, 360]].
+#: (docs/specs/rosbot_and_worlds.md). K = [[1108.513, 0, 640], [0, 1108.513, 360]].
 OAK_RGB_CAMERA: PinholeCamera = PinholeCamera.from_hfov(1280, 720, 60.0, degrees=True)
 #: The overhead camera of aruco_box_camera_world: 640x480, horizontal_fov 1.047 rad, clip
 #: 0.1-100 m. K = [[554.383, 0, 320], [0, 554.383, 240]].

@@ -3,6 +3,11 @@
 =============================  ==============================================================
 name                           nodes
 =============================  ==============================================================
+``aruco_box_camera_world``     ROSbot in aruco_box_camera_world and ``overhead_camera`` (image,
+                               CameraInfo, its static frames): the world alone, for your
+                               own detector (``rosbot_gazebo aruco_box_camera_world.launch.py``)
+``aruco_box_world``            ROSbot standing in aruco_box_world and ``oak_camera``: the
+                               world alone (``rosbot_gazebo aruco_box_world.launch.py``)
 ``static_aruco_detector``      ROSbot in aruco_box_camera_world, ``overhead_camera`` (image,
                                CameraInfo, its static frames), ``static_aruco_detector``
 ``kdl_chain_demo``             the same + ``kdl_chain_demo``
@@ -15,7 +20,9 @@ Detector parameters are the course launch files' (``static_aruco_detector.launch
 ``dynamic_detector_demo.launch.py``) with one deliberate change: the dynamic detector's
 ``marker_size`` is **0.2 m**, the printed size of the aruco_box markers, not the launch's
 0.194 m, which scales every estimated range by 0.97 (6 cm short at 2 m). Pass
-``marker_size:=0.194`` for the course's value.
+``marker_size:=0.194`` for the course's value. No ``parent_frame_id`` is set: the simulated
+cameras stamp their images with their optical frames, so the detectors parent each marker on
+the image's ``header.frame_id`` exactly as the lecture's code does.
 
 Robot motion in the dynamic scenarios: all three front markers (ids 2, 4, 5) are already in
 the OAK camera's 60 deg view from the spawn pose, 2 m away. The robot then approaches them,
@@ -60,7 +67,6 @@ STATIC_DETECTOR_PARAMS: dict[str, Any] = {
     "marker_size": 0.2,
     "dictionary_id": "DICT_5X5_250",
     "child_frame_id": "static_aruco_box",
-    "parent_frame_id": "overhead_camera_optical_frame",
 }
 
 #: dynamic_detector_demo.launch.py's parameters, marker_size corrected to the printed 0.2 m.
@@ -70,7 +76,6 @@ DYNAMIC_DETECTOR_PARAMS: dict[str, Any] = {
     "marker_size": 0.2,
     "dictionary_id": "DICT_5X5_250",
     "publish_tf": True,
-    "parent_frame_id": "oak_rgb_camera_optical_frame",
 }
 
 #: Where the p_controller drives the robot in the dynamic scenarios (x m, y m, yaw rad).
@@ -89,9 +94,7 @@ def _robot(params: Mapping[str, Any], seed: int, world: str, *,
 def static_nodes(params: Mapping[str, Any], seed: int) -> list[Node]:
     """ROSbot in aruco_box_camera_world + overhead camera + static detector."""
     return [
-        *_robot(params, seed, "aruco_box_camera_world", world_statics=False),
-        scenario_node(OverheadCameraNode, "overhead_camera",
-                      {"world": "aruco_box_camera_world", "seed": seed}, params),
+        *_overhead_world(params, seed),
         scenario_node(StaticArucoDetector, "static_aruco_detector", STATIC_DETECTOR_PARAMS,
                       params),
     ]
@@ -108,6 +111,26 @@ def dynamic_nodes(params: Mapping[str, Any], seed: int) -> list[Node]:
                       params),
         scenario_node(DynamicDetector, "dynamic_detector", DYNAMIC_DETECTOR_PARAMS, params),
     ]
+
+
+def _overhead_world(params: Mapping[str, Any], seed: int) -> list[Node]:
+    return [
+        *_robot(params, seed, "aruco_box_camera_world", world_statics=False),
+        scenario_node(OverheadCameraNode, "overhead_camera",
+                      {"world": "aruco_box_camera_world", "seed": seed}, params),
+    ]
+
+
+def _aruco_box_camera_world(params: Mapping[str, Any], seed: int) -> LaunchDescription:
+    return LaunchDescription(_overhead_world(params, seed))
+
+
+def _aruco_box_world(params: Mapping[str, Any], seed: int) -> LaunchDescription:
+    return LaunchDescription([
+        *_robot(params, seed, "aruco_box_world"),
+        scenario_node(OakCameraNode, "oak_camera", {"world": "aruco_box_world", "seed": seed},
+                      params),
+    ])
 
 
 def _static_aruco_detector(params: Mapping[str, Any], seed: int) -> LaunchDescription:
@@ -136,6 +159,14 @@ def _dynamic_detector_listener(params: Mapping[str, Any], seed: int) -> LaunchDe
     ])
 
 
+register_scenario(
+    "aruco_box_camera_world", _aruco_box_camera_world, replace=True,
+    description="aruco_box_camera_world: ROSbot + overhead camera, no detector (run your own)",
+)
+register_scenario(
+    "aruco_box_world", _aruco_box_world, replace=True,
+    description="aruco_box_world: ROSbot standing + OAK camera, no detector (run your own)",
+)
 register_scenario(
     "static_aruco_detector", _static_aruco_detector, replace=True,
     description="aruco_box_camera_world: overhead camera + one-shot static ArUco detector",

@@ -110,3 +110,28 @@ def test_goal_pose_topic_sets_a_new_goal_and_bad_goals_are_refused(ctx, executor
     executor.run_until(0.6)
     assert node.controller.goal == (3.0, 0.0, 0.0)
     assert plant.cmds[-1].twist.linear.x == pytest.approx(0.5)  # clip(0.4 * 3, 0.5)
+
+
+def test_gains_change_live_through_the_parameter_service(ctx, executor) -> None:
+    """The lecture's tip: retune k_rho of the running controller (here through the
+    set_parameters service a ``ros2 param set`` uses) and the next command follows it."""
+    from posekit.msgs.rcl_interfaces import SetParameters
+    from posekit.runtime.parameters import Parameter
+
+    # rho = 0.5 m straight ahead: v = k_rho * 0.5 stays below the 0.5 m/s clamp for k <= 1.
+    _node, plant = _start(ctx, executor, (0.0, 0.0, 0.0), goal_x=0.5, goal_y=0.0)
+    executor.run_until(0.5)
+    assert plant.cmds[-1].twist.linear.x == pytest.approx(0.4 * 0.5)
+    client = plant.create_client(SetParameters, "/p_controller/set_parameters")
+    request = SetParameters.Request(parameters=[
+        Parameter("k_rho", value=1.0).to_parameter_msg(),
+        Parameter("goal_tolerance", value=-1.0).to_parameter_msg(),
+    ])
+    future = client.call_async(request)
+    executor.spin_until_future_complete(future, timeout_sec=1.0)
+    assert [r.successful for r in future.result().results] == [True, False]
+    assert future.result().results[1].reason == "goal_tolerance must be > 0"
+    n = len(plant.cmds)
+    executor.run_for(0.2)
+    assert plant.cmds[n:]  # it kept commanding
+    assert all(c.twist.linear.x == pytest.approx(1.0 * 0.5) for c in plant.cmds[n + 1:])

@@ -151,7 +151,7 @@ def test_a_stopped_command_stream_stops_the_robot_within_the_timeout(ctx, execut
     for t in (3.05, 3.5, 4.0, 5.0):
         assert by_t[t].twist.twist.linear.x == 0.0
         assert by_t[t].pose.pose.position.x == x_stop
-    assert world.rejected == []
+    assert list(world.rejected) == []
 
 
 def test_stale_and_non_finite_commands_are_rejected_with_a_logged_reason(
@@ -166,9 +166,10 @@ def test_stale_and_non_finite_commands_are_rejected_with_a_logged_reason(
     for n in (world, stale, sink):
         executor.add_node(n)
     executor.run_until(2.0)
-    assert len(world.rejected) == 28  # 0.65 ... 2.0 s
+    assert len(world.rejected) == world.rejected_count == 28  # 0.65 ... 2.0 s
     warnings = [r for r in logs if r.name == "world_simulation" and "Rejected cmd_vel" in r.message]
-    assert len(warnings) == 28
+    assert len(warnings) == 2  # one line per second of sim time: at 0.65 s and 1.7 s
+    assert "(20 similar suppressed since the last report)" in warnings[1].message
     assert "stale command" in warnings[0].message
     assert "cmd_vel_timeout" in warnings[0].message
     assert all(m.pose.pose.position.x == 0.0 for m in sink.truth)
@@ -194,7 +195,8 @@ def test_static_frames_wheels_and_world_statics_through_a_transform_listener(
     for n in (world, listener_node, commander):
         executor.add_node(n)
     executor.run_until(1.0)
-    # Spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875), identity rotation;
+    # docs/specs/rosbot_and_worlds.md: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875),
+    # identity rotation;
     # the optical frame adds R = Rz(-pi/2) Rx(-pi/2).
     t = buffer.lookup_transform("base_link", "oak_rgb_camera_optical_frame", Time())
     tr, q = t.transform.translation, t.transform.rotation
@@ -226,3 +228,57 @@ def test_worlds_by_name_file_and_errors(ctx, tmp_path) -> None:
         WorldSimulation("w2", context=ctx, parameter_overrides={**SIM, "world": "no_such"})
     with pytest.raises(ValueError, match=r"imu_rate 30\.0 Hz must divide the update rate"):
         WorldSimulation("w3", context=ctx, parameter_overrides={**SIM, "imu_rate": 30.0})
+
+
+def test_a_flood_of_bad_commands_keeps_logs_and_memory_bounded(ctx, executor, logs) -> None:
+    """5,000 NaN commands within one simulated second: at most one warning per second of
+    sim time, the last MAX_KEPT_REJECTIONS kept, all counted. Oracle: counting."""
+    from posekit.robot.nodes.world_simulation import MAX_KEPT_REJECTIONS
+
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    attacker = Node("attacker", context=ctx, parameter_overrides=SIM)
+    pub = attacker.create_publisher(TwistStamped, "cmd_vel", 10)
+    for n in (world, attacker):
+        executor.add_node(n)
+    executor.run_until(0.5)
+    for i in range(5000):
+        bad = TwistStamped()
+        bad.header.stamp = stamp_msg(executor.now_ns)
+        bad.twist.linear.x = float("nan") if i % 2 else float("inf")
+        pub.publish(bad)
+        if i % 10 == 9:  # the simulator's cmd_vel queue keeps 10
+            executor.run_until(executor.now_ns / 1e9 + (0.2 if i % 1000 == 999 else 0.0))
+    executor.run_until(executor.now_ns / 1e9 + 0.2)
+    assert world.rejected_count == 5000
+    assert len(world.rejected) == MAX_KEPT_REJECTIONS
+    lines = [r for r in logs if r.name == "world_simulation" and "Rejected cmd_vel" in r.message]
+    assert 1 <= len(lines) <= 2  # 1.2 s of sim time
+    assert "non-finite" in lines[0].message
+
+
+def test_future_stamped_commands_are_rejected_with_one_warning_and_the_robot_stops(
+    ctx, executor, logs
+) -> None:
+    """Valid commands until 1.0 s, then the same commands stamped on the wall clock: one
+    warning, every one rejected, and ground truth still by 1.0 + 0.5 s timeout + 0.5 s of
+    braking (0.5 m/s at 1 m/s²) + one output period."""
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    wall_ns = 1_795_000_000 * 1_000_000_000
+    commander = _Commander(
+        ctx, lambda t: (0.5, 0.0),
+        stamp=lambda t_ns: t_ns if t_ns <= 1_000_000_000 else wall_ns + t_ns,
+    )
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(4.0)
+    warnings = [r for r in logs if r.name == "world_simulation" and "cmd_vel" in r.message]
+    assert len(warnings) == 1, [w.message for w in warnings]
+    assert "future" in warnings[0].message
+    assert len(world.rejected) == 60  # 20 Hz from 1.05 to 4.0 s
+    moving = [m for m in sink.truth if m.header.stamp.sec + m.header.stamp.nanosec / 1e9 <= 1.0]
+    assert moving[-1].twist.twist.linear.x > 0.4
+    late = [m for m in sink.truth
+            if m.header.stamp.sec + m.header.stamp.nanosec / 1e9 >= 1.0 + 0.5 + 0.5 + 0.05]
+    assert late
+    assert all(m.twist.twist.linear.x == 0.0 for m in late)

@@ -1,6 +1,6 @@
 """oak_camera and overhead_camera: topics, sizes, stamps, intrinsics and frames against the
-spec's numbers; the robot camera's pose from ground truth (checked against a fine Euler
-integration); lazy rendering; the overhead camera's static frames."""
+docs/specs/rosbot_and_worlds.md numbers; the robot camera's pose from ground truth (checked against
+a fine Euler integration); lazy rendering; the overhead camera's static frames."""
 
 from __future__ import annotations
 
@@ -49,10 +49,11 @@ def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
     for k, (img, info) in enumerate(zip(sink.images, sink.infos, strict=True), start=1):
         ns = k * 33_333_333  # timers fire on the integer-ns grid of round(1e9 / 30)
         assert img.header.stamp == stamp_msg(ns) == info.header.stamp
-        assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_frame"
+        assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_optical_frame"
         assert (img.width, img.height, img.encoding, img.step) == (1280, 720, "rgb8", 3840)
     K = np.asarray(sink.infos[0].k).reshape(3, 3)
-    # spec: K = [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]], D = 0
+    # docs/specs/rosbot_and_worlds.md:
+    # K = [[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]], D = 0
     assert pytest.approx(np.array([[1108.513, 0, 640], [0, 1108.513, 360], [0, 0, 1]]),
                               abs=1e-3) == K
     assert not np.any(sink.infos[0].d)
@@ -61,7 +62,7 @@ def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
 def test_oak_optical_frame_from_the_robot_description(ctx) -> None:
     cam = OakCameraNode(context=ctx)
     T = cam.T_base_optical
-    # spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875);
+    # docs/specs/rosbot_and_worlds.md: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875);
     # optical R = Rz(-pi/2) Rx(-pi/2)
     assert T[:3, 3] == pytest.approx([-0.0241, 0.0, 0.1875], abs=1e-12)
     assert T[:3, :3] == pytest.approx(R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]).as_matrix(),
@@ -126,7 +127,8 @@ def test_oak_image_shows_the_front_markers_from_the_spawn_pose(ctx, executor) ->
     dets = ArucoMarkerDetector(np.asarray(sink.infos[0].k).reshape(3, 3),
                                marker_size=0.2).detect(pixels)
     assert sorted(d.marker_id for d in dets) == [2, 4, 5]
-    # spec: optical frame at (-0.0241, 0, 0.1875); marker 4 at (2, 0, 0.25) in odom
+    # docs/specs/rosbot_and_worlds.md: optical frame at (-0.0241, 0, 0.1875); marker 4 at (2, 0,
+    # 0.25) in odom
     d4 = next(d for d in dets if d.marker_id == 4)
     expected = R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]).inv().apply(
         np.array([2.0, 0.0, 0.25]) - [-0.0241, 0.0, 0.1875])
@@ -141,7 +143,8 @@ def test_overhead_camera_frames_image_and_intrinsics(ctx, executor) -> None:
     executor.add_node(sink)
     executor.run_until(0.04)
     (img,) = sink.images
-    assert (img.width, img.height, img.header.frame_id) == (640, 480, "overhead_camera")
+    assert (img.width, img.height) == (640, 480)
+    assert img.header.frame_id == "overhead_camera_optical_frame"
     K = np.asarray(sink.infos[0].k).reshape(3, 3)
     assert K[0, 0] == pytest.approx(554.383, abs=1e-3)
     assert (K[0, 2], K[1, 2]) == (320.0, 240.0)
@@ -160,9 +163,40 @@ def test_overhead_camera_frames_image_and_intrinsics(ctx, executor) -> None:
     assert T[:3, 2] == pytest.approx([0.0, 0.0, -1.0], abs=1e-4)
     pixels = np.asarray(img.data).reshape(480, 640, 3)
     (det,) = ArucoMarkerDetector(K, marker_size=0.2).detect(pixels)
-    assert det.marker_id == 3  # the top face (spec)
+    assert det.marker_id == 3  # the top face (docs/specs/rosbot_and_worlds.md)
 
 
 def test_unknown_camera_name_is_a_clear_error(ctx) -> None:
     with pytest.raises(ValueError, match="no camera 'nope'"):
         OverheadCameraNode(context=ctx, parameter_overrides={"camera_name": "nope"})
+
+
+@pytest.mark.parametrize(("world", "camera_cls", "image_topic", "body_frame", "root"), [
+    ("aruco_box_world", OakCameraNode, "/oak/rgb/color", "oak_rgb_camera_frame", "base_link"),
+    ("aruco_box_camera_world", OverheadCameraNode, "/overhead_camera/image_raw",
+     "overhead_camera", "odom"),
+])
+def test_images_carry_an_optical_frame_of_the_tf_tree(ctx, executor, world, camera_cls,
+                                                      image_topic, body_frame, root) -> None:
+    # REP 103: camera drivers stamp images with the optical frame (z forward, x right, y down),
+    # a child of the body frame (x forward, y left, z up) rotated by rpy (-pi/2, 0, -pi/2).
+    from posekit.robot.nodes import WorldSimulation
+    from posekit.tf2_ros import Buffer, TransformListener
+    from posekit.time import Time
+
+    sim = WorldSimulation(context=ctx, parameter_overrides={**SIM, "world": world})
+    cam = camera_cls(context=ctx, parameter_overrides={**SIM, "world": world})
+    sink = Sink(ctx, image_topic, image_topic.rsplit("/", 1)[0] + "/camera_info")
+    sink.watch_images()
+    buffer = Buffer()
+    TransformListener(buffer, sink)
+    for node in (sim, cam, sink):
+        executor.add_node(node)
+    executor.run_until(0.2)
+    frame = sink.images[-1].header.frame_id
+    assert frame.endswith("_optical_frame")
+    t = buffer.lookup_transform(body_frame, frame, Time())
+    q = t.transform.rotation
+    expected = R.from_euler("xyz", [-np.pi / 2, 0.0, -np.pi / 2])
+    assert (R.from_quat([q.x, q.y, q.z, q.w]) * expected.inv()).magnitude() < 1e-4
+    assert buffer.can_transform(root, frame, Time())

@@ -1,6 +1,6 @@
 """static_aruco_detector and dynamic_detector as nodes: the TF they publish (against the
-spec's marker poses, composed with scipy), the one-shot behaviour, the course parameters and
-posekit's additions, and bad inputs logged and survived."""
+marker poses of docs/specs/rosbot_and_worlds.md, composed with scipy), the one-shot behaviour, the
+course parameters and posekit's additions, and bad inputs logged and survived."""
 
 from __future__ import annotations
 
@@ -24,7 +24,8 @@ from posekit.vision.render import BoxRenderer
 
 SIM = {"use_sim_time": True}
 
-# Spec: aruco_box_world boxes, and the three front markers' centres in odom.
+# docs/specs/rosbot_and_worlds.md: aruco_box_world boxes, and the three front markers' centres in
+# odom.
 BOX_WORLD = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
              box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
 FRONT_MARKERS = {4: (2.000, 0.000, 0.250), 2: (2.000, -0.5002, 0.250),
@@ -38,10 +39,12 @@ def T_from(xyz, rotation: R) -> np.ndarray:
     return T
 
 
-# Spec: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875), optical R = Rz(-pi/2) Rx(-pi/2).
+# docs/specs/rosbot_and_worlds.md: base_link -> oak_rgb_camera_frame = (-0.0241, 0, 0.1875),
+# optical R = Rz(-pi/2) Rx(-pi/2).
 T_ODOM_OAK_OPTICAL = T_from((-0.0241, 0.0, 0.1875),
                             R.from_euler("ZX", [-np.pi / 2, -np.pi / 2]))
-# Spec: odom -> overhead_camera (2, 2, 2, rpy 0 1.5708 0) -> optical (rpy -1.5708 0 -1.5708).
+# docs/specs/rosbot_and_worlds.md: odom -> overhead_camera (2, 2, 2, rpy 0 1.5708 0) -> optical
+# (rpy -1.5708 0 -1.5708).
 T_ODOM_OVERHEAD_OPTICAL = (T_from((2.0, 2.0, 2.0), R.from_euler("xyz", [0, 1.5708, 0]))
                            @ T_from((0, 0, 0), R.from_euler("xyz", [-1.5708, 0, -1.5708])))
 
@@ -82,7 +85,7 @@ def oak_pixels() -> np.ndarray:
 
 def dynamic_setup(ctx, executor, **params):
     det = DynamicDetector(context=ctx, parameter_overrides={
-        **SIM, "parent_frame_id": "oak_rgb_camera_optical_frame", "marker_size": 0.2, **params})
+        **SIM, "marker_size": 0.2, **params})
     feeder = Feeder(ctx, "/oak/rgb/color", "/oak/stereo/camera_info")
     executor.add_node(det)
     executor.add_node(feeder)
@@ -92,9 +95,9 @@ def dynamic_setup(ctx, executor, **params):
 def test_dynamic_detector_publishes_every_marker_stamped_with_the_image(
         ctx, executor, oak_pixels) -> None:
     det, feeder = dynamic_setup(ctx, executor)
-    feeder.info_pub.publish(OAK_RGB_CAMERA.camera_info(frame_id="oak_rgb_camera_frame"))
+    feeder.info_pub.publish(OAK_RGB_CAMERA.camera_info(frame_id="oak_rgb_camera_optical_frame"))
     executor.run_until(0.1)
-    feeder.image(oak_pixels, 0.05, "oak_rgb_camera_frame")  # an image from the past
+    feeder.image(oak_pixels, 0.05, "oak_rgb_camera_optical_frame")  # an image from the past
     executor.run_until(0.2)
     assert len(feeder.tf) == 1
     transforms = {t.child_frame_id: t for t in feeder.tf[0].transforms}
@@ -121,17 +124,28 @@ def test_dynamic_detector_parent_frame_defaults_to_the_image_frame(ctx, executor
     assert {t.header.frame_id for t in feeder.tf[0].transforms} == {"some_camera_frame"}
 
 
+def test_dynamic_detector_parent_frame_id_overrides_the_image_frame(ctx, executor,
+                                                                    oak_pixels) -> None:
+    _det, feeder = dynamic_setup(ctx, executor, parent_frame_id="oak_rgb_camera_optical_frame")
+    feeder.info_pub.publish(OAK_RGB_CAMERA.camera_info())
+    executor.run_until(0.1)
+    feeder.image(oak_pixels, 0.1, "oak_rgb_camera_frame")  # a source stamping the body frame
+    executor.run_until(0.2)
+    assert {t.header.frame_id for t in feeder.tf[0].transforms} == {
+        "oak_rgb_camera_optical_frame"}
+
+
 def test_debug_image_is_bgr8_with_the_image_header_and_drawn(ctx, executor, oak_pixels) -> None:
     _det, feeder = dynamic_setup(ctx, executor)
     feeder.create_subscription(Image, "aruco_detection_image", feeder.debug.append, 10)
     feeder.info_pub.publish(OAK_RGB_CAMERA.camera_info())
     executor.run_until(0.1)
-    feeder.image(oak_pixels, 0.1, "oak_rgb_camera_frame")
+    feeder.image(oak_pixels, 0.1, "oak_rgb_camera_optical_frame")
     executor.run_until(0.2)
     (debug,) = feeder.debug
     assert debug.encoding == "bgr8"
     assert (debug.width, debug.height) == (1280, 720)
-    assert debug.header.frame_id == "oak_rgb_camera_frame"
+    assert debug.header.frame_id == "oak_rgb_camera_optical_frame"
     pixels = np.asarray(debug.data).reshape(720, 1280, 3)
     # The render is grey; outlines (green) and axes (red/blue) are the only coloured pixels.
     coloured = np.ptp(pixels.astype(int), axis=2) > 60
@@ -243,27 +257,28 @@ def test_course_defaults(ctx) -> None:
 
 def test_static_detector_publishes_once_then_unsubscribes(ctx, executor, logs) -> None:
     det = StaticArucoDetector(context=ctx, parameter_overrides={
-        **SIM, "marker_size": 0.2, "parent_frame_id": "overhead_camera_optical_frame"})
+        **SIM, "marker_size": 0.2})
     feeder = Feeder(ctx, "/overhead_camera/image_raw", "/overhead_camera/camera_info")
     executor.add_node(det)
     executor.add_node(feeder)
     pixels = BoxRenderer(OVERHEAD_CAMERA).render(T_ODOM_OVERHEAD_OPTICAL,
                                                  [box_pose_matrix(2.0, 2.0, 0.25)])
-    feeder.image(pixels, 0.0, "overhead_camera")  # before CameraInfo: skipped
+    optical = "overhead_camera_optical_frame"
+    feeder.image(pixels, 0.0, optical)  # before CameraInfo: skipped
     executor.run_until(0.05)
     assert not det.tf_published
-    feeder.info_pub.publish(OVERHEAD_CAMERA.camera_info(frame_id="overhead_camera"))
-    feeder.image(np.full((480, 640, 3), 200, np.uint8), 0.1, "overhead_camera")  # no marker
+    feeder.info_pub.publish(OVERHEAD_CAMERA.camera_info(frame_id=optical))
+    feeder.image(np.full((480, 640, 3), 200, np.uint8), 0.1, optical)  # no marker
     executor.run_until(0.15)
     assert not det.tf_published
     assert feeder.tf_static == []
-    feeder.image(pixels, 0.2, "overhead_camera")  # stamped 0.2, delivered at sim time 0.15
+    feeder.image(pixels, 0.2, optical)  # stamped 0.2, delivered at sim time 0.15
     executor.run_until(0.25)
     assert det.tf_published
     assert feeder.image_pub.get_subscription_count() == 0
     assert feeder.info_pub.get_subscription_count() == 0
     for k in range(3):  # later images reach nobody
-        feeder.image(pixels, 0.3 + 0.1 * k, "overhead_camera")
+        feeder.image(pixels, 0.3 + 0.1 * k, optical)
     executor.run_until(1.0)
     (msg,) = feeder.tf_static
     (t,) = msg.transforms

@@ -13,10 +13,16 @@ Parameters (course names and node defaults): ``k_rho`` (0.4), ``k_alpha`` (0.8),
 (0.8), ``goal_tolerance`` (0.10 m), ``yaw_tolerance`` (0.05 rad), ``goal_x``, ``goal_y``,
 ``goal_yaw`` (0.0; the course's launch file sets 5.0, 5.0, pi/2). Velocity clamps are the
 course's fixed ±0.5 m/s and ±1.0 rad/s.
+
+Every parameter is live, as the lecture's tip needs ("increase ``k_rho`` to 1.0 ..."):
+``posekit param set /p_controller k_rho 1.0`` (or ``ros2 param set``) changes the gains and
+tolerances from the next tick on; a new ``goal_x``/``goal_y``/``goal_yaw`` replaces the goal as
+a ``goal_pose`` would. Non-finite values and negative tolerances are refused with the reason.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -27,6 +33,7 @@ from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.nodes._util import declare, stamp_msg
 from posekit.robot.p_controller import PController, PControllerParams, Phase
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import Parameter, SetParametersResult
 
 __all__ = ["PControllerNode"]
 
@@ -35,6 +42,13 @@ def _pose_of(msg: Any) -> tuple[float, float, float]:
     p, q = msg.position, msg.orientation
     yaw = yaw_from_quaternion_xyzw(float(q.x), float(q.y), float(q.z), float(q.w))
     return float(p.x), float(p.y), yaw
+
+
+#: Parameters that take effect while the node runs (PControllerParams field names).
+_LIVE = frozenset(
+    ("k_rho", "k_alpha", "k_yaw", "goal_tolerance", "yaw_tolerance", "goal_x", "goal_y",
+     "goal_yaw")
+)
 
 
 class PControllerNode(Node):
@@ -65,6 +79,8 @@ class PControllerNode(Node):
         self.create_subscription(PoseStamped, "goal_pose", self._on_goal, 10)
         self._now_ns = self.get_clock().now_ns
         self.create_timer(1.0 / params.rate_hz, self._on_tick)
+        self.add_on_set_parameters_callback(self._check_params)
+        self.add_post_set_parameters_callback(self._apply_params)
         goal = self.controller.goal
         if goal is None:
             self.get_logger().info("No goal set (goal (0, 0, 0)); waiting for goal_pose")
@@ -72,6 +88,31 @@ class PControllerNode(Node):
             self.get_logger().info(
                 f"Goal: x={goal[0]:.2f}, y={goal[1]:.2f}, yaw={goal[2]:.2f}"
             )
+
+    def _check_params(self, params: list[Parameter]) -> SetParametersResult:
+        for p in params:
+            if p.name not in _LIVE or not isinstance(p.value, float):
+                continue
+            if not math.isfinite(p.value):
+                return SetParametersResult(successful=False, reason=f"{p.name} must be finite")
+            if p.name.endswith("_tolerance") and p.value <= 0.0:
+                return SetParametersResult(successful=False, reason=f"{p.name} must be > 0")
+        return SetParametersResult(successful=True)
+
+    def _apply_params(self, params: list[Parameter]) -> None:
+        changes = {p.name: float(p.value) for p in params if p.name in _LIVE}
+        if not changes:
+            return
+        old = self.controller.params
+        new = dataclasses.replace(old, **changes)
+        self.controller.params = new
+        if (new.goal_x, new.goal_y, new.goal_yaw) != (old.goal_x, old.goal_y, old.goal_yaw):
+            self.controller.set_goal(new.goal_x, new.goal_y, new.goal_yaw)
+            self.goal_reached_ns = None
+            self._phase = Phase.IDLE
+        self.get_logger().info(
+            "Parameters updated: " + ", ".join(f"{k}={v:g}" for k, v in sorted(changes.items()))
+        )
 
     def _on_odom(self, msg: Odometry) -> None:
         self._pose = _pose_of(msg.pose.pose)

@@ -6,7 +6,8 @@ clock (sim time under a stepped executor) and publishes what the course's simula
 =========================  ==========================  ==========================================
 topic                      type                        content
 =========================  ==========================  ==========================================
-``cmd_vel`` (in)           geometry_msgs/TwistStamped  velocity command (timeout, stale rejection)
+``cmd_vel`` (in)           geometry_msgs/TwistStamped  velocity command (timeout, stale and
+                                                       future stamps rejected)
 ``joint_states``           sensor_msgs/JointState      four wheel joints (``joint_states_rate``)
 ``imu/data``               sensor_msgs/Imu             frame ``imu_link``, 25 Hz, course noise
 ``ground_truth/odom``      nav_msgs/Odometry           true pose of base_link in ``odom`` (tests,
@@ -48,6 +49,7 @@ Parameters (controller names as the course's ``controllers.yaml``; *posekit* one
 
 from __future__ import annotations
 
+from collections import deque
 from typing import Any
 
 from posekit.msgs.geometry_msgs import TwistStamped
@@ -71,9 +73,13 @@ from posekit.robot.params import (
 )
 from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 
-__all__ = ["WorldSimulation"]
+__all__ = ["MAX_KEPT_REJECTIONS", "WorldSimulation"]
+
+#: Rejected /cmd_vel messages kept in :attr:`WorldSimulation.rejected` (the newest ones).
+MAX_KEPT_REJECTIONS = 100
 
 
 def _ticks(rate_hz: float, update_period_ns: int, what: str) -> int:
@@ -90,7 +96,9 @@ class WorldSimulation(Node):
     """The simulated world and ROSbot (see the module docstring for topics and parameters).
 
     Attributes for tests and tools: ``world`` (the loaded :class:`World`), ``base`` (the
-    :class:`RosbotBase`), ``rejected`` (``(t_ns, reason)`` of every refused command).
+    :class:`RosbotBase`), ``rejected`` (``(t_ns, reason)`` of the last refused commands)
+    and ``rejected_count``. Refused commands are logged at most once per second of the node's
+    clock, with the number suppressed in between.
     """
 
     def __init__(self, node_name: str = "world_simulation", **kwargs: Any) -> None:
@@ -138,8 +146,15 @@ class WorldSimulation(Node):
         self.base = RosbotBase(drive, slip, seed=slip_seed, x=sx, y=sy, yaw=syaw)
         self._encoders = WheelEncoders(encoders)
         self._imu = ImuModel(ImuParams(rate_hz=imu_rate), seed=imu_seed)
-        #: ``(t_ns, reason)`` of each rejected /cmd_vel message.
-        self.rejected: list[tuple[int, str]] = []
+        #: ``(t_ns, reason)`` of the last :data:`MAX_KEPT_REJECTIONS` rejected /cmd_vel
+        #: messages (a peer can send any number); :attr:`rejected_count` counts them all.
+        self.rejected: deque[tuple[int, str]] = deque(maxlen=MAX_KEPT_REJECTIONS)
+        self.rejected_count = 0
+        # One warning per second of the node's clock, with the number suppressed meanwhile.
+        self._warn_rejected = RateLimitedLog(
+            self.get_logger().warning, clock=lambda: self._now_ns() / NS
+        )
+        self._future_warned = False
 
         self._cmd_sub = self.create_subscription(TwistStamped, "cmd_vel", self._on_cmd_vel, 10)
         self._joint_pub = self.create_publisher(JointState, "joint_states", 10)
@@ -201,8 +216,18 @@ class WorldSimulation(Node):
         result: CommandResult = self.base.submit(msg, now_ns / NS)
         if not result.accepted:
             self.rejected.append((now_ns, result.reason))
-            self.get_logger().warning(f"Rejected cmd_vel: {result.reason}")
-        elif result.reason:
+            self.rejected_count += 1
+            if result.kind != "future":
+                self._warn_rejected("Rejected cmd_vel", result.reason)
+            elif not self._future_warned:  # one line per run of future-stamped commands
+                self._future_warned = True
+                self.get_logger().warning(
+                    f"Rejected cmd_vel: {result.reason}; further future-stamped commands are "
+                    "ignored silently until a valid one arrives"
+                )
+            return
+        self._future_warned = False
+        if result.reason:
             self.get_logger().warning(f"cmd_vel: {result.reason}", once=True)
 
     def _advance_to(self, now_ns: int) -> None:

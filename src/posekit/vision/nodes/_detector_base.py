@@ -4,8 +4,8 @@ input logged and skipped rather than raised.
 
 Course parameters: ``camera_image_topic``, ``camera_info_topic``, ``marker_size`` (m),
 ``dictionary_id`` (``DICT_5X5_250``), ``parent_frame_id`` (empty: the image's
-``header.frame_id``; set it to the optical frame when the image is stamped with the camera
-body frame, as the simulated OAK and overhead cameras are). posekit additions:
+``header.frame_id``, which is the camera's optical frame for the simulated cameras as for
+real drivers; set it only for a source that stamps images with another frame). posekit additions:
 ``refine_subpixel`` (false, as the course), ``marker_sizes`` (``"id:size,..."`` per-id
 sizes in metres overriding ``marker_size``).
 """

@@ -6,7 +6,7 @@ Renders the world's ArUco boxes from the robot's *true* pose at each frame time 
 topic                       type                    content
 ==========================  ======================  ======================================
 ``/oak/rgb/color``          sensor_msgs/Image       rgb8 1280x720, 30 Hz, frame_id
-                                                    ``oak_rgb_camera_frame`` (as Gazebo)
+                                                    ``oak_rgb_camera_optical_frame``
 ``/oak/stereo/camera_info`` sensor_msgs/CameraInfo  K of a 60 deg HFOV pinhole, d = 0
                                                     (the sim bridges only the stereo info)
 ==========================  ======================  ======================================
@@ -19,12 +19,16 @@ twist (exact arc), so frames between ground-truth samples are rendered where the
 really is (a 33 ms-stale pose would shift a marker 2 m away by ~1 cm per 0.3 rad/s of turn).
 Before the first sample the robot is at the world's spawn pose, at rest.
 
+Images and CameraInfo are stamped with the camera's **optical** frame, as real camera drivers
+do (REP 103): a consumer that reads ``header.frame_id`` (the lecture's detectors parent each
+marker on it) gets x right, y down, z forward, the frame ``solvePnP`` answers in.
+
 Parameters: ``world`` (aruco_box_world), ``width`` (1280), ``height`` (720),
 ``horizontal_fov`` (1.0471975512 rad = 60 deg), ``rate`` (30.0 Hz), ``image_topic``
-(/oak/rgb/color), ``camera_info_topic`` (/oak/stereo/camera_info), ``frame_id``
-(oak_rgb_camera_frame), ``optical_frame_id`` (oak_rgb_camera_optical_frame: the description
-frame rendered from), ``ground_truth_topic`` (/ground_truth/odom), and the common
-``noise_sigma``, ``seed``, ``supersample``, ``lazy`` (see :class:`SimulatedCamera`).
+(/oak/rgb/color), ``camera_info_topic`` (/oak/stereo/camera_info), ``optical_frame_id``
+(oak_rgb_camera_optical_frame: the description frame rendered from), ``frame_id`` (the
+header frame, "" = ``optical_frame_id``), ``ground_truth_topic`` (/ground_truth/odom), and
+the common ``noise_sigma``, ``seed``, ``supersample``, ``lazy`` (see :class:`SimulatedCamera`).
 """
 
 from __future__ import annotations
@@ -55,8 +59,8 @@ class OakCameraNode(SimulatedCamera):
         rate = float(declare(self, "rate", 30.0))
         image_topic = str(declare(self, "image_topic", "/oak/rgb/color"))
         info_topic = str(declare(self, "camera_info_topic", "/oak/stereo/camera_info"))
-        frame_id = str(declare(self, "frame_id", "oak_rgb_camera_frame"))
         optical = str(declare(self, "optical_frame_id", "oak_rgb_camera_optical_frame"))
+        frame_id = str(declare(self, "frame_id", "")) or optical
         truth_topic = str(declare(self, "ground_truth_topic", "/ground_truth/odom"))
         #: T_base_optical from the robot description (metres).
         self.T_base_optical: F64Array = pose_from_chain(FIXED_JOINTS, "base_link", optical)

@@ -1,6 +1,7 @@
 """``overhead_camera``: the fixed camera of ``aruco_box_camera_world`` (gz-sensors + bridge).
 
-Publishes ``/overhead_camera/image_raw`` (rgb8 640x480, 30 Hz, frame_id ``overhead_camera``)
+Publishes ``/overhead_camera/image_raw`` (rgb8 640x480, 30 Hz, frame_id
+``overhead_camera_optical_frame``: the optical frame, as real camera drivers stamp images)
 and ``/overhead_camera/camera_info`` (HFOV 1.047 rad, d = 0): topics, size, FOV and rate
 come from the world's camera entry. With ``publish_static_frames`` (true) it also latches the
 camera's static frames on ``/tf_static`` as ``static_aruco_detector.launch.py`` does:
@@ -48,9 +49,11 @@ class OverheadCameraNode(SimulatedCamera):
         frame = spec.frame_id or spec.name
         self._statics = [s for s in self.world.static_transforms if s.child.startswith(frame)]
         T_camera_optical = np.array(T_CAMERA_FRAME_OPTICAL)
+        header_frame = frame  # a world without an optical frame: the body frame
         for s in self._statics:
             if s.parent == frame and s.child.endswith("optical_frame"):
                 T_camera_optical = rpy_pose_matrix(s.xyz, s.rpy)
+                header_frame = s.child
         #: Pose of the optical frame in the world (odom), metres.
         self.T_world_optical: F64Array = spec.T_world_camera @ T_camera_optical
         near, far = spec.clip
@@ -64,7 +67,7 @@ class OverheadCameraNode(SimulatedCamera):
                  for s in self._statics]
             )
         self._start(camera, "/" + spec.image_topic.lstrip("/"),
-                    "/" + spec.info_topic.lstrip("/"), frame, spec.rate_hz)
+                    "/" + spec.info_topic.lstrip("/"), header_frame, spec.rate_hz)
 
     def T_world_optical_at(self, t_ns: int) -> F64Array:
         """The (fixed) optical-frame pose in the world."""

@@ -43,6 +43,28 @@ const visibility = () => ({
 // ------------------------------------------------------------------------------ scene
 let scene = null;
 
+// Why the 3D view could not start, said as what to do about it.
+async function fallbackReason(err) {
+  const detail = err && err.message ? err.message : String(err);
+  let threeServed = false;
+  try {
+    threeServed = (await fetch("/vendor/three/build/three.module.js", { method: "HEAD" })).ok;
+  } catch (_) {
+    threeServed = false;
+  }
+  if (!threeServed) {
+    return "2D top-down view: three.js is missing from this posekit installation " +
+      "(posekit/viewer/web/vendor/three). Reinstall posekit with " +
+      "pip install --force-reinstall 'posekit[viewer]', then reload this page.";
+  }
+  if (/WebGL/i.test(detail)) {
+    return "2D top-down view: this browser has no WebGL. Turn on hardware acceleration " +
+      "(or use a browser with WebGL), then reload this page.";
+  }
+  return `2D top-down view: the 3D view failed to start (${detail}); reload the page, ` +
+    "and check the browser console for the cause.";
+}
+
 async function createScene() {
   const container = $("view");
   const want2d = params.get("renderer") === "2d";
@@ -52,8 +74,8 @@ async function createScene() {
       scene = await mod.createScene3D(container);
       debug.renderer = "webgl";
     } catch (err) {
-      debug.rendererNote = `3D view unavailable (${err && err.message ? err.message : err}); showing the 2D top-down view`;
-      console.warn(debug.rendererNote);
+      debug.rendererNote = await fallbackReason(err);
+      console.warn(debug.rendererNote, err);
     }
   } else {
     debug.rendererNote = "2D top-down view (renderer=2d)";

@@ -1,0 +1,191 @@
+"""``posekit service list|type|find|call``: ``ros2 service``'s verbs (Jazzy) and output.
+
+* ``list [-t] [-c] [--include-hidden-services]``: one service per line, ``-t`` adds
+  ``[type]``.
+* ``type SERVICE``: the service's type (exit code 1 if it is not on the graph).
+* ``find TYPE [-c]``: the services of a type.
+* ``call SERVICE TYPE [VALUES] [-r RATE]``: VALUES is YAML (``"{data: true}"``); prints
+  ``requester: making request: std_srvs.srv.SetBool_Request(data=True)`` and
+  ``response:`` with the response's repr, as ros2 does. ``--timeout`` (posekit's addition)
+  bounds the wait for the service and the response (default: wait forever, like ros2).
+
+The tool's hidden node runs on the tool transport (Zenoh by default), so services of other
+posekit processes and of real ROS 2 nodes on rmw_zenoh are listed and callable.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Sequence
+from typing import Any, TextIO
+
+__all__ = ["main", "main_call", "main_find", "main_list", "main_type"]
+
+
+def _parser(verb: str) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog=f"posekit service {verb}")
+    parser.add_argument("--transport", default=None,
+                        help="posekit transport (default: $POSEKIT_TRANSPORT or zenoh)")
+    parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
+    return parser
+
+
+def _session(ns: argparse.Namespace, context: Any) -> Any:
+    from posekit.cli._session import ToolSession
+    from posekit.cli.topic_cmd import cli_node_name
+
+    return ToolSession(cli_node_name(), context=context,
+                       transport="zenoh" if ns.zenoh else ns.transport,
+                       start_parameter_services=False)
+
+
+def _services(session: Any, include_hidden: bool) -> list[tuple[str, list[str]]]:
+    from posekit.cli.topic_cmd import is_hidden_name, sync_graph
+
+    sync_graph(session, 2.0)
+    found: list[tuple[str, list[str]]] = session.node.get_service_names_and_types()
+    return [(n, t) for n, t in found if include_hidden or not is_hidden_name(n)]
+
+
+def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+              err: TextIO | None = None) -> int:
+    """``service list [-t] [-c] [--include-hidden-services]``."""
+    out = out or sys.stdout
+    parser = _parser("list")
+    parser.add_argument("-t", "--show-types", action="store_true",
+                        help="Additionally show the service type")
+    parser.add_argument("-c", "--count-services", action="store_true",
+                        help="Only display the number of services discovered")
+    parser.add_argument("--include-hidden-services", action="store_true",
+                        help="Consider hidden services as well")
+    ns = parser.parse_args(list(argv))
+    with _session(ns, context) as session:
+        services = _services(session, ns.include_hidden_services)
+    if ns.count_services:
+        out.write(f"{len(services)}\n")
+        return 0
+    for name, types in services:
+        out.write(f"{name} [{', '.join(types)}]\n" if ns.show_types else f"{name}\n")
+    out.flush()
+    return 0
+
+
+def main_type(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+              err: TextIO | None = None) -> int:
+    """``service type SERVICE``."""
+    out = out or sys.stdout
+    parser = _parser("type")
+    parser.add_argument("service_name", help="Name of the ROS service to get type")
+    parser.add_argument("--include-hidden-services", action="store_true",
+                        help="Consider hidden services as well")
+    ns = parser.parse_args(list(argv))
+    with _session(ns, context) as session:
+        services = _services(session, ns.include_hidden_services)
+    for name, types in services:
+        if name == ns.service_name:
+            out.write("".join(f"{t}\n" for t in types))
+            return 0
+    return 1
+
+
+def main_find(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+              err: TextIO | None = None) -> int:
+    """``service find TYPE [-c] [--include-hidden-services]``."""
+    out = out or sys.stdout
+    parser = _parser("find")
+    parser.add_argument("service_type", help="Name of the ROS service type to filter for")
+    parser.add_argument("-c", "--count-services", action="store_true",
+                        help="Only display the number of services discovered")
+    parser.add_argument("--include-hidden-services", action="store_true",
+                        help="Consider hidden services as well")
+    ns = parser.parse_args(list(argv))
+    with _session(ns, context) as session:
+        matches = [n for n, t in _services(session, ns.include_hidden_services)
+                   if ns.service_type in t]
+    out.write(f"{len(matches)}\n" if ns.count_services else "".join(f"{n}\n" for n in matches))
+    return 0
+
+
+def main_call(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+              err: TextIO | None = None) -> int:
+    """``service call SERVICE TYPE [VALUES] [-r RATE] [--timeout S]``."""
+    from posekit.cli.topic_cmd import MessageFieldError, parse_values, ros_repr, set_message_fields
+    from posekit.msgs.errors import UnknownMessageTypeError
+    from posekit.msgs.registry import get_service_class
+
+    out = out or sys.stdout
+    err = err or sys.stderr
+    parser = _parser("call")
+    parser.add_argument("service_name", help="Name of the ROS service to call to")
+    parser.add_argument("service_type", help="Type of the ROS service (e.g. 'std_srvs/srv/Empty')")
+    parser.add_argument("values", nargs="?", default="{}",
+                        help="Values to fill the service request with in YAML format")
+    parser.add_argument("-r", "--rate", metavar="N", type=float,
+                        help="Repeat the call at a specific rate in Hz")
+    parser.add_argument("--timeout", type=float, default=None,
+                        help="give up after this many seconds without service or response")
+    ns = parser.parse_args(list(argv))
+    if ns.rate is not None and ns.rate <= 0:
+        err.write("rate must be greater than zero\n")
+        return 1
+    try:
+        srv_type = get_service_class(ns.service_type)
+    except UnknownMessageTypeError:
+        err.write("The passed service type is invalid\n")
+        return 1
+    try:
+        values = parse_values(ns.values)
+        request = srv_type.Request()
+        set_message_fields(request, values)
+    except MessageFieldError as exc:
+        err.write(f"Failed to populate field: {exc}\n")
+        return 1
+    period = 1.0 / ns.rate if ns.rate else None
+    with _session(ns, context) as session:
+        client = session.node.create_client(srv_type, ns.service_name)
+        if not client.service_is_ready():
+            out.write("waiting for service to become available...\n")
+            out.flush()
+            if not client.wait_for_service(timeout_sec=ns.timeout):
+                err.write(f"service '{client.srv_name}' did not become available "
+                          f"within {ns.timeout:g} s\n")
+                return 1
+        while session.context.ok():
+            out.write(f"requester: making request: {ros_repr(request)}\n\n")
+            out.flush()
+            last_call = time.monotonic()
+            future = client.call_async(request)
+            session.executor.spin_until_future_complete(future, timeout_sec=ns.timeout)
+            if not future.done():
+                err.write(f"no response from '{client.srv_name}' within {ns.timeout:g} s\n")
+                return 1
+            out.write(f"response:\n{ros_repr(future.result())}\n\n")
+            out.flush()
+            if period is None:
+                break
+            session.spin_for(max(0.0, last_call + period - time.monotonic()))
+    return 0
+
+
+_VERBS = {
+    "list": (main_list, "Output a list of available services"),
+    "type": (main_type, "Output a service's type"),
+    "find": (main_find, "Output a list of available services of a given type"),
+    "call": (main_call, "Call a service"),
+}
+
+
+def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+         err: TextIO | None = None) -> int:
+    """``posekit service VERB ...``."""
+    args = list(argv)
+    if not args or args[0] not in _VERBS:
+        lines = ["usage: posekit service VERB ...", "", "verbs:"]
+        lines += [f"  {name:<6}{text}" for name, (_, text) in _VERBS.items()]
+        ok = bool(args) and args[0] in ("-h", "--help")
+        (out or sys.stdout if ok or not args else err or sys.stderr).write("\n".join(lines) + "\n")
+        return 0 if ok else 2
+    function = _VERBS[args[0]][0]
+    return function(args[1:], context=context, out=out, err=err)

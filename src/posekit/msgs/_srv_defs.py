@@ -1,0 +1,96 @@
+"""ROS 2 Jazzy service definitions (``.srv`` text) of posekit's service types.
+
+rosbags' Jazzy typestore holds message definitions only; posekit registers these in its
+private typestore (:func:`posekit.msgs.cdr.get_typestore`) as the messages rosidl derives
+from a service: ``<Srv>_Request``, ``<Srv>_Response``, ``<Srv>_Event`` (service
+introspection) and the service description ``<Srv>`` itself (fields ``request_message``,
+``response_message``, ``event_message``), so type hashes (RIHS01) of services come out as
+rosidl computes them. Comments are left out: they change neither CDR nor hashes.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["SERVICE_DEFINITIONS", "service_message_definitions", "service_typedefs"]
+
+_EMPTY = "uint8 structure_needs_at_least_one_member\n"
+
+#: ``pkg/srv/Name`` -> (request text, response text).
+SERVICE_DEFINITIONS: dict[str, tuple[str, str]] = {
+    "std_srvs/srv/Empty": ("", ""),
+    "std_srvs/srv/Trigger": ("", "bool success\nstring message\n"),
+    "std_srvs/srv/SetBool": ("bool data\n", "bool success\nstring message\n"),
+    "rcl_interfaces/srv/ListParameters": (
+        "uint64 DEPTH_RECURSIVE=0\nstring[] prefixes\nuint64 depth\n",
+        "rcl_interfaces/msg/ListParametersResult result\n",
+    ),
+    "rcl_interfaces/srv/GetParameters": (
+        "string[] names\n",
+        "rcl_interfaces/msg/ParameterValue[] values\n",
+    ),
+    "rcl_interfaces/srv/SetParameters": (
+        "rcl_interfaces/msg/Parameter[] parameters\n",
+        "rcl_interfaces/msg/SetParametersResult[] results\n",
+    ),
+    "rcl_interfaces/srv/SetParametersAtomically": (
+        "rcl_interfaces/msg/Parameter[] parameters\n",
+        "rcl_interfaces/msg/SetParametersResult result\n",
+    ),
+    "rcl_interfaces/srv/DescribeParameters": (
+        "string[] names\n",
+        "rcl_interfaces/msg/ParameterDescriptor[] descriptors\n",
+    ),
+    "rcl_interfaces/srv/GetParameterTypes": ("string[] names\n", "uint8[] types\n"),
+}
+
+
+def service_message_definitions(srv: str) -> dict[str, str]:
+    """Message texts rosidl derives from service ``srv`` (``pkg/srv/Name``), by type name."""
+    request, response = SERVICE_DEFINITIONS[srv]
+    request, response = request or _EMPTY, response or _EMPTY
+    return {
+        f"{srv}_Request": request,
+        f"{srv}_Response": response,
+        f"{srv}_Event": (
+            "service_msgs/msg/ServiceEventInfo info\n"
+            f"{srv}_Request[<=1] request\n"
+            f"{srv}_Response[<=1] response\n"
+        ),
+        srv: (
+            f"{srv}_Request request_message\n"
+            f"{srv}_Response response_message\n"
+            f"{srv}_Event event_message\n"
+        ),
+    }
+
+
+def service_typedefs(srv: str) -> dict[str, Any]:
+    """rosbags type definitions (for ``Typestore.register``) of ``srv``'s four types.
+
+    rosbags' parser files every name under ``pkg/msg/``, so the texts are parsed under
+    ``msg`` names and the service-derived names are moved to ``srv`` afterwards.
+    """
+    from rosbags.interfaces import Nodetype
+    from rosbags.typesys import get_types_from_msg
+
+    texts = service_message_definitions(srv)
+    renamed = {name.replace("/srv/", "/msg/", 1): name for name in texts}
+
+    def fix(desc: Any) -> Any:
+        kind, info = desc
+        if kind == Nodetype.NAME:
+            return (kind, renamed.get(info, info))
+        if kind in (Nodetype.ARRAY, Nodetype.SEQUENCE):
+            (subkind, subinfo), count = info
+            if subkind == Nodetype.NAME:
+                return (kind, ((subkind, renamed.get(subinfo, subinfo)), count))
+        return desc
+
+    out: dict[str, Any] = {}
+    for name, text in texts.items():
+        msg_name = name.replace("/srv/", "/msg/", 1)
+        parsed = get_types_from_msg(text.replace("/srv/", "/msg/"), msg_name)
+        consts, fields = parsed[msg_name]
+        out[name] = (consts, [(fname, fix(desc)) for fname, desc in fields])
+    return out

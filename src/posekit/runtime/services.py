@@ -1,0 +1,307 @@
+"""Service and Client: what ``Node.create_service`` / ``create_client`` return (rclpy's).
+
+A server's requests wait in its queue and run on the node's executor like subscription
+callbacks (same arrival order across the context, same callback groups):
+``callback(request, response) -> response``, where ``response`` is a fresh
+``srv_type.Response()``; a coroutine callback is awaited as a task. Returning something
+other than a ``Response`` is logged and the request gets no answer (rclpy raises in the
+executor instead).
+
+A client's ``call_async(request)`` returns a :class:`~posekit.runtime.task.Future`. The
+response is queued for the client's node's executor, which completes the future there (as
+rclpy does), so under :class:`~posekit.runtime.executors.SimulatedTimeExecutor` a request,
+its handling and its response happen in a reproducible order. ``call(request)`` blocks:
+
+* in a thread that is not spinning the node's executor, it waits for another thread (or
+  the transport) to complete the future; when the node has no executor at all, the
+  response completes the future directly, so a plain script never hangs;
+* inside a callback of the executor (where rclpy's single-threaded executor deadlocks),
+  it keeps running that executor's other ready callbacks until the response arrives,
+  so a server on another node of the same executor is served. A server in the caller's own
+  mutually exclusive callback group cannot run meanwhile: pass ``timeout_sec``.
+"""
+
+from __future__ import annotations
+
+import inspect
+import threading
+import time
+import traceback
+from collections import deque
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from posekit.runtime.callback_groups import CallbackGroup
+from posekit.runtime.qos import QoSProfile
+from posekit.runtime.task import Future
+from posekit.runtime.transport import (
+    ResponseSink,
+    ServiceClientEndpoint,
+    ServiceServerEndpoint,
+)
+
+if TYPE_CHECKING:
+    from posekit.runtime.executors import Executor
+    from posekit.runtime.node import Node
+
+__all__ = ["Client", "Service"]
+
+_spinning = threading.local()
+
+
+def current_executor() -> Executor | None:
+    """The executor whose callback the calling thread is running, if any."""
+    executor: Executor | None = getattr(_spinning, "executor", None)
+    return executor
+
+
+def set_current_executor(executor: Executor | None) -> Executor | None:
+    """Record that this thread now runs ``executor``'s callbacks; returns the previous."""
+    previous = getattr(_spinning, "executor", None)
+    _spinning.executor = executor
+    return previous
+
+
+class _Queued:
+    """The part of a Service/Client the executor sees: a queue drained through ``callback``
+    in the node's callback group, like a Subscription's."""
+
+    def __init__(self, node: Node, name: str, callback_group: CallbackGroup,
+                 run: Callable[[Any], None], what: str) -> None:
+        self._node = node
+        self.topic_name = name
+        self.callback_group = callback_group
+        self.callback = run
+        self.callback_description = what
+        self.queue: deque[tuple[int, Any]] = deque()
+        self.destroyed = False
+        self._seq = node.context.seq
+
+    def enqueue(self, payload: Any) -> None:
+        if self.destroyed:
+            return
+        seq = next(self._seq)
+        self.queue.append((seq, payload))
+        executor = self._node._executor
+        if executor is not None:
+            executor._message_ready(seq, self)  # type: ignore[arg-type]
+
+
+class Service:
+    """A service server (rclpy.service.Service)."""
+
+    def __init__(
+        self,
+        node: Node,
+        srv_type: type,
+        srv_name: str,
+        callback: Callable[[Any, Any], Any],
+        qos: QoSProfile,
+        callback_group: CallbackGroup,
+    ) -> None:
+        self._node = node
+        self.srv_type: Any = srv_type
+        self._srv_name = srv_name
+        self.callback = callback
+        self.qos_profile = qos
+        self.callback_group = callback_group
+        self._queued = _Queued(
+            node, srv_name, callback_group, self._handle,
+            f"service callback of '{srv_name}'",
+        )
+        self._endpoint: ServiceServerEndpoint | None = None
+
+    def _attach(self, endpoint: ServiceServerEndpoint) -> None:
+        self._endpoint = endpoint
+
+    def _receive(self, request: Any, respond: ResponseSink) -> None:
+        """Transport sink: queue the request for the executor."""
+        self._queued.enqueue((request, respond))
+
+    def _handle(self, payload: tuple[Any, ResponseSink]) -> None:
+        request, respond = payload
+        result = self.callback(request, self.srv_type.Response())
+        if inspect.iscoroutine(result):
+            executor = self._node._executor
+            if executor is None:  # cannot happen from the executor; be safe
+                result.close()
+                return
+            task = executor.create_task(result)
+            task.add_done_callback(lambda f: self._finish(f, respond))
+            return
+        self._send(result, respond)
+
+    def _finish(self, future: Future, respond: ResponseSink) -> None:
+        exc = future.exception()
+        if exc is not None:
+            tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
+            self._node.get_logger().error(
+                f"Exception in service callback of '{self._srv_name}':\n{tb.rstrip()}"
+            )
+            return
+        self._send(future.result(), respond)
+
+    def _send(self, response: Any, respond: ResponseSink) -> None:
+        if not isinstance(response, self.srv_type.Response):
+            self._node.get_logger().error(
+                f"service callback of '{self._srv_name}' returned {type(response).__name__}, "
+                f"expected {self.srv_type.Response.__name__}; the request gets no response"
+            )
+            return
+        respond(response)
+
+    @property
+    def service_name(self) -> str:
+        """Fully qualified (expanded, remapped) service name."""
+        return self._srv_name
+
+    @property
+    def srv_name(self) -> str:
+        """Same as service_name."""
+        return self._srv_name
+
+    def destroy(self) -> bool:
+        """Same as ``node.destroy_service(self)``."""
+        return self._node.destroy_service(self)
+
+    def _destroy(self) -> None:
+        self._queued.destroyed = True
+        self._queued.queue.clear()
+        if self._endpoint is not None:
+            self._endpoint.destroy()
+
+    def __repr__(self) -> str:
+        return f"Service({self.srv_type.__name__}, '{self._srv_name}')"
+
+
+class Client:
+    """A service client (rclpy.client.Client)."""
+
+    def __init__(
+        self,
+        node: Node,
+        srv_type: type,
+        srv_name: str,
+        qos: QoSProfile,
+        callback_group: CallbackGroup,
+        endpoint: ServiceClientEndpoint,
+    ) -> None:
+        self._node = node
+        self.srv_type: Any = srv_type
+        self._srv_name = srv_name
+        self.qos_profile = qos
+        self.callback_group = callback_group
+        self._endpoint = endpoint
+        self._lock = threading.Lock()
+        self._pending: dict[int, Future] = {}
+        self._next_id = 1
+        self._queued = _Queued(
+            node, srv_name, callback_group, self._complete,
+            f"client response of '{srv_name}'",
+        )
+        self._destroyed = False
+
+    @property
+    def service_name(self) -> str:
+        """Fully qualified (expanded, remapped) service name."""
+        return self._srv_name
+
+    @property
+    def srv_name(self) -> str:
+        """Same as service_name."""
+        return self._srv_name
+
+    def _send(self, request: Any, direct: bool) -> Future:
+        if self._destroyed:
+            raise RuntimeError(f"client of '{self._srv_name}' has been destroyed")
+        if not isinstance(request, self.srv_type.Request):
+            raise TypeError(
+                f"Request must be instance of '{self.srv_type.Request.__name__}', "
+                f"got '{type(request).__name__}'"
+            )
+        future = Future()
+        with self._lock:
+            request_id = self._next_id
+            self._next_id += 1
+            self._pending[request_id] = future
+
+        def on_response(response: Any) -> None:
+            if direct or self._node._executor is None:
+                self._complete((request_id, response))
+            else:
+                self._queued.enqueue((request_id, response))
+
+        self._endpoint.send_request(request, on_response)
+        return future
+
+    def _complete(self, payload: tuple[int, Any]) -> None:
+        request_id, response = payload
+        with self._lock:
+            future = self._pending.pop(request_id, None)
+        if future is not None and not future.done():
+            future.set_result(response)
+
+    def call_async(self, request: Any) -> Future:
+        """Send ``request``; the Future completes with the response (on the executor)."""
+        return self._send(request, direct=False)
+
+    def call(self, request: Any, timeout_sec: float | None = None) -> Any:
+        """Send ``request`` and block until the response (see the module docstring).
+
+        Returns the response, or None after ``timeout_sec`` seconds without one (the request
+        is then forgotten, as rclpy's ``remove_pending_request``).
+        """
+        executor = current_executor()
+        node_executor = self._node._executor
+        if executor is not None and executor is node_executor:
+            future = self._send(request, direct=True)
+            executor._serve_until(future, timeout_sec)
+        else:
+            future = self._send(request, direct=True)
+            future.wait(timeout_sec)
+        if not future.done():
+            self.remove_pending_request(future)
+            return None
+        return future.result()
+
+    def remove_pending_request(self, future: Future) -> None:
+        """Forget a pending request; its response, if it comes, is dropped."""
+        with self._lock:
+            for request_id, pending in list(self._pending.items()):
+                if pending is future:
+                    del self._pending[request_id]
+
+    def service_is_ready(self) -> bool:
+        """Whether a server of this service is available now."""
+        return not self._destroyed and self._endpoint.server_count > 0
+
+    def wait_for_service(self, timeout_sec: float | None = None) -> bool:
+        """Wait (wall time) until a server is available; False after ``timeout_sec``."""
+        deadline = None if timeout_sec is None or timeout_sec < 0 else (
+            time.monotonic() + timeout_sec
+        )
+        delay = 0.001
+        while not self.service_is_ready():
+            if not self._node.context.ok() or self._destroyed:
+                return False
+            if deadline is not None:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return False
+                delay = min(delay, remaining)
+            time.sleep(delay)
+            delay = min(delay * 2, 0.05)
+        return True
+
+    def destroy(self) -> bool:
+        """Same as ``node.destroy_client(self)``."""
+        return self._node.destroy_client(self)
+
+    def _destroy(self) -> None:
+        self._destroyed = True
+        self._queued.destroyed = True
+        self._queued.queue.clear()
+        self._endpoint.destroy()
+
+    def __repr__(self) -> str:
+        return f"Client({self.srv_type.__name__}, '{self._srv_name}')"

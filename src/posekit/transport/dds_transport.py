@@ -1,0 +1,747 @@
+"""The runtime's :class:`~posekit.runtime.transport.Transport` over DDS (Eclipse Cyclone DDS),
+interoperable with real ROS 2 nodes on rmw_fastrtps or rmw_cyclonedds.
+
+Select it with ``POSEKIT_TRANSPORT=dds``, ``init(transport="dds")``,
+``Node(..., transport="dds")`` or ``--transport dds`` on the command-line tools. One DDS
+participant per context (as rmw does); its nodes are announced on ``ros_discovery_info``.
+The ROS 2 mapping (topic and type names, USER_DATA, discovery settings, graph messages) is
+in :mod:`posekit.transport.dds_wire`; the Cyclone topic types in
+:mod:`posekit.transport.dds_types`.
+
+QoS, policy by policy as rmw_cyclonedds sets it: history (KEEP_LAST depth / KEEP_ALL),
+reliability (RELIABLE / BEST_EFFORT), durability (VOLATILE / TRANSIENT_LOCAL, with a
+durability service keeping the last ``depth`` samples for late joiners), liveliness
+AUTOMATIC with an infinite lease, writer auto-dispose off, XCDR1 data representation, and
+``typehash=RIHS01_...;`` in each endpoint's USER_DATA. One difference: a reliable writer
+blocks at most 100 ms when its readers fall behind (rmw waits forever) and then drops that
+sample with one logged warning, so a stalled peer never blocks a posekit node.
+
+Rejections are logged once with the reason and never stop the node: a sample that does not
+decode, a QoS incompatibility (DDS refuses the pair, like ROS 2's "incompatible QoS"
+warning) and another endpoint on the same topic with a different type.
+
+Environment: ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE`` (default ``LOCALHOST``),
+``ROS_STATIC_PEERS``, ``CYCLONEDDS_URI`` (appended to posekit's configuration).
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from cyclonedds._clayer import ddspy_take, ddspy_write
+from cyclonedds.builtin import (
+    BuiltinDataReader,
+    BuiltinTopicDcpsParticipant,
+    BuiltinTopicDcpsPublication,
+    BuiltinTopicDcpsSubscription,
+)
+from cyclonedds.core import (
+    DDSStatus,
+    GuardCondition,
+    InstanceState,
+    ReadCondition,
+    SampleState,
+    ViewState,
+    WaitSet,
+)
+from cyclonedds.domain import Domain, DomainParticipant
+from cyclonedds.pub import DataWriter
+from cyclonedds.qos import Policy, Qos
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+from cyclonedds.util import duration
+
+from posekit.msgs.cdr import from_cdr, to_cdr
+from posekit.msgs.errors import CdrError
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from posekit.runtime.transport import (
+    EndpointInfo,
+    MessageSink,
+    PublisherEndpoint,
+    SourcedMessageSink,
+    SubscriptionEndpoint,
+    TopicTypeMismatchError,
+    Transport,
+)
+from posekit.transport.dds_types import idl_struct
+from posekit.transport.dds_wire import (
+    DISCOVERY_TOPIC,
+    DISCOVERY_TYPE,
+    DdsEndpoint,
+    DiscoveryOptions,
+    NodeEntities,
+    ParticipantEntities,
+    cyclone_config,
+    dds_topic_name,
+    dds_type_name,
+    decode_participant_entities,
+    encode_participant_entities,
+    parse_user_data,
+    ros_topic_name,
+    ros_type_name,
+    user_data_type_hash,
+)
+from posekit.transport.zenoh_wire import EntityKind, WireQoS, type_hash
+
+__all__ = ["DdsTransport", "configure_domain", "endpoint_qos", "wire_qos_of"]
+
+_log = logging.getLogger("posekit.transport.dds")
+_ANY = SampleState.Any | ViewState.Any | InstanceState.Any
+_ALIVE = int(InstanceState.Alive)
+_MAX_BLOCKING = duration(milliseconds=100)
+_INFINITE = (9223372036, 854775807)
+_TAKE_BATCH = 64
+# Cyclone's dds_qos_policy_id_t, for naming the policy in incompatibility reports.
+_POLICY_NAMES = {
+    1: "USER_DATA", 2: "DURABILITY", 3: "PRESENTATION", 4: "DEADLINE", 5: "LATENCY_BUDGET",
+    6: "OWNERSHIP", 7: "OWNERSHIP_STRENGTH", 8: "LIVELINESS", 9: "TIME_BASED_FILTER",
+    10: "PARTITION", 11: "RELIABILITY", 12: "DESTINATION_ORDER", 13: "HISTORY",
+    14: "RESOURCE_LIMITS", 16: "WRITER_DATA_LIFECYCLE", 21: "LIFESPAN", 22: "DURABILITY_SERVICE",
+    24: "TYPE_CONSISTENCY_ENFORCEMENT", 25: "DATA_REPRESENTATION",
+}
+
+# Cyclone holds one configuration per domain id and process; posekit creates each once.
+_domains_lock = threading.Lock()
+_domains: dict[int, tuple[str, Domain]] = {}
+
+
+def configure_domain(options: DiscoveryOptions) -> None:
+    """Create the process's Cyclone domain for ``options.domain_id`` with posekit's discovery
+    configuration (once per process and domain; later differing settings are logged)."""
+    config = cyclone_config(options)
+    with _domains_lock:
+        known = _domains.get(options.domain_id)
+        if known is None:
+            _domains[options.domain_id] = (config, Domain(options.domain_id, config))
+        elif known[0] != config:
+            _log.warning(
+                "DDS domain %d is already configured in this process; keeping the first "
+                "discovery settings", options.domain_id,
+            )
+
+
+def _ros_type(info: EndpointInfo) -> str:
+    name = getattr(info.msg_type, "__msgtype__", None)
+    if not isinstance(name, str):
+        raise TypeError(
+            f"the dds transport carries ROS messages only; {info.msg_type!r} on "
+            f"'{info.topic}' has no __msgtype__"
+        )
+    return name
+
+
+def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool) -> Qos:
+    """Cyclone QoS for a ROS profile, policy by policy as rmw_cyclonedds maps it."""
+    keep_all = qos.history == HistoryPolicy.KEEP_ALL
+    depth = max(1, qos.depth)
+    history = Policy.History.KeepAll if keep_all else Policy.History.KeepLast(depth)
+    policies: list[Any] = [
+        history,
+        Policy.Reliability.BestEffort
+        if qos.resolved_reliability == ReliabilityPolicy.BEST_EFFORT
+        else Policy.Reliability.Reliable(_MAX_BLOCKING),
+        Policy.Liveliness.Automatic(lease_duration=duration(infinite=True)),
+        Policy.DataRepresentation(use_cdrv0_representation=True),
+        Policy.Userdata(user_data),
+    ]
+    if qos.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL:
+        policies.append(Policy.Durability.TransientLocal)
+        if writer:
+            policies.append(Policy.DurabilityService(
+                cleanup_delay=0, history=history, max_samples=-1, max_instances=-1,
+                max_samples_per_instance=-1,
+            ))
+    else:
+        policies.append(Policy.Durability.Volatile)
+    if writer:
+        policies.append(Policy.WriterDataLifecycle(autodispose=False))
+    return Qos(*policies)
+
+
+def wire_qos_of(qos: Qos) -> WireQoS:
+    """An announced endpoint's DDS QoS as rmw's integers (what ``topic info -v`` prints)."""
+
+    def get(policy: Any) -> Any:
+        try:
+            return qos[policy]
+        except (KeyError, TypeError):
+            return None
+
+    rel = get(Policy.Reliability)
+    dur = get(Policy.Durability)
+    live = get(Policy.Liveliness)
+    lease = getattr(live, "lease_duration", None)
+    # RTPS discovery does not carry HISTORY: rmw reports it UNKNOWN (3), depth 0.
+    return WireQoS(
+        reliability=2 if rel is not None and "BestEffort" in repr(rel) else 1,
+        durability=1 if dur is not None and "TransientLocal" in repr(dur) else 2,
+        history=3,
+        depth=0,
+        liveliness=3 if live is not None and "ManualByTopic" in repr(live) else 1,
+        liveliness_lease=_duration_pair(lease),
+        deadline=_duration_pair(getattr(get(Policy.Deadline), "deadline", None)),
+        lifespan=_duration_pair(getattr(get(Policy.Lifespan), "lifespan", None)),
+    )
+
+
+def _duration_pair(value: int | None) -> tuple[int, int]:
+    if value is None or value >= 2**63 - 1 or value < 0:
+        return _INFINITE
+    return (value // 1_000_000_000, value % 1_000_000_000)
+
+
+# ---------------------------------------------------------------------------------------
+# Endpoints
+
+
+class _Publisher(PublisherEndpoint):
+    def __init__(self, owner: DdsTransport, info: EndpointInfo, ros_type: str,
+                 writer: DataWriter[Any]) -> None:
+        self._owner = owner
+        self.info = info
+        self.ros_type = ros_type
+        self.writer = writer
+        self.gid: bytes = writer.guid.bytes
+        self._ref = writer._ref
+        self._type = info.msg_type
+        self._warned_timeout = False
+        self.alive = True
+
+    def publish(self, msg: Any) -> None:
+        if not self.alive:
+            raise RuntimeError(f"publisher on '{self.info.topic}' has been destroyed")
+        if type(msg) is not self._type and not isinstance(msg, self._type):
+            raise TypeError(
+                f"publisher on '{self.info.topic}' expects {self._type.__name__}, "
+                f"got {type(msg).__name__}"
+            )
+        self.publish_serialized(to_cdr(msg, self.ros_type))
+
+    def publish_serialized(self, data: bytes) -> None:
+        """Write an already serialized CDR payload (encapsulation header included)."""
+        ret = ddspy_write(self._ref, data)
+        if ret < 0:
+            if ret == -10 and not self._warned_timeout:  # DDS_RETCODE_TIMEOUT
+                self._warned_timeout = True
+                self.info.logger.warning(
+                    f"publishing on '{self.info.topic}': a reliable subscription is not "
+                    "keeping up; samples are dropped after 100 ms (logged once)"
+                )
+            elif ret != -10:
+                raise RuntimeError(f"DDS write on '{self.info.topic}' failed (code {ret})")
+
+    def destroy(self) -> None:
+        if self.alive:
+            self.alive = False
+            self._owner._forget(self, self.writer)
+
+    @property
+    def subscription_count(self) -> int:
+        try:
+            return len(self.writer.get_matched_subscriptions())
+        except Exception:  # deleted underneath (context shut down)
+            return 0
+
+
+class _Subscription(SubscriptionEndpoint):
+    def __init__(self, owner: DdsTransport, info: EndpointInfo, ros_type: str,
+                 sink: MessageSink, sourced: SourcedMessageSink | None = None) -> None:
+        self._owner = owner
+        self.info = info
+        self.ros_type = ros_type
+        self._sink = sink
+        self._sourced = sourced
+        self.reader: DataReader[Any] | None = None
+        self.gid = b""
+        self.alive = True
+        self.received = 0
+        self.dropped = 0
+        self._warned: set[str] = set()
+
+    def warn_once(self, tag: str, text: str) -> None:
+        if tag in self._warned:
+            return
+        self._warned.add(tag)
+        try:
+            self.info.logger.warning(text)
+        except Exception:  # a broken logger must not kill Cyclone's thread
+            _log.exception("warning callback failed")
+
+    def start(self, participant: DomainParticipant, reader: DataReader[Any]) -> None:
+        """Deliver on a thread of our own, woken by Cyclone (no Cyclone listeners: those run
+        Python on Cyclone's threads, which deadlocks against a write holding the GIL)."""
+        self.reader = reader
+        self.gid = reader.guid.bytes
+        reader.set_status_mask(DDSStatus.DataAvailable | DDSStatus.RequestedIncompatibleQos)
+        self._waitset = WaitSet(participant)
+        self._stop = GuardCondition(participant)
+        self._waitset.attach(reader)
+        self._waitset.attach(self._stop)
+        self._thread = threading.Thread(
+            target=self._run, name=f"posekit-dds {self.info.topic}", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        reader = self.reader
+        assert reader is not None
+        ref = reader._ref
+        while self.alive:
+            try:
+                self._waitset.wait(duration(seconds=1))
+                if not self.alive:
+                    return
+                if reader.take_status(DDSStatus.RequestedIncompatibleQos):
+                    self._report_incompatible(reader)
+                self._drain(ref)
+            except Exception as exc:  # keep delivering whatever arrives
+                if not self.alive:
+                    return
+                self.warn_once("internal", f"subscription on '{self.info.topic}': "
+                                           f"unexpected {type(exc).__name__}: {exc}")
+                time.sleep(0.05)
+
+    def _drain(self, ref: int) -> None:
+        while self.alive:
+            batch = ddspy_take(ref, _ANY, _TAKE_BATCH)
+            if isinstance(batch, int) or not batch:
+                return
+            for data, sample_info in batch:
+                if sample_info.valid_data:
+                    self._deliver(data, sample_info)
+            if len(batch) < _TAKE_BATCH:
+                return
+
+    def _deliver(self, data: bytes, sample_info: Any = None) -> None:
+        try:
+            msg = from_cdr(data, self.info.msg_type)
+        except CdrError as exc:
+            self.dropped += 1
+            self.warn_once("cdr", f"dropping a sample on '{self.info.topic}' that does not "
+                                  f"decode as {self.ros_type}: {exc} (logged once)")
+            return
+        self.received += 1
+        if not self.alive:
+            return
+        if self._sourced is not None:
+            # the writer's instance handle: unique per publisher as seen from this reader
+            handle = getattr(sample_info, "publication_handle", None)
+            self._sourced(msg, None if handle is None else int(handle).to_bytes(8, "little"))
+        else:
+            self._sink(msg)
+
+    def _report_incompatible(self, reader: DataReader[Any]) -> None:
+        status = reader.get_requested_incompatible_qos_status()  # type: ignore[no-untyped-call]
+        policy = _POLICY_NAMES.get(int(getattr(status, "last_policy_id", 0)), "UNKNOWN")
+        self.warn_once(
+            f"qos-{policy}",
+            f"New publisher discovered on topic '{self.info.topic}', offering incompatible "
+            f"QoS. No messages will be received from it. Last incompatible policy: {policy}",
+        )
+
+    def stop(self) -> None:
+        """Stop the delivery thread (the reader itself is deleted by the transport)."""
+        self.alive = False
+        stop = getattr(self, "_stop", None)
+        if stop is not None:
+            stop.set(True)
+            if self._thread is not threading.current_thread():
+                self._thread.join(timeout=2.0)
+
+    def destroy(self) -> None:
+        if self.alive:
+            self.stop()
+            if self.reader is not None:
+                self._owner._forget(self, self.reader)
+
+    @property
+    def publisher_count(self) -> int:
+        if self.reader is None:
+            return 0
+        try:
+            return len(self.reader.get_matched_publications())
+        except Exception:
+            return 0
+
+
+@dataclass(slots=True)
+class _NodeRef:
+    node: NodeEntities
+    refs: int = 0
+
+
+# ---------------------------------------------------------------------------------------
+# The transport
+
+
+class DdsTransport(Transport):
+    """Nodes' endpoints as DDS readers and writers of one Cyclone DDS participant."""
+
+    name = "dds"
+    crosses_processes = True
+
+    def __init__(self, options: DiscoveryOptions | None = None) -> None:
+        self.options = options or DiscoveryOptions.from_env()
+        configure_domain(self.options)
+        self.domain_id = self.options.domain_id
+        self.participant = DomainParticipant(
+            self.domain_id, qos=Qos(Policy.Userdata(b"enclave=/;"))
+        )
+        self.gid: bytes = self.participant.guid.bytes
+        self._lock = threading.RLock()
+        self._closed = False
+        self._topics: dict[str, tuple[str, Topic[Any]]] = {}  # dds topic -> (ros type, topic)
+        self._nodes: dict[tuple[str, str], _NodeRef] = {}
+        self._publishers: list[_Publisher] = []
+        self._subscriptions: list[_Subscription] = []
+        self._warned_types: set[tuple[str, str, str]] = set()
+        # graph state
+        self._changed = threading.Condition(self._lock)
+        self._generation = 0
+        self._started = self._last_change = time.monotonic()
+        self._remote: dict[bytes, ParticipantEntities] = {}
+        self._participants: set[bytes] = set()
+        self._endpoints: dict[bytes, tuple[EntityKind, Any]] = {}
+        # ros_discovery_info: writer keeps the latest, reader everything (rmw's QoS)
+        disc_topic = self._topic(DISCOVERY_TOPIC, DISCOVERY_TYPE)
+        disc_hash = user_data_type_hash(DISCOVERY_TYPE, type_hash(DISCOVERY_TYPE))
+        self._disc_writer = DataWriter(self.participant, disc_topic, endpoint_qos(
+            QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL), disc_hash,
+            writer=True))
+        self._disc_reader = DataReader(self.participant, disc_topic, Qos(
+            Policy.History.KeepAll, Policy.Reliability.Reliable(_MAX_BLOCKING),
+            Policy.Durability.TransientLocal, Policy.IgnoreLocal.Participant,
+            Policy.DataRepresentation(use_cdrv0_representation=True),
+            Policy.Userdata(disc_hash)))
+        self._builtin = {
+            "participant": BuiltinDataReader(self.participant, BuiltinTopicDcpsParticipant),
+            "publication": BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication),
+            "subscription": BuiltinDataReader(self.participant, BuiltinTopicDcpsSubscription),
+        }
+        self._waitset = WaitSet(self.participant)
+        self._wake = GuardCondition(self.participant)
+        self._waitset.attach(self._wake)
+        self._conditions = [
+            ReadCondition(r, SampleState.NotRead | ViewState.Any | InstanceState.Any)
+            for r in (*self._builtin.values(), self._disc_reader)
+        ]
+        for cond in self._conditions:
+            self._waitset.attach(cond)
+        self._publish_graph()
+        self._thread = threading.Thread(target=self._graph_loop, name="posekit-dds-graph",
+                                        daemon=True)
+        self._thread.start()
+
+    # -- topics and nodes ------------------------------------------------------------
+    def _topic(self, dds_topic: str, ros_type: str) -> Topic[Any]:
+        with self._lock:
+            known = self._topics.get(dds_topic)
+            if known is not None:
+                if known[0] != ros_type:
+                    raise TopicTypeMismatchError(
+                        f"topic '{ros_topic_name(dds_topic) or dds_topic}' already carries "
+                        f"{known[0]} in this process; cannot add an endpoint of {ros_type}"
+                    )
+                return known[1]
+            topic: Topic[Any] = Topic(self.participant, dds_topic, idl_struct(ros_type))
+            self._topics[dds_topic] = (ros_type, topic)
+            return topic
+
+    def declare_node(self, name: str, namespace: str = "/") -> NodeEntities:
+        """Announce a node on ``ros_discovery_info`` (reference counted with its endpoints)."""
+        return self._acquire_node(namespace, name)
+
+    def undeclare_node(self, name: str, namespace: str = "/") -> None:
+        """Balance one :meth:`declare_node` call; unknown nodes: no-op."""
+        self._release_node(namespace, name)
+
+    def _acquire_node(self, namespace: str, name: str) -> NodeEntities:
+        key = (namespace or "/", name)
+        with self._lock:
+            entry = self._nodes.get(key)
+            created = entry is None
+            if entry is None:
+                entry = self._nodes[key] = _NodeRef(NodeEntities(key[0], name))
+            entry.refs += 1
+        if created:
+            self._publish_graph()
+        return entry.node
+
+    def _release_node(self, namespace: str, name: str) -> None:
+        key = (namespace or "/", name)
+        with self._lock:
+            entry = self._nodes.get(key)
+            if entry is None:
+                return
+            entry.refs -= 1
+            if entry.refs > 0:
+                return
+            del self._nodes[key]
+        self._publish_graph()
+
+    def _publish_graph(self) -> None:
+        with self._lock:
+            if self._closed:
+                return
+            info = ParticipantEntities(self.gid, [ref.node for ref in self._nodes.values()])
+            data = encode_participant_entities(info)
+            self._generation += 1
+            self._last_change = time.monotonic()
+            self._changed.notify_all()
+        ddspy_write(self._disc_writer._ref, data)
+
+    # -- endpoints -------------------------------------------------------------------
+    def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        ros_type = _ros_type(info)
+        dds_topic = dds_topic_name(info.topic)
+        topic = self._topic(dds_topic, ros_type)
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        try:
+            writer = DataWriter(self.participant, topic, endpoint_qos(
+                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=True))
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        pub = _Publisher(self, info, ros_type, writer)
+        with self._lock:
+            node.writer_gids.append(pub.gid)
+            self._publishers.append(pub)
+        self._publish_graph()
+        self._check_types(dds_topic, ros_type, info)
+        return pub
+
+    def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        return self._subscribe(info, sink, None)
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """:meth:`subscribe` whose sink also gets an id of the sending publisher (8 bytes)."""
+        return self._subscribe(info, lambda msg: sink(msg, None), sink)
+
+    def _subscribe(self, info: EndpointInfo, sink: MessageSink,
+                   sourced: SourcedMessageSink | None) -> SubscriptionEndpoint:
+        ros_type = _ros_type(info)
+        dds_topic = dds_topic_name(info.topic)
+        topic = self._topic(dds_topic, ros_type)
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        sub = _Subscription(self, info, ros_type, sink, sourced)
+        try:
+            reader = DataReader(self.participant, topic, endpoint_qos(
+                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=False))
+            sub.start(self.participant, reader)
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        with self._lock:
+            node.reader_gids.append(sub.gid)
+            self._subscriptions.append(sub)
+        self._publish_graph()
+        self._check_types(dds_topic, ros_type, info)
+        return sub
+
+    def _forget(self, endpoint: _Publisher | _Subscription, entity: Any) -> None:
+        info = endpoint.info
+        with self._lock:
+            ref = self._nodes.get((info.node_namespace or "/", info.node_name))
+            if ref is not None:
+                gids = ref.node.writer_gids if isinstance(endpoint, _Publisher) \
+                    else ref.node.reader_gids
+                if endpoint.gid in gids:
+                    gids.remove(endpoint.gid)
+            if isinstance(endpoint, _Publisher) and endpoint in self._publishers:
+                self._publishers.remove(endpoint)
+            if isinstance(endpoint, _Subscription) and endpoint in self._subscriptions:
+                self._subscriptions.remove(endpoint)
+            closed = self._closed
+        if not closed:
+            _delete(entity)
+        self._release_node(info.node_namespace, info.node_name)
+        self._publish_graph()
+
+    # -- graph -----------------------------------------------------------------------
+    def _graph_loop(self) -> None:
+        while not self._closed:
+            try:
+                self._waitset.wait(duration(seconds=1))
+                if self._closed:
+                    return
+                self._refresh()
+            except Exception as exc:  # keep the graph alive whatever a peer announces
+                if self._closed:
+                    return
+                _log.warning("DDS graph update failed: %s: %s", type(exc).__name__, exc)
+                time.sleep(0.1)
+
+    def _refresh(self) -> None:
+        changed = False
+        participants = self._builtin["participant"].read(N=100000)
+        alive_parts = {
+            s.key.bytes for s in participants
+            if int(s.sample_info.instance_state) == _ALIVE
+        }
+        endpoints: dict[bytes, tuple[EntityKind, Any]] = {}
+        for kind, reader in ((EntityKind.PUBLISHER, self._builtin["publication"]),
+                             (EntityKind.SUBSCRIPTION, self._builtin["subscription"])):
+            for s in reader.read(N=100000):
+                if int(s.sample_info.instance_state) == _ALIVE:
+                    endpoints[s.key.bytes] = (kind, s)
+        announced: list[ParticipantEntities] = []
+        for data, sample_info in ddspy_take(self._disc_reader._ref, _ANY, 100000) or []:
+            if not sample_info.valid_data:
+                continue
+            try:
+                announced.append(decode_participant_entities(data))
+            except CdrError as exc:
+                _log.warning("ignoring an undecodable ros_discovery_info sample: %s", exc)
+        with self._lock:
+            for part in announced:
+                if self._remote.get(part.gid) != part:
+                    self._remote[part.gid] = part
+                    changed = True
+            for gid in [g for g in self._remote if g not in alive_parts]:
+                del self._remote[gid]
+                changed = True
+            if alive_parts != self._participants or endpoints.keys() != self._endpoints.keys():
+                changed = True
+            self._participants = alive_parts
+            self._endpoints = endpoints
+            if changed:
+                self._generation += 1
+                self._last_change = time.monotonic()
+                self._changed.notify_all()
+            endpoints_here: list[_Publisher | _Subscription] = [
+                *self._publishers, *self._subscriptions]
+            local = [(dds_topic_name(p.info.topic), p.ros_type, p.info) for p in endpoints_here]
+        if changed:
+            for dds_topic, ros_type, info in local:
+                self._check_types(dds_topic, ros_type, info)
+
+    def _check_types(self, dds_topic: str, ros_type: str, info: EndpointInfo) -> None:
+        wanted = dds_type_name(ros_type)
+        with self._lock:
+            others = {s.type_name for _kind, s in self._endpoints.values()
+                      if s.topic_name == dds_topic and s.type_name != wanted}
+        for other in sorted(others):
+            tag = (dds_topic, wanted, other)
+            if tag in self._warned_types:
+                continue
+            self._warned_types.add(tag)
+            try:
+                shown = ros_type_name(other)
+            except ValueError:
+                shown = other
+            info.logger.warning(
+                f"topic '{info.topic}' also has endpoints of type {shown}, this one uses "
+                f"{ros_type}: DDS does not connect different types, no messages are exchanged "
+                "between them"
+            )
+
+    def _node_of(self) -> dict[bytes, tuple[str, str]]:
+        owners: dict[bytes, tuple[str, str]] = {}
+        for part in (*self._remote.values(), self._local_entities()):
+            for node in part.nodes:
+                for gid in (*node.reader_gids, *node.writer_gids):
+                    owners[gid] = (node.namespace, node.name)
+        return owners
+
+    def _local_entities(self) -> ParticipantEntities:
+        return ParticipantEntities(self.gid, [ref.node for ref in self._nodes.values()])
+
+    def _graph_endpoints(self, topic: str | None = None,
+                         kind: EntityKind | None = None) -> list[DdsEndpoint]:
+        with self._lock:
+            owners = self._node_of()
+            out: list[DdsEndpoint] = []
+            for gid, (k, s) in self._endpoints.items():
+                if kind is not None and k is not kind:
+                    continue
+                ros_topic = ros_topic_name(s.topic_name)
+                if ros_topic is None or (topic is not None and ros_topic != topic):
+                    continue
+                try:
+                    ros_type = ros_type_name(s.type_name)
+                except ValueError:
+                    continue
+                try:
+                    user = parse_user_data(bytes(s.qos[Policy.Userdata].data))
+                except (KeyError, TypeError, AttributeError):
+                    user = {}
+                node = owners.get(gid)
+                extra = {"namespace": node[0], "node_name": node[1]} if node else {}
+                out.append(DdsEndpoint(
+                    kind=k, gid=gid, participant_gid=s.participant_key.bytes, topic=ros_topic,
+                    ros_type=ros_type, type_hash=user.get("typehash"),
+                    qos=wire_qos_of(s.qos), **extra))
+        return out
+
+    def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        topics: dict[str, set[str]] = {}
+        for ep in self._graph_endpoints():
+            topics.setdefault(ep.topic, set()).add(ep.ros_type)
+        return [(name, sorted(types)) for name, types in sorted(topics.items())]
+
+    def count_publishers(self, topic: str) -> int:
+        return len(self._graph_endpoints(topic, EntityKind.PUBLISHER))
+
+    def count_subscribers(self, topic: str) -> int:
+        return len(self._graph_endpoints(topic, EntityKind.SUBSCRIPTION))
+
+    def get_publishers_info_by_topic(self, topic: str) -> list[DdsEndpoint]:
+        """Every publisher on ``topic`` (node, type, type hash, QoS, GID)."""
+        return self._graph_endpoints(topic, EntityKind.PUBLISHER)
+
+    def get_subscriptions_info_by_topic(self, topic: str) -> list[DdsEndpoint]:
+        """Every subscription on ``topic``."""
+        return self._graph_endpoints(topic, EntityKind.SUBSCRIPTION)
+
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        """(name, namespace) of every node on the graph, this process's included."""
+        with self._lock:
+            parts = [*(p for g, p in self._remote.items() if g != self.gid),
+                     self._local_entities()]
+            return sorted((n.name, n.namespace) for p in parts for n in p.nodes)
+
+    def get_node_names(self) -> list[str]:
+        """Fully qualified names of every node on the graph (duplicates kept), sorted."""
+        return sorted(f"{ns.rstrip('/')}/{name}"
+                      for name, ns in self.get_node_names_and_namespaces())
+
+    def sync_graph(self, timeout: float = 2.0) -> int:
+        """Wait (at most ``timeout`` s) until discovery has settled: every discovered
+        participant has announced its nodes and nothing changed for 0.3 s, and at least
+        0.6 s have passed since this participant joined. Returns the graph generation."""
+        deadline = time.monotonic() + max(0.0, timeout)
+        self._wake.set(True)
+        with self._lock:
+            while True:
+                now = time.monotonic()
+                complete = all(g in self._remote for g in self._participants if g != self.gid)
+                settled = now - self._last_change >= 0.3 and now - self._started >= 0.6
+                if (complete and settled) or now >= deadline:
+                    return self._generation
+                self._changed.wait(min(0.1, max(0.0, deadline - now)))
+
+    def close(self) -> None:
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            subs, self._subscriptions = self._subscriptions, []
+            self._publishers = []
+        for sub in subs:
+            sub.stop()
+        self._wake.set(True)
+        self._thread.join(timeout=2.0)
+        _delete(self.participant)
+
+
+def _delete(entity: Any) -> None:
+    """Delete a Cyclone entity now (with its children), not when Python collects it."""
+    try:
+        entity.__del__()
+    except Exception as exc:  # already gone with its participant
+        _log.debug("deleting %r: %s", entity, exc)

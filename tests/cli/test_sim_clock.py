@@ -1,0 +1,174 @@
+"""One sim clock across processes, over real Zenoh on loopback: a running scenario owns
+/clock; a node in another process started with ``--ros-args -p use_sim_time:=true`` follows
+it; a second simulation is refused with one line; a stray /clock publisher changes nothing;
+``posekit topic pub ... "{header: auto}"`` stamps commands with sim time and the robot stops
+within the documented timeout once the commands stop (a wall-clock stamped stream is
+rejected with one warning).
+
+Oracles: the simulator's ground truth (true velocity, stamped with sim time), the documented
+bound (last valid command stamp + cmd_vel_timeout 0.5 s + braking |v| / 1.0 m/s²) and the
+wall clock (sim times are far below it).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+
+from _support.procs import Proc
+from _support.world import World
+
+pytestmark = pytest.mark.slow
+
+NS = 1_000_000_000
+#: Sim times are seconds since the simulation started; wall-clock stamps are ~1.8e9 s.
+SIM_TIME_CEILING_NS = 100_000 * NS
+
+FOLLOWER = """
+import json, sys, time
+from posekit import rclpy
+from posekit.rclpy.node import Node
+
+rclpy.init()  # sys.argv: --ros-args -p use_sim_time:=true
+node = Node("sim_follower")
+assert node.get_parameter("use_sim_time").value is True
+
+def tick():
+    print(json.dumps({"now": node.get_clock().now().nanoseconds}), flush=True)
+
+node.create_timer(0.5, tick)
+rclpy.spin(node)
+"""
+
+OBSERVER = """
+import json
+from posekit import rclpy
+from posekit.rclpy.node import Node
+from posekit.msgs.geometry_msgs import TwistStamped
+from posekit.msgs.nav_msgs import Odometry
+
+rclpy.init()
+node = Node("cmd_observer")
+clock = node.get_clock()
+
+def ns(stamp):
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+def on_cmd(msg):
+    print(json.dumps({"cmd": ns(msg.header.stamp), "now": clock.now().nanoseconds,
+                      "x": msg.twist.linear.x}), flush=True)
+
+def on_odom(msg):
+    print(json.dumps({"odom": ns(msg.header.stamp), "v": msg.twist.twist.linear.x}),
+          flush=True)
+
+node.create_subscription(TwistStamped, "/cmd_vel", on_cmd, 10)
+node.create_subscription(Odometry, "/ground_truth/odom", on_odom, 10)
+rclpy.spin(node)
+"""
+
+
+def _records(proc: Proc, key: str) -> list[dict[str, Any]]:
+    out = []
+    for line in list(proc.out):
+        if line.startswith("{"):
+            record = json.loads(line)
+            if key in record:
+                out.append(record)
+    return out
+
+
+def _wait_for(condition: Callable[[], bool], timeout: float, what: str, *procs: Proc) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout} s waiting for {what}\n"
+                                 + "\n".join(p.describe() for p in procs))
+        time.sleep(0.1)
+
+
+def _simulation(routed: World) -> Proc:
+    sim = routed.cli("launch", "empty_world", "--realtime", "--zenoh")
+    sim.wait_stderr("world 'empty_world'", 30, "the simulation to start")
+    return sim
+
+
+def test_nodes_elsewhere_follow_the_one_simulation_clock(routed: World) -> None:
+    sim = _simulation(routed)
+    follower = routed.script(FOLLOWER, "--ros-args", "-p", "use_sim_time:=true")
+    _wait_for(lambda: len(_records(follower, "now")) >= 4, 30, "4 sim-time ticks", follower)
+    ticks = [r["now"] for r in _records(follower, "now")]
+    assert all(0 < t < SIM_TIME_CEILING_NS for t in ticks), ticks
+    assert ticks == sorted(ticks)
+    assert len(set(ticks)) == len(ticks)
+
+    # A second simulation on the same network is refused before it shows any node.
+    second = routed.cli("launch", "empty_world", "--zenoh", "--until-sim-time", "1")
+    second.finish(60, "the second launch")
+    assert second.popen.returncode == 2
+    err = "".join(second.err).strip()
+    assert err.count("\n") == 0, err
+    assert "another clock source already publishes /clock (/posekit_sim_clock)" in err
+
+    # A stray /clock publisher: reported once by the simulation and by the follower, and
+    # the follower keeps following the simulation's time.
+    stray = routed.cli("topic", "pub", "/clock", "rosgraph_msgs/msg/Clock",
+                       "{clock: {sec: 1000}}", "-r", "20")
+    sim.wait_stderr("Ignoring a second /clock publisher", 20, "the simulation's report")
+    follower.wait_stderr("Ignoring /clock from a second source", 20, "the follower's warning")
+    before = len(_records(follower, "now"))
+    _wait_for(lambda: len(_records(follower, "now")) >= before + 4, 30, "more ticks",
+              follower, stray)
+    ticks = [r["now"] for r in _records(follower, "now")]
+    assert all(0 < t < SIM_TIME_CEILING_NS for t in ticks), ticks
+    assert ticks == sorted(ticks)
+    assert sum("second /clock publisher" in line for line in sim.err) == 1
+    assert sum("second source" in line for line in follower.err) == 1
+    assert sim.popen.poll() is None
+
+
+def test_cli_commands_are_stamped_in_sim_time_and_the_robot_stops(routed: World) -> None:
+    sim = _simulation(routed)
+    observer = routed.script(OBSERVER, "--ros-args", "-p", "use_sim_time:=true")
+    _wait_for(lambda: len(_records(observer, "odom")) >= 5, 30, "ground truth", observer)
+
+    pub = routed.cli("topic", "pub", "/cmd_vel", "geometry_msgs/msg/TwistStamped",
+                     "{header: auto, twist: {linear: {x: 0.3}}}", "-r", "10", "-t", "20")
+    pub.finish(60, "topic pub")
+    assert pub.popen.returncode == 0, pub.describe()
+    commands = _records(observer, "cmd")
+    assert len(commands) == 20
+    t_last = max(c["cmd"] for c in commands)
+    for c in commands:  # sim-time stamps, close to the sim time at reception
+        assert 0 < c["cmd"] < SIM_TIME_CEILING_NS, (c, pub.describe()[:1500])
+        assert abs(c["now"] - c["cmd"]) < NS // 2, c
+    # Documented bound: timeout 0.5 s + braking 0.3 m/s / 1 m/s², plus one 50 ms output.
+    stop_by = t_last + NS // 2 + 3 * NS // 10 + NS // 20
+    _wait_for(lambda: any(r["odom"] > stop_by + NS for r in _records(observer, "odom")),
+              30, "ground truth after the stop bound", observer)
+    odom = _records(observer, "odom")
+    assert max(r["v"] for r in odom if r["odom"] <= t_last) > 0.25  # it drove
+    after = [r["v"] for r in odom if r["odom"] >= stop_by]
+    assert after
+    assert all(v == 0.0 for v in after), after
+    assert not any("Rejected cmd_vel" in line for line in sim.err)
+
+    # The same stream on the wall clock is ahead of the simulation: rejected, one warning.
+    wall = routed.cli("topic", "pub", "/cmd_vel", "geometry_msgs/msg/TwistStamped",
+                      "{header: auto, twist: {linear: {x: 0.3}}}", "-r", "10", "-t", "10",
+                      "--wall-time")
+    wall.finish(60, "topic pub --wall-time")
+    wall_cmds = _records(observer, "cmd")[20:]
+    assert len(wall_cmds) == 10
+    assert all(c["cmd"] > SIM_TIME_CEILING_NS for c in wall_cmds)
+    t_wall_end = max(c["now"] for c in wall_cmds)
+    _wait_for(lambda: any(r["odom"] > t_wall_end + NS for r in _records(observer, "odom")),
+              30, "ground truth after the wall-clock stream", observer)
+    assert all(r["v"] == 0.0 for r in _records(observer, "odom") if r["odom"] >= stop_by)
+    warnings = [line for line in sim.err if "stamped in the future" in line]
+    assert len(warnings) == 1, warnings
+    assert "use_sim_time" in warnings[0]
