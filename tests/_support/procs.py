@@ -21,12 +21,14 @@ class Proc:
     """A child process whose stdout and stderr lines are collected by reader threads."""
 
     def __init__(self, args: list[str], env: dict[str, str], cwd: Path | None = None, *,
-                 new_session: bool = False) -> None:
+                 new_session: bool = False, stdin: int | None = None) -> None:
         """``new_session``: the child leads its own process group, so a signal sent to the
-        group (:meth:`interrupt_group`) reaches a shell and the command it runs."""
+        group (:meth:`interrupt_group`) reaches a shell and the command it runs. ``stdin``: a
+        file descriptor for the child's stdin (a pty, say); default none."""
         self.args = args
         self.popen = subprocess.Popen(
-            args, env=env, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+            args, env=env, cwd=cwd, stdin=subprocess.DEVNULL if stdin is None else stdin,
+            stdout=subprocess.PIPE,
             stderr=subprocess.PIPE, text=True, bufsize=1, start_new_session=new_session,
         )
         self.lines: queue.Queue[str] = queue.Queue()

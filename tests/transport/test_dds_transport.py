@@ -135,7 +135,7 @@ def test_a_service_call_on_dds_is_one_line_not_a_traceback(
     dds_domain(monkeypatch)
     assert main(["service", "call", "/reset", "std_srvs/srv/Trigger", "--transport", "dds"]) == 1
     err = capsys.readouterr().err
-    assert err == ("posekit service call: the 'dds' transport does not carry services "
+    assert err == ("posekit service call: error: the 'dds' transport does not carry services "
                    "(posekit's 'inprocess' and 'zenoh' transports do)\n")
 
 

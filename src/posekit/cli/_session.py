@@ -21,8 +21,7 @@ from posekit.runtime.parameters import Parameter
 from posekit.runtime.transport import ENV_TRANSPORT
 
 __all__ = ["TRANSPORT_CHOICES", "ToolSession", "add_sim_time_args", "add_transport_option",
-           "empty_graph_hint", "graph_has_other_nodes", "tool_transport",
-           "transport_option"]
+           "tool_transport", "transport_option"]
 
 #: What ``--transport`` accepts on every tool (``--zenoh`` stays as an alias).
 TRANSPORT_CHOICES = ("inprocess", "zenoh", "dds")
@@ -48,27 +47,6 @@ def tool_transport(explicit: str | None = None) -> str:
     return explicit or os.environ.get(ENV_TRANSPORT, "").strip() or "zenoh"
 
 
-def graph_has_other_nodes(session: Any) -> bool:
-    """Whether the graph holds any node but the tool's own (hidden ones included)."""
-    from posekit.cli.node_cmd import node_names
-
-    own = session.node.get_fully_qualified_name()
-    return any(name != own for name in node_names(session))
-
-
-def empty_graph_hint(what: str, transport: Any) -> str:
-    """The one line a tool prints when it finds no ``what`` (topics, nodes) on the graph."""
-    where = f"the {getattr(transport, 'name', 'selected')} transport"
-    session = getattr(transport, "session", None)
-    if session is not None and hasattr(session, "domain_id"):
-        endpoint = getattr(getattr(session, "options", None), "router_endpoint", "?")
-        hosted = " (hosted by this tool: no router was running)" if session.hosts_router else ""
-        where = f"zenoh domain {session.domain_id} via router {endpoint}{hosted}"
-    return (f"no {what} found on {where}; check that a launch or node is running (posekit "
-            "launch NAME, not --isolated) with the same ROS_DOMAIN_ID, POSEKIT_ZENOH_ROUTER "
-            "and POSEKIT_TRANSPORT\n")
-
-
 def add_transport_option(parser: argparse.ArgumentParser, default_text: str = "zenoh") -> None:
     """``--transport {inprocess,zenoh,dds}`` and its alias ``--zenoh``."""
     parser.add_argument("--transport", default=None, choices=TRANSPORT_CHOICES,
@@ -92,6 +70,8 @@ class ToolSession:
             context = Context()
             context.init(args=[], transport=tool_transport(transport))
         self.context = context
+        # As ros2cli's node: no parameter services (a tool is not a parameter server).
+        node_kwargs.setdefault("start_parameter_services", False)
         self.node = Node(node_name, context=context, **node_kwargs)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)

@@ -26,18 +26,18 @@ __all__ = ["main_info", "main_list", "main_send_goal"]
 
 
 def _parser(verb: str) -> argparse.ArgumentParser:
-    from posekit.cli.topic_cmd import _add_transport_args
+    from posekit.cli._graph import add_transport_args
 
     parser = argparse.ArgumentParser(prog=f"posekit action {verb}")
-    _add_transport_args(parser)
+    add_transport_args(parser)
     return parser
 
 
 def _session(ns: argparse.Namespace, context: Any) -> Any:
-    from posekit.cli._session import ToolSession
-    from posekit.cli.topic_cmd import _transport, cli_node_name, sync_graph
+    from posekit.cli._graph import cli_node_name, sync_graph
+    from posekit.cli._session import ToolSession, transport_option
 
-    session = ToolSession(cli_node_name(), context=context, transport=_transport(ns),
+    session = ToolSession(cli_node_name(), context=context, transport=transport_option(ns),
                           start_parameter_services=False)
     sync_graph(session, 2.0)
     return session

@@ -320,7 +320,7 @@ class Node:
         self,
         msg_type: type,
         topic: str,
-        callback: Callable[[Any], Any],
+        callback: Callable[..., Any],
         qos_profile: QoSProfile | int,
         *,
         callback_group: CallbackGroup | None = None,
@@ -328,7 +328,8 @@ class Node:
         qos_overriding_options: object = None,
         raw: bool = False,
     ) -> Subscription:
-        """Subscription calling ``callback(msg)`` from the executor for each message."""
+        """Subscription calling ``callback(msg)`` from the executor for each message, or
+        ``callback(msg, info)`` with rclpy's MessageInfo for a two-argument callback."""
         del event_callbacks, qos_overriding_options
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")

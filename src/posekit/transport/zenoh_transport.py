@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import os
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -281,9 +282,18 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        with_info = bool(getattr(getattr(sink, "__self__", None), "wants_message_info", False))
+
         def deliverer(endpoint: _Subscription) -> Callable[[Any, Attachment], None]:
-            def deliver(msg: Any, _att: Attachment) -> None:
-                if endpoint.alive:
+            def deliver(msg: Any, att: Attachment) -> None:
+                if not endpoint.alive:
+                    return
+                if with_info:  # rclpy's MessageInfo from rmw_zenoh's attachment
+                    sink(msg, {"source_timestamp": att.source_timestamp,  # type: ignore[call-arg]
+                               "received_timestamp": time.time_ns(),
+                               "publication_sequence_number": att.sequence_number,
+                               "reception_sequence_number": 0})
+                else:
                     sink(msg)
 
             return deliver
