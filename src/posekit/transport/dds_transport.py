@@ -59,6 +59,7 @@ from cyclonedds.util import duration
 from posekit.msgs.cdr import from_cdr, to_cdr
 from posekit.msgs.errors import CdrError
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
@@ -108,6 +109,8 @@ _POLICY_NAMES = {
 # Cyclone holds one configuration per domain id and process; posekit creates each once.
 _domains_lock = threading.Lock()
 _domains: dict[int, tuple[str, Domain]] = {}
+#: Type-mismatch warnings remembered (each printed once) before the table starts over.
+_MAX_WARNED_TYPES = 1024
 
 
 def configure_domain(options: DiscoveryOptions) -> None:
@@ -418,6 +421,8 @@ class DdsTransport(Transport):
         self._publishers: list[_Publisher] = []
         self._subscriptions: list[_Subscription] = []
         self._warned_types: set[tuple[str, str, str]] = set()
+        # Peers choose what they announce: graph warnings are rate-limited per reason.
+        self._warn_graph = RateLimitedLog(_log.warning)
         # graph state
         self._changed = threading.Condition(self._lock)
         self._generation = 0
@@ -604,7 +609,7 @@ class DdsTransport(Transport):
             except Exception as exc:  # keep the graph alive whatever a peer announces
                 if self._closed:
                     return
-                _log.warning("DDS graph update failed: %s: %s", type(exc).__name__, exc)
+                self._warn_graph("DDS graph update failed", f"{type(exc).__name__}: {exc}")
                 time.sleep(0.1)
 
     def _check_incompatible_qos(self) -> None:
@@ -640,7 +645,7 @@ class DdsTransport(Transport):
             try:
                 announced.append(decode_participant_entities(data))
             except CdrError as exc:
-                _log.warning("ignoring an undecodable ros_discovery_info sample: %s", exc)
+                self._warn_graph("ignoring an undecodable ros_discovery_info sample", str(exc))
         with self._lock:
             for part in announced:
                 if self._remote.get(part.gid) != part:
@@ -673,6 +678,8 @@ class DdsTransport(Transport):
             tag = (dds_topic, wanted, other)
             if tag in self._warned_types:
                 continue
+            if len(self._warned_types) >= _MAX_WARNED_TYPES:  # peers pick the type names
+                self._warned_types.clear()
             self._warned_types.add(tag)
             try:
                 shown = ros_type_name(other)
