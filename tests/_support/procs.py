@@ -103,3 +103,13 @@ class Proc:
         except subprocess.TimeoutExpired:
             os.killpg(self.popen.pid, signal.SIGKILL)
             self.popen.wait(5)
+
+
+def stop_all(procs: list[Proc]) -> None:
+    """Kill ``procs`` newest first (each one this test started) and close their pipes."""
+    for proc in reversed(procs):
+        proc.kill()
+    for proc in procs:
+        for stream in (proc.popen.stdout, proc.popen.stderr):
+            if stream is not None:
+                stream.close()

@@ -8,7 +8,7 @@ import textwrap
 from pathlib import Path
 from typing import Any
 
-from _support.procs import Proc
+from _support.procs import Proc, stop_all
 
 #: Environment variables that would point a test's Zenoh sessions somewhere else.
 ZENOH_ENV_PREFIXES = ("ZENOH_", "ROS_DOMAIN", "POSEKIT_")
@@ -47,9 +47,4 @@ class World:
         return proc
 
     def close(self) -> None:
-        for proc in reversed(self.procs):
-            proc.kill()
-        for proc in self.procs:
-            for stream in (proc.popen.stdout, proc.popen.stderr):
-                if stream is not None:
-                    stream.close()
+        stop_all(self.procs)
