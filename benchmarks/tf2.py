@@ -132,6 +132,7 @@ for line in sys.stdin:
         fresh = tf2_py.BufferCore(rospy.Duration(cmd["cache_s"]))
         latest = rospy.Time(0)
         t_interp = rospy.Time(cmd["t_interp"] // 1000000000, cmd["t_interp"] % 1000000000)
+        varying = [rospy.Time(ns // 1000000000, ns % 1000000000) for ns in cmd["varying"]]
         next_ns = cmd["t0"]
         out.write(json.dumps({"tf2_py": tf2_py.__file__}) + "\n")
         out.flush()
@@ -150,30 +151,41 @@ for line in sys.stdin:
             set_transform(m, "bench")
         took = time.process_time_ns() - start
     else:
-        target, source, latest_time = cmd["target"], cmd["source"], cmd["latest"]
-        stamp = latest if latest_time else t_interp
-        start = time.process_time_ns()
-        for _ in range(calls):
-            lookup(target, source, stamp)
-        took = time.process_time_ns() - start
+        target, source, when = cmd["target"], cmd["source"], cmd["when"]
+        if when == "varying":
+            stamps = varying[:calls]
+            start = time.process_time_ns()
+            for stamp in stamps:
+                lookup(target, source, stamp)
+            took = time.process_time_ns() - start
+        else:
+            stamp = latest if when == "latest" else t_interp
+            start = time.process_time_ns()
+            for _ in range(calls):
+                lookup(target, source, stamp)
+            took = time.process_time_ns() - start
     out.write(json.dumps({"us": took / calls / 1e3}) + "\n")
     out.flush()
 """
 
 TF2_PYTHON = "/usr/bin/python3"
 
-# (name, target, source, latest) of the lookups compared with tf2 C++
+# (name, target, source, when) of the lookups compared with tf2 C++: "latest" = Time(),
+# "fixed" = the same interpolated stamp every call, "varying" = a different interpolated
+# stamp every call (posekit then cannot answer from the path's memo of its last result)
 TF2_LOOKUPS = (
-    ("lookup 1 hop, latest", "world", "f1", True),
-    ("lookup 4 hops, interpolated", "world", "f4", False),
-    ("lookup 4 hops, interpolated, reversed", "f4", "world", False),
+    ("lookup 1 hop, latest", "world", "f1", "latest"),
+    ("lookup 4 hops, interpolated", "world", "f4", "fixed"),
+    ("lookup 4 hops, interpolated, reversed", "f4", "world", "fixed"),
+    ("lookup 4 hops, interp., new stamp per call", "world", "f4", "varying"),
+    ("lookup 4 hops, interp., reversed, new stamp", "f4", "world", "varying"),
 )
 
 
 class Tf2Cpp:
     """The child process holding tf2's C++ BufferCore (see TF2_CPP_CHILD)."""
 
-    def __init__(self, scene: list[list[Any]], t_interp_ns: int) -> None:
+    def __init__(self, scene: list[list[Any]], t_interp_ns: int, varying: list[int]) -> None:
         # closed by close(), which the caller's finally runs
         self._stderr = tempfile.TemporaryFile()  # noqa: SIM115
         self._proc = subprocess.Popen(
@@ -184,7 +196,8 @@ class Tf2Cpp:
             text=True,
         )
         reply = self._ask(
-            {"scene": scene, "cache_s": 10, "t_interp": t_interp_ns, "t0": T0, "dt": DT}
+            {"scene": scene, "cache_s": 10, "t_interp": t_interp_ns, "t0": T0, "dt": DT,
+             "varying": varying}
         )
         self.origin = str(reply["tf2_py"])
 
@@ -251,15 +264,17 @@ def compare_tf2_cpp(calls: int, rounds: int) -> None:
         for m in msgs
     ]
     t_interp_ns = T0 + 50 * DT + 3_456_789
-    cpp = Tf2Cpp(scene, t_interp_ns)
+    # distinct stamps strictly inside the samples, none on a sample
+    varying_ns = [T0 + DT // 2 + (i * 7_919_003) % ((N_SAMPLES - 2) * DT) for i in range(calls)]
+    cpp = Tf2Cpp(scene, t_interp_ns, varying_ns)
     try:
         latest = Time()
         t_interp = Time(nanoseconds=t_interp_ns)
+        varying = [Time(nanoseconds=ns) for ns in varying_ns]
         fresh_buf = Buffer()
         next_ns = [T0]
 
-        def posekit_round(op: str, target: str = "", source: str = "", latest_time: bool = False
-                          ) -> float:
+        def posekit_round(op: str, target: str = "", source: str = "", when: str = "") -> float:
             if op == "set_transform":
                 batch = []
                 for _ in range(calls):
@@ -272,7 +287,13 @@ def compare_tf2_cpp(calls: int, rounds: int) -> None:
                     set_transform(m, "bench")
                 return (time.process_time_ns() - start) / calls / 1e3
             lookup = buf.lookup_transform
-            stamp = latest if latest_time else t_interp
+            if when == "varying":
+                lookup(target, source, t_interp)
+                start = time.process_time_ns()
+                for stamp in varying:
+                    lookup(target, source, stamp)
+                return (time.process_time_ns() - start) / calls / 1e3
+            stamp = latest if when == "latest" else t_interp
             lookup(target, source, stamp)
             start = time.process_time_ns()
             for _ in range(calls):
@@ -280,15 +301,15 @@ def compare_tf2_cpp(calls: int, rounds: int) -> None:
             return (time.process_time_ns() - start) / calls / 1e3
 
         ops: list[tuple[str, str, dict[str, Any]]] = [
-            (name, "lookup", {"target": tg, "source": sc, "latest": la})
-            for name, tg, sc, la in TF2_LOOKUPS
+            (name, "lookup", {"target": tg, "source": sc, "when": when})
+            for name, tg, sc, when in TF2_LOOKUPS
         ]
         ops.append(("set_transform (new stamp)", "set_transform", {}))
         best: dict[str, list[float]] = {name: [math.inf, math.inf] for name, _, _ in ops}
         for _ in range(rounds):
             for name, op, args in ops:
                 ours = posekit_round(
-                    op, args.get("target", ""), args.get("source", ""), args.get("latest", False)
+                    op, args.get("target", ""), args.get("source", ""), args.get("when", "")
                 )
                 ref = cpp.round_us(op, calls, **args)
                 best[name][0] = min(best[name][0], ours)

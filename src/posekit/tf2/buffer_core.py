@@ -69,8 +69,13 @@ _FULL = "full"
 # One edge of a cached path: a TimeCache's (stamps, parents, data, slerp memo) lists (mutated
 # in place, never replaced), the parent id the edge must have, and the StaticCache if static.
 _Edge = tuple[Any, Any, Any, Any, int, Any]
-# (shape, chain(s), edge that must evaluate without error or None, target id, source id)
-_Path = tuple[str, Any, "_Edge | None", int, int]
+# [shape, chain(s), edge that must evaluate without error or None, target id, source id,
+#  memo]: a list so the memo of the last evaluated result can be replaced in place. The memo
+# is None or (buffer version, requested time ns, *_Result) of the last fast-path answer.
+_Path = list[Any]
+# A finished lookup result: (stamp sec, stamp nanosec, qx, qy, qz, qw, vx, vy, vz), the
+# quaternion after tf2's matrix round trip.
+_Result = tuple[int, int, float, float, float, float, float, float, float]
 
 
 def _latest_up(chain: tuple[_Edge, ...]) -> int:
@@ -227,6 +232,65 @@ def _make_stamped_canonical(
     return msg
 
 
+def _result(stamp_ns: int, raw: _Raw) -> _Result:
+    """The finished values of a lookup: the stamp split as builtin_interfaces/Time and the
+    raw quaternion through tf2's matrix round trip (as :func:`_make_stamped_canonical`)."""
+    (x, y, z, w), (vx, vy, vz) = raw
+    sec, nanosec = divmod(stamp_ns, _NS)
+    d = x * x + y * y + z * z + w * w
+    s = 2.0 / d
+    xs, ys, zs = x * s, y * s, z * s
+    wx, wy, wz = w * xs, w * ys, w * zs
+    xx, xy, xz = x * xs, x * ys, x * zs
+    yy, yz, zz = y * ys, y * zs, z * zs
+    trace = (1.0 - (yy + zz)) + (1.0 - (xx + zz)) + (1.0 - (xx + yy))
+    if not trace > 0.0:
+        qx, qy, qz, qw = _canonical((x, y, z, w))
+        return sec, nanosec, qx, qy, qz, qw, vx, vy, vz
+    s = _sqrt(trace + 1.0)
+    qw = s * 0.5
+    s = 0.5 / s
+    return (
+        sec,
+        nanosec,
+        ((yz + wx) - (yz - wx)) * s,
+        ((xz + wy) - (xz - wy)) * s,
+        ((xy + wz) - (xy - wz)) * s,
+        qw,
+        vx,
+        vy,
+        vz,
+    )
+
+
+def _stamped(target: str, source: str, r: tuple[Any, ...]) -> TransformStamped:
+    """A fresh TransformStamped from a :data:`_Result` (``r``), field by field."""
+    sec, nanosec, qx, qy, qz, qw, vx, vy, vz = r
+    stamp = _new(TimeMsg)
+    stamp.sec = sec
+    stamp.nanosec = nanosec
+    header = _new(Header)
+    header.stamp = stamp
+    header.frame_id = target
+    vec = _new(Vector3)
+    vec.x = vx
+    vec.y = vy
+    vec.z = vz
+    rot = _new(Quaternion)
+    rot.x = qx
+    rot.y = qy
+    rot.z = qz
+    rot.w = qw
+    tr = _new(Transform)
+    tr.translation = vec
+    tr.rotation = rot
+    msg = _new(TransformStamped)
+    msg.header = header
+    msg.child_frame_id = source
+    msg.transform = tr
+    return msg
+
+
 class BufferCore:
     """tf2's frame graph and caches (thread-safe; every public method takes the lock).
 
@@ -246,6 +310,9 @@ class BufferCore:
         self._authority: dict[int, str] = {}
         # fast-path walks per (target, source) name pair; emptied whenever a cache is created
         self._paths: dict[tuple[str, str], _Path] = {}
+        # bumped by every change of the stored data (insert attempts, clear, forget_frames):
+        # a path's memoised result is valid while the version it was computed at is current
+        self._version = 0
 
     @property
     def cache_time(self) -> Duration:
@@ -381,6 +448,7 @@ class BufferCore:
 
         sample: Sample = (qx, qy, qz, qw, tx, ty, tz)
         with self._lock:
+            self._version += 1
             ids = self._ids
             caches = self._caches
             cid = ids.get(child)
@@ -425,6 +493,7 @@ class BufferCore:
     def clear(self) -> None:
         """Empty every dynamic cache; static transforms, frame ids and authorities stay."""
         with self._lock:
+            self._version += 1
             for cache in self._caches:
                 if cache is not None:
                     cache.clear()
@@ -436,6 +505,7 @@ class BufferCore:
         child go too. Returns how many names were dropped. Waiting lookups are unaffected;
         a forgotten frame is unknown until it is set again."""
         with self._lock:
+            self._version += 1
             caches = self._caches
             for name in frames:
                 fid = self._ids.get(name[1:] if name[:1] == "/" else name)
@@ -734,11 +804,11 @@ class BufferCore:
             if got is None:
                 return None
             if frame == tid:  # target is an ancestor: its edge must only evaluate
-                return _UP, tuple(src), got[0], tid, sid
+                return [_UP, tuple(src), got[0], tid, sid, None]
             src.append(got[0])
             frame = got[1]
         if top == tid:
-            return _UP, tuple(src), None, tid, sid
+            return [_UP, tuple(src), None, tid, sid, None]
         tgt: list[_Edge] = []
         frame = tid
         while frame != top:
@@ -748,10 +818,10 @@ class BufferCore:
             if got is None:
                 return None
             if frame == sid:  # source is an ancestor of the target
-                return _DOWN, (tuple(src), tuple(tgt)), got[0], tid, sid
+                return [_DOWN, (tuple(src), tuple(tgt)), got[0], tid, sid, None]
             tgt.append(got[0])
             frame = got[1]
-        return _FULL, (tuple(src), tuple(tgt)), None, tid, sid
+        return [_FULL, (tuple(src), tuple(tgt)), None, tid, sid, None]
 
     @staticmethod
     def _chain(chain: tuple[_Edge, ...], t: int) -> tuple[float, ...] | None:
@@ -821,7 +891,9 @@ class BufferCore:
 
     def _walk_fast(self, path: _Path, t: int) -> _Raw | None:
         """:meth:`_walk` over a cached path, or None (fall back) if the path does not apply."""
-        mode, chains, check, _, _ = path
+        mode = path[0]
+        chains = path[1]
+        check = path[2]
         if check is not None and not _edge_evaluates(check, t):
             return None
         if mode is _UP:
@@ -878,6 +950,12 @@ class BufferCore:
             key = (target_frame, source_frame)
             path = self._paths.get(key)
             if path is not None:  # known, distinct, valid names with a cached walk
+                memo = path[5]
+                version = self._version
+                if memo is not None and memo[0] == version and memo[1] == t:
+                    # the same question on unchanged data: the last answer, rebuilt
+                    return _stamped(target_frame, source_frame, memo[2:])
+                asked = t
                 if not t:
                     t = _latest_up(path[1]) if path[0] is _UP else -1
                     if t < 0:
@@ -885,24 +963,25 @@ class BufferCore:
                 raw = self._walk_fast(path, t)
                 if raw is None:  # the path does not apply at t: the general walk decides
                     del self._paths[key]
-                    raw = self._walk(path[3], path[4], t)
-                q, v = raw
+                    q, v = self._walk(path[3], path[4], t)
+                    return _make_stamped_canonical(target_frame, source_frame, t, q, v)
+                result = _result(t, raw)
+                path[5] = (version, asked, *result)
+                return _stamped(target_frame, source_frame, result)
+            ids = self._ids
+            tid = ids.get(target_frame)
+            sid = ids.get(source_frame)
+            if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
+                if not t:
+                    t = self._latest_common_time(tid, sid)
+                q, v = self._walk(tid, sid, t)
                 used = t
+                # only after a successful walk: a path is cached for working lookups
+                new_path = self._build_path(tid, sid)
+                if new_path is not None:
+                    self._paths[key] = new_path
             else:
-                ids = self._ids
-                tid = ids.get(target_frame)
-                sid = ids.get(source_frame)
-                if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
-                    if not t:
-                        t = self._latest_common_time(tid, sid)
-                    q, v = self._walk(tid, sid, t)
-                    used = t
-                    # only after a successful walk: a path is cached for working lookups
-                    new_path = self._build_path(tid, sid)
-                    if new_path is not None:
-                        self._paths[key] = new_path
-                else:
-                    (q, v), used = self._lookup_raw(target_frame, source_frame, t)
+                (q, v), used = self._lookup_raw(target_frame, source_frame, t)
         return _make_stamped_canonical(target_frame, source_frame, used, q, v)
 
     def lookup_transform_full_core(
