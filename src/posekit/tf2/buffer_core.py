@@ -1160,22 +1160,30 @@ def _inverse_rotate(
     sx: float, sy: float, sz: float,
     sq: tuple[float, float, float, float] | None = None,
 ) -> _Raw:  # fmt: skip
-    """tf2 finalize: inv = conj(q_t); v = rotate(inv, v_s) + rotate(inv, -v_t); q = inv * q_s."""
+    """tf2 finalize: inv = conj(q_t); v = rotate(inv, v_s) + rotate(inv, -v_t); q = inv * q_s.
+
+    Unrolled (no loop, no intermediate tuples): each rotation is tf2's quatRotate with its
+    operations in tf2's order."""
     ix, iy, iz, iw = -tqx, -tqy, -tqz, tqw
-    out = []
-    for ux, uy, uz in ((-vx, -vy, -vz), (sx, sy, sz)):
-        px = iw * ux + iy * uz - iz * uy
-        py = iw * uy + iz * ux - ix * uz
-        pz = iw * uz + ix * uy - iy * ux
-        pw = -ix * ux - iy * uy - iz * uz
-        out.append((
-            px * iw - pw * ix - py * iz + pz * iy,
-            py * iw - pw * iy - pz * ix + px * iz,
-            pz * iw - pw * iz - px * iy + py * ix,
-        ))  # fmt: skip
-    (ax, ay, az), (bx, by, bz) = out
+    # a = rotate(inv, -v_t)
+    ux, uy, uz = -vx, -vy, -vz
+    px = iw * ux + iy * uz - iz * uy
+    py = iw * uy + iz * ux - ix * uz
+    pz = iw * uz + ix * uy - iy * ux
+    pw = -ix * ux - iy * uy - iz * uz
+    ax = px * iw - pw * ix - py * iz + pz * iy
+    ay = py * iw - pw * iy - pz * ix + px * iz
+    az = pz * iw - pw * iz - px * iy + py * ix
     if sq is None:
         return (ix, iy, iz, iw), (ax, ay, az)
+    # b = rotate(inv, v_s)
+    px = iw * sx + iy * sz - iz * sy
+    py = iw * sy + iz * sx - ix * sz
+    pz = iw * sz + ix * sy - iy * sx
+    pw = -ix * sx - iy * sy - iz * sz
+    bx = px * iw - pw * ix - py * iz + pz * iy
+    by = py * iw - pw * iy - pz * ix + px * iz
+    bz = pz * iw - pw * iz - px * iy + py * ix
     qx, qy, qz, qw = sq
     return (
         (
