@@ -55,6 +55,7 @@ _logger = logging.getLogger("posekit.tf2")
 _sqrt = math.sqrt
 _sin = math.sin
 _NS = 1_000_000_000
+_INF = math.inf
 
 Cache = TimeCache | StaticCache
 # Raw result of a walk: (qx, qy, qz, qw), (tx, ty, tz), before tf2's matrix round trip.
@@ -339,17 +340,23 @@ class BufferCore:
         tr = msg.transform
         t = tr.translation
         r = tr.rotation
-        tx = float(t.x)
-        ty = float(t.y)
-        tz = float(t.z)
+        tx = t.x
+        ty = t.y
+        tz = t.z
         # tf2 builds a Matrix3x3 from the quaternion (s = 2/|q|^2) and reads it back with
         # getRotation: the stored quaternion is unit-norm with a canonical sign.
-        x = float(r.x)
-        y = float(r.y)
-        z = float(r.z)
-        w = float(r.w)
+        x = r.x
+        y = r.y
+        z = r.z
+        w = r.w
+        _float = float
+        if not (type(tx) is _float and type(ty) is _float and type(tz) is _float
+                and type(x) is _float and type(y) is _float and type(z) is _float
+                and type(w) is _float):  # ints, numpy scalars, ...: as float() reads them
+            tx, ty, tz = float(tx), float(ty), float(tz)
+            x, y, z, w = float(x), float(y), float(z), float(w)
         d = x * x + y * y + z * z + w * w
-        if 0.0 < d < math.inf:
+        if 0.0 < d < _INF:
             s = 2.0 / d
             xs, ys, zs = x * s, y * s, z * s
             wx, wy, wz = w * xs, w * ys, w * zs
@@ -388,6 +395,49 @@ class BufferCore:
         if child[:1] == "/":
             child = child[1:]
 
+        rot_nan = qx != qx or qy != qy or qz != qz or qw != qw
+        if (child != parent and child and parent and not rot_nan
+                and tx == tx and ty == ty and tz == tz):  # the common case: nothing to reject
+            pass
+        elif not self._accept(authority, parent, child, tx, ty, tz, qx, qy, qz, qw):
+            return False
+        sample: Sample = (qx, qy, qz, qw, tx, ty, tz)
+        with self._lock:
+            self._version += 1
+            ids = self._ids
+            caches = self._caches
+            cid = ids.get(child)
+            if cid is None:
+                cid = self._add_frame(child)
+            cache = caches[cid]
+            if cache is None or cache.is_static is not is_static:
+                cache = StaticCache() if is_static else TimeCache(self._cache_time_ns)
+                caches[cid] = cache
+                self._paths.clear()
+            pid = ids.get(parent)
+            if pid is None:
+                pid = self._add_frame(parent)
+            if not cache.insert(stamp_ns, pid, sample):
+                _logger.warning(
+                    "TF_OLD_DATA ignoring data from the past for frame %s at time %s according "
+                    "to authority %s\nPossible reasons are listed at "
+                    "http://wiki.ros.org/tf/Errors%%20explained",
+                    child,
+                    display_time(stamp_ns),
+                    authority,
+                )
+                return False
+            self._authority[cid] = authority
+            self._on_new_data_locked()
+        self._on_new_data()
+        return True
+
+    @staticmethod
+    def _accept(
+        authority: str, parent: str, child: str,
+        tx: float, ty: float, tz: float, qx: float, qy: float, qz: float, qw: float,
+    ) -> bool:  # fmt: skip
+        """tf2's input checks, each failure logged with tf2's text; True if none failed."""
         ok = True
         if child == parent:
             _logger.error(
@@ -443,39 +493,7 @@ class BufferCore:
                 qw,
             )
             ok = False
-        if not ok:
-            return False
-
-        sample: Sample = (qx, qy, qz, qw, tx, ty, tz)
-        with self._lock:
-            self._version += 1
-            ids = self._ids
-            caches = self._caches
-            cid = ids.get(child)
-            if cid is None:
-                cid = self._add_frame(child)
-            cache = caches[cid]
-            if cache is None or cache.is_static is not is_static:
-                cache = StaticCache() if is_static else TimeCache(self._cache_time_ns)
-                caches[cid] = cache
-                self._paths.clear()
-            pid = ids.get(parent)
-            if pid is None:
-                pid = self._add_frame(parent)
-            if not cache.insert(stamp_ns, pid, sample):
-                _logger.warning(
-                    "TF_OLD_DATA ignoring data from the past for frame %s at time %s according "
-                    "to authority %s\nPossible reasons are listed at "
-                    "http://wiki.ros.org/tf/Errors%%20explained",
-                    child,
-                    display_time(stamp_ns),
-                    authority,
-                )
-                return False
-            self._authority[cid] = authority
-            self._on_new_data_locked()
-        self._on_new_data()
-        return True
+        return ok
 
     def _add_frame(self, name: str) -> int:
         fid = len(self._names)
