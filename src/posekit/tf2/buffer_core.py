@@ -164,78 +164,23 @@ _new = object.__new__
 def _make_stamped(
     target: str, source: str, stamp_ns: int, q: tuple[float, ...], v: tuple[float, ...]
 ) -> TransformStamped:
-    """Build the result message field by field (skipping the dataclass __init__ chain, which
-    costs more than the whole tree walk); tests check it equals the normally built message."""
+    """The result message with quaternion ``q`` and translation ``v`` as given."""
     sec, nanosec = divmod(stamp_ns, _NS)
-    stamp = _new(TimeMsg)
-    stamp.sec = sec
-    stamp.nanosec = nanosec
-    header = _new(Header)
-    header.stamp = stamp
-    header.frame_id = target
-    vec = _new(Vector3)
-    vec.x = v[0]
-    vec.y = v[1]
-    vec.z = v[2]
-    rot = _new(Quaternion)
-    rot.x = q[0]
-    rot.y = q[1]
-    rot.z = q[2]
-    rot.w = q[3]
-    tr = _new(Transform)
-    tr.translation = vec
-    tr.rotation = rot
-    msg = _new(TransformStamped)
-    msg.header = header
-    msg.child_frame_id = source
-    msg.transform = tr
-    return msg
+    return _stamped(target, source, (sec, nanosec, q[0], q[1], q[2], q[3], v[0], v[1], v[2]))
 
 
 def _make_stamped_canonical(
     target: str, source: str, stamp_ns: int, q: tuple[float, ...], v: tuple[float, ...]
 ) -> TransformStamped:
-    """``_make_stamped(target, source, stamp_ns, _canonical(q), v)`` with the common branch of
-    tf2's matrix round trip (positive trace) inlined: one call and one tuple fewer per lookup."""
-    x, y, z, w = q
-    d = x * x + y * y + z * z + w * w
-    s = 2.0 / d
-    xs, ys, zs = x * s, y * s, z * s
-    wx, wy, wz = w * xs, w * ys, w * zs
-    xx, xy, xz = x * xs, x * ys, x * zs
-    yy, yz, zz = y * ys, y * zs, z * zs
-    trace = (1.0 - (yy + zz)) + (1.0 - (xx + zz)) + (1.0 - (xx + yy))
-    if not trace > 0.0:
-        return _make_stamped(target, source, stamp_ns, _canonical((x, y, z, w)), v)
-    s = _sqrt(trace + 1.0)
-    rot = _new(Quaternion)
-    rot.w = s * 0.5
-    s = 0.5 / s
-    rot.x = ((yz + wx) - (yz - wx)) * s
-    rot.y = ((xz + wy) - (xz - wy)) * s
-    rot.z = ((xy + wz) - (xy - wz)) * s
-    sec, nanosec = divmod(stamp_ns, _NS)
-    stamp = _new(TimeMsg)
-    stamp.sec = sec
-    stamp.nanosec = nanosec
-    header = _new(Header)
-    header.stamp = stamp
-    header.frame_id = target
-    vec = _new(Vector3)
-    vec.x, vec.y, vec.z = v
-    tr = _new(Transform)
-    tr.translation = vec
-    tr.rotation = rot
-    msg = _new(TransformStamped)
-    msg.header = header
-    msg.child_frame_id = source
-    msg.transform = tr
-    return msg
+    """``_make_stamped(target, source, stamp_ns, _canonical(q), v)``: the raw quaternion
+    through tf2's matrix round trip."""
+    return _stamped(target, source, _result(stamp_ns, (q, v)))  # type: ignore[arg-type]
 
 
 def _result(stamp_ns: int, raw: _Raw) -> _Result:
     """The finished values of a lookup: the stamp split as builtin_interfaces/Time and the
-    raw quaternion through tf2's matrix round trip (as :func:`_make_stamped_canonical`)."""
+    raw quaternion through tf2's matrix round trip (positive-trace branch of getRotation
+    inlined, the others in :func:`_canonical`)."""
     (x, y, z, w), (vx, vy, vz) = raw
     sec, nanosec = divmod(stamp_ns, _NS)
     d = x * x + y * y + z * z + w * w
@@ -265,7 +210,9 @@ def _result(stamp_ns: int, raw: _Raw) -> _Result:
 
 
 def _stamped(target: str, source: str, r: tuple[Any, ...]) -> TransformStamped:
-    """A fresh TransformStamped from a :data:`_Result` (``r``), field by field."""
+    """A fresh TransformStamped from a :data:`_Result` (``r``), field by field (skipping the
+    dataclass __init__ chain, which costs more than a tree walk); tests check it equals the
+    normally built message."""
     sec, nanosec, qx, qy, qz, qw, vx, vy, vz = r
     stamp = _new(TimeMsg)
     stamp.sec = sec
@@ -1178,30 +1125,22 @@ def _inverse_rotate(
     sx: float, sy: float, sz: float,
     sq: tuple[float, float, float, float] | None = None,
 ) -> _Raw:  # fmt: skip
-    """tf2 finalize: inv = conj(q_t); v = rotate(inv, v_s) + rotate(inv, -v_t); q = inv * q_s.
-
-    Unrolled (no loop, no intermediate tuples): each rotation is tf2's quatRotate with its
-    operations in tf2's order."""
+    """tf2 finalize: inv = conj(q_t); v = rotate(inv, v_s) + rotate(inv, -v_t); q = inv * q_s."""
     ix, iy, iz, iw = -tqx, -tqy, -tqz, tqw
-    # a = rotate(inv, -v_t)
-    ux, uy, uz = -vx, -vy, -vz
-    px = iw * ux + iy * uz - iz * uy
-    py = iw * uy + iz * ux - ix * uz
-    pz = iw * uz + ix * uy - iy * ux
-    pw = -ix * ux - iy * uy - iz * uz
-    ax = px * iw - pw * ix - py * iz + pz * iy
-    ay = py * iw - pw * iy - pz * ix + px * iz
-    az = pz * iw - pw * iz - px * iy + py * ix
+    out = []
+    for ux, uy, uz in ((-vx, -vy, -vz), (sx, sy, sz)):
+        px = iw * ux + iy * uz - iz * uy
+        py = iw * uy + iz * ux - ix * uz
+        pz = iw * uz + ix * uy - iy * ux
+        pw = -ix * ux - iy * uy - iz * uz
+        out.append((
+            px * iw - pw * ix - py * iz + pz * iy,
+            py * iw - pw * iy - pz * ix + px * iz,
+            pz * iw - pw * iz - px * iy + py * ix,
+        ))  # fmt: skip
+    (ax, ay, az), (bx, by, bz) = out
     if sq is None:
         return (ix, iy, iz, iw), (ax, ay, az)
-    # b = rotate(inv, v_s)
-    px = iw * sx + iy * sz - iz * sy
-    py = iw * sy + iz * sx - ix * sz
-    pz = iw * sz + ix * sy - iy * sx
-    pw = -ix * sx - iy * sy - iz * sz
-    bx = px * iw - pw * ix - py * iz + pz * iy
-    by = py * iw - pw * iy - pz * ix + px * iz
-    bz = pz * iw - pw * iz - px * iy + py * ix
     qx, qy, qz, qw = sq
     return (
         (
