@@ -155,3 +155,71 @@ def test_fast_path_is_taken_on_a_chain() -> None:
             assert want[0] == "ok"
             assert _outcome(core, target, source, when) == want
         assert (target, source) in core._paths  # still cached: the fast path served it
+
+
+@given(_scene(), _scene())
+def test_memoised_answers_equal_the_general_walk(
+    scene: tuple[list[tuple[Any, bool]], list[int], int],
+    later: tuple[list[tuple[Any, bool]], list[int], int],
+) -> None:
+    """A cached path remembers its last answer; asking the same question again on unchanged
+    data returns it, and any insert (here: further data on the same frames) forgets it."""
+    inserts, times, n = scene
+    fast, general = BufferCore(), _GeneralOnly()
+    _apply([fast, general], inserts)
+    names = [f"f{i}" for i in range(max(n, later[2]))]
+    pairs = [(a, b) for a in names for b in names if a != b]
+
+    def check_all(order: list[int]) -> None:
+        for target, source in pairs:
+            for t in order:
+                want = _outcome(general, target, source, t)
+                for _ in range(3):  # build the path, evaluate it, then answer from the memo
+                    assert _outcome(fast, target, source, t) == want
+
+    check_all(times)
+    _apply([fast, general], later[0])
+    check_all(times[::-1])  # first the question each memo holds, on changed data
+
+
+def test_memo_is_forgotten_on_every_change() -> None:
+    """Insert, clear() and forget_frames() each drop the remembered answer; a caller editing
+    the returned message does not change the next answer."""
+    core = BufferCore()
+    for k in range(3):
+        core.set_transform(_msg("a", "b", 10 * S + k * S, (0.0, 0.0, 0.0, 1.0), (k, 0, 0)), "t")
+    t = 10 * S + S // 2
+    for _ in range(3):
+        got = core.lookup_transform_core("a", "b", t)
+    assert got.transform.translation.x == 0.5
+    got.transform.translation.x = 99.0
+    got.header.stamp.sec = 0
+    again = core.lookup_transform_core("a", "b", t)
+    assert again.transform.translation.x == 0.5
+    assert again.header.stamp.sec == 10
+    # a sample inserted between the two used ones changes the interpolation at t
+    core.set_transform(_msg("a", "b", t - S // 4, (0.0, 0.0, 0.0, 1.0), (5.0, 0, 0)), "t")
+    # now between (10.25 s, x=5) and (11 s, x=1): 5 + (1 - 5) * 0.25 / 0.75
+    assert math.isclose(core.lookup_transform_core("a", "b", t).transform.translation.x, 11 / 3)
+    latest = core.lookup_transform_core("a", "b", 0)
+    assert latest.transform.translation.x == 2.0
+    core.set_transform(_msg("a", "b", 13 * S, (0.0, 0.0, 0.0, 1.0), (7.0, 0, 0)), "t")
+    assert core.lookup_transform_core("a", "b", 0).transform.translation.x == 7.0
+    core.clear()
+    try:
+        core.lookup_transform_core("a", "b", 0)
+    except TransformException:
+        pass
+    else:
+        raise AssertionError("lookup after clear() must fail")
+    core.set_transform(_msg("a", "b", 20 * S, (0.0, 0.0, 0.0, 1.0), (1.0, 0, 0)), "t")
+    core.set_transform(_msg("b", "c", 20 * S, (0.0, 0.0, 0.0, 1.0), (1.0, 0, 0)), "t")
+    assert core.lookup_transform_core("a", "c", 0).transform.translation.x == 2.0
+    assert core.lookup_transform_core("a", "c", 0).transform.translation.x == 2.0
+    core.forget_frames(["c"])
+    try:
+        core.lookup_transform_core("a", "c", 0)
+    except TransformException:
+        pass
+    else:
+        raise AssertionError("lookup of a forgotten frame must fail")

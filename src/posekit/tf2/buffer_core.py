@@ -55,6 +55,7 @@ _logger = logging.getLogger("posekit.tf2")
 _sqrt = math.sqrt
 _sin = math.sin
 _NS = 1_000_000_000
+_INF = math.inf
 
 Cache = TimeCache | StaticCache
 # Raw result of a walk: (qx, qy, qz, qw), (tx, ty, tz), before tf2's matrix round trip.
@@ -69,8 +70,13 @@ _FULL = "full"
 # One edge of a cached path: a TimeCache's (stamps, parents, data, slerp memo) lists (mutated
 # in place, never replaced), the parent id the edge must have, and the StaticCache if static.
 _Edge = tuple[Any, Any, Any, Any, int, Any]
-# (shape, chain(s), edge that must evaluate without error or None, target id, source id)
-_Path = tuple[str, Any, "_Edge | None", int, int]
+# [shape, chain(s), edge that must evaluate without error or None, target id, source id,
+#  memo]: a list so the memo of the last evaluated result can be replaced in place. The memo
+# is None or (buffer version, requested time ns, *_Result) of the last fast-path answer.
+_Path = list[Any]
+# A finished lookup result: (stamp sec, stamp nanosec, qx, qy, qz, qw, vx, vy, vz), the
+# quaternion after tf2's matrix round trip.
+_Result = tuple[int, int, float, float, float, float, float, float, float]
 
 
 def _latest_up(chain: tuple[_Edge, ...]) -> int:
@@ -158,40 +164,25 @@ _new = object.__new__
 def _make_stamped(
     target: str, source: str, stamp_ns: int, q: tuple[float, ...], v: tuple[float, ...]
 ) -> TransformStamped:
-    """Build the result message field by field (skipping the dataclass __init__ chain, which
-    costs more than the whole tree walk); tests check it equals the normally built message."""
+    """The result message with quaternion ``q`` and translation ``v`` as given."""
     sec, nanosec = divmod(stamp_ns, _NS)
-    stamp = _new(TimeMsg)
-    stamp.sec = sec
-    stamp.nanosec = nanosec
-    header = _new(Header)
-    header.stamp = stamp
-    header.frame_id = target
-    vec = _new(Vector3)
-    vec.x = v[0]
-    vec.y = v[1]
-    vec.z = v[2]
-    rot = _new(Quaternion)
-    rot.x = q[0]
-    rot.y = q[1]
-    rot.z = q[2]
-    rot.w = q[3]
-    tr = _new(Transform)
-    tr.translation = vec
-    tr.rotation = rot
-    msg = _new(TransformStamped)
-    msg.header = header
-    msg.child_frame_id = source
-    msg.transform = tr
-    return msg
+    return _stamped(target, source, (sec, nanosec, q[0], q[1], q[2], q[3], v[0], v[1], v[2]))
 
 
 def _make_stamped_canonical(
     target: str, source: str, stamp_ns: int, q: tuple[float, ...], v: tuple[float, ...]
 ) -> TransformStamped:
-    """``_make_stamped(target, source, stamp_ns, _canonical(q), v)`` with the common branch of
-    tf2's matrix round trip (positive trace) inlined: one call and one tuple fewer per lookup."""
-    x, y, z, w = q
+    """``_make_stamped(target, source, stamp_ns, _canonical(q), v)``: the raw quaternion
+    through tf2's matrix round trip."""
+    return _stamped(target, source, _result(stamp_ns, (q, v)))  # type: ignore[arg-type]
+
+
+def _result(stamp_ns: int, raw: _Raw) -> _Result:
+    """The finished values of a lookup: the stamp split as builtin_interfaces/Time and the
+    raw quaternion through tf2's matrix round trip (positive-trace branch of getRotation
+    inlined, the others in :func:`_canonical`)."""
+    (x, y, z, w), (vx, vy, vz) = raw
+    sec, nanosec = divmod(stamp_ns, _NS)
     d = x * x + y * y + z * z + w * w
     s = 2.0 / d
     xs, ys, zs = x * s, y * s, z * s
@@ -200,15 +191,29 @@ def _make_stamped_canonical(
     yy, yz, zz = y * ys, y * zs, z * zs
     trace = (1.0 - (yy + zz)) + (1.0 - (xx + zz)) + (1.0 - (xx + yy))
     if not trace > 0.0:
-        return _make_stamped(target, source, stamp_ns, _canonical((x, y, z, w)), v)
+        qx, qy, qz, qw = _canonical((x, y, z, w))
+        return sec, nanosec, qx, qy, qz, qw, vx, vy, vz
     s = _sqrt(trace + 1.0)
-    rot = _new(Quaternion)
-    rot.w = s * 0.5
+    qw = s * 0.5
     s = 0.5 / s
-    rot.x = ((yz + wx) - (yz - wx)) * s
-    rot.y = ((xz + wy) - (xz - wy)) * s
-    rot.z = ((xy + wz) - (xy - wz)) * s
-    sec, nanosec = divmod(stamp_ns, _NS)
+    return (
+        sec,
+        nanosec,
+        ((yz + wx) - (yz - wx)) * s,
+        ((xz + wy) - (xz - wy)) * s,
+        ((xy + wz) - (xy - wz)) * s,
+        qw,
+        vx,
+        vy,
+        vz,
+    )
+
+
+def _stamped(target: str, source: str, r: tuple[Any, ...]) -> TransformStamped:
+    """A fresh TransformStamped from a :data:`_Result` (``r``), field by field (skipping the
+    dataclass __init__ chain, which costs more than a tree walk); tests check it equals the
+    normally built message."""
+    sec, nanosec, qx, qy, qz, qw, vx, vy, vz = r
     stamp = _new(TimeMsg)
     stamp.sec = sec
     stamp.nanosec = nanosec
@@ -216,7 +221,14 @@ def _make_stamped_canonical(
     header.stamp = stamp
     header.frame_id = target
     vec = _new(Vector3)
-    vec.x, vec.y, vec.z = v
+    vec.x = vx
+    vec.y = vy
+    vec.z = vz
+    rot = _new(Quaternion)
+    rot.x = qx
+    rot.y = qy
+    rot.z = qz
+    rot.w = qw
     tr = _new(Transform)
     tr.translation = vec
     tr.rotation = rot
@@ -246,6 +258,9 @@ class BufferCore:
         self._authority: dict[int, str] = {}
         # fast-path walks per (target, source) name pair; emptied whenever a cache is created
         self._paths: dict[tuple[str, str], _Path] = {}
+        # bumped by every change of the stored data (insert attempts, clear, forget_frames):
+        # a path's memoised result is valid while the version it was computed at is current
+        self._version = 0
 
     @property
     def cache_time(self) -> Duration:
@@ -272,17 +287,23 @@ class BufferCore:
         tr = msg.transform
         t = tr.translation
         r = tr.rotation
-        tx = float(t.x)
-        ty = float(t.y)
-        tz = float(t.z)
+        tx = t.x
+        ty = t.y
+        tz = t.z
         # tf2 builds a Matrix3x3 from the quaternion (s = 2/|q|^2) and reads it back with
         # getRotation: the stored quaternion is unit-norm with a canonical sign.
-        x = float(r.x)
-        y = float(r.y)
-        z = float(r.z)
-        w = float(r.w)
+        x = r.x
+        y = r.y
+        z = r.z
+        w = r.w
+        _float = float
+        if not (type(tx) is _float and type(ty) is _float and type(tz) is _float
+                and type(x) is _float and type(y) is _float and type(z) is _float
+                and type(w) is _float):  # ints, numpy scalars, ...: as float() reads them
+            tx, ty, tz = float(tx), float(ty), float(tz)
+            x, y, z, w = float(x), float(y), float(z), float(w)
         d = x * x + y * y + z * z + w * w
-        if 0.0 < d < math.inf:
+        if 0.0 < d < _INF:
             s = 2.0 / d
             xs, ys, zs = x * s, y * s, z * s
             wx, wy, wz = w * xs, w * ys, w * zs
@@ -321,6 +342,49 @@ class BufferCore:
         if child[:1] == "/":
             child = child[1:]
 
+        rot_nan = qx != qx or qy != qy or qz != qz or qw != qw
+        if (child != parent and child and parent and not rot_nan
+                and tx == tx and ty == ty and tz == tz):  # the common case: nothing to reject
+            pass
+        elif not self._accept(authority, parent, child, tx, ty, tz, qx, qy, qz, qw):
+            return False
+        sample: Sample = (qx, qy, qz, qw, tx, ty, tz)
+        with self._lock:
+            self._version += 1
+            ids = self._ids
+            caches = self._caches
+            cid = ids.get(child)
+            if cid is None:
+                cid = self._add_frame(child)
+            cache = caches[cid]
+            if cache is None or cache.is_static is not is_static:
+                cache = StaticCache() if is_static else TimeCache(self._cache_time_ns)
+                caches[cid] = cache
+                self._paths.clear()
+            pid = ids.get(parent)
+            if pid is None:
+                pid = self._add_frame(parent)
+            if not cache.insert(stamp_ns, pid, sample):
+                _logger.warning(
+                    "TF_OLD_DATA ignoring data from the past for frame %s at time %s according "
+                    "to authority %s\nPossible reasons are listed at "
+                    "http://wiki.ros.org/tf/Errors%%20explained",
+                    child,
+                    display_time(stamp_ns),
+                    authority,
+                )
+                return False
+            self._authority[cid] = authority
+            self._on_new_data_locked()
+        self._on_new_data()
+        return True
+
+    @staticmethod
+    def _accept(
+        authority: str, parent: str, child: str,
+        tx: float, ty: float, tz: float, qx: float, qy: float, qz: float, qw: float,
+    ) -> bool:  # fmt: skip
+        """tf2's input checks, each failure logged with tf2's text; True if none failed."""
         ok = True
         if child == parent:
             _logger.error(
@@ -376,38 +440,7 @@ class BufferCore:
                 qw,
             )
             ok = False
-        if not ok:
-            return False
-
-        sample: Sample = (qx, qy, qz, qw, tx, ty, tz)
-        with self._lock:
-            ids = self._ids
-            caches = self._caches
-            cid = ids.get(child)
-            if cid is None:
-                cid = self._add_frame(child)
-            cache = caches[cid]
-            if cache is None or cache.is_static is not is_static:
-                cache = StaticCache() if is_static else TimeCache(self._cache_time_ns)
-                caches[cid] = cache
-                self._paths.clear()
-            pid = ids.get(parent)
-            if pid is None:
-                pid = self._add_frame(parent)
-            if not cache.insert(stamp_ns, pid, sample):
-                _logger.warning(
-                    "TF_OLD_DATA ignoring data from the past for frame %s at time %s according "
-                    "to authority %s\nPossible reasons are listed at "
-                    "http://wiki.ros.org/tf/Errors%%20explained",
-                    child,
-                    display_time(stamp_ns),
-                    authority,
-                )
-                return False
-            self._authority[cid] = authority
-            self._on_new_data_locked()
-        self._on_new_data()
-        return True
+        return ok
 
     def _add_frame(self, name: str) -> int:
         fid = len(self._names)
@@ -425,6 +458,7 @@ class BufferCore:
     def clear(self) -> None:
         """Empty every dynamic cache; static transforms, frame ids and authorities stay."""
         with self._lock:
+            self._version += 1
             for cache in self._caches:
                 if cache is not None:
                     cache.clear()
@@ -436,6 +470,7 @@ class BufferCore:
         child go too. Returns how many names were dropped. Waiting lookups are unaffected;
         a forgotten frame is unknown until it is set again."""
         with self._lock:
+            self._version += 1
             caches = self._caches
             for name in frames:
                 fid = self._ids.get(name[1:] if name[:1] == "/" else name)
@@ -734,11 +769,11 @@ class BufferCore:
             if got is None:
                 return None
             if frame == tid:  # target is an ancestor: its edge must only evaluate
-                return _UP, tuple(src), got[0], tid, sid
+                return [_UP, tuple(src), got[0], tid, sid, None]
             src.append(got[0])
             frame = got[1]
         if top == tid:
-            return _UP, tuple(src), None, tid, sid
+            return [_UP, tuple(src), None, tid, sid, None]
         tgt: list[_Edge] = []
         frame = tid
         while frame != top:
@@ -748,10 +783,10 @@ class BufferCore:
             if got is None:
                 return None
             if frame == sid:  # source is an ancestor of the target
-                return _DOWN, (tuple(src), tuple(tgt)), got[0], tid, sid
+                return [_DOWN, (tuple(src), tuple(tgt)), got[0], tid, sid, None]
             tgt.append(got[0])
             frame = got[1]
-        return _FULL, (tuple(src), tuple(tgt)), None, tid, sid
+        return [_FULL, (tuple(src), tuple(tgt)), None, tid, sid, None]
 
     @staticmethod
     def _chain(chain: tuple[_Edge, ...], t: int) -> tuple[float, ...] | None:
@@ -821,7 +856,9 @@ class BufferCore:
 
     def _walk_fast(self, path: _Path, t: int) -> _Raw | None:
         """:meth:`_walk` over a cached path, or None (fall back) if the path does not apply."""
-        mode, chains, check, _, _ = path
+        mode = path[0]
+        chains = path[1]
+        check = path[2]
         if check is not None and not _edge_evaluates(check, t):
             return None
         if mode is _UP:
@@ -878,6 +915,12 @@ class BufferCore:
             key = (target_frame, source_frame)
             path = self._paths.get(key)
             if path is not None:  # known, distinct, valid names with a cached walk
+                memo = path[5]
+                version = self._version
+                if memo is not None and memo[0] == version and memo[1] == t:
+                    # the same question on unchanged data: the last answer, rebuilt
+                    return _stamped(target_frame, source_frame, memo[2:])
+                asked = t
                 if not t:
                     t = _latest_up(path[1]) if path[0] is _UP else -1
                     if t < 0:
@@ -885,24 +928,25 @@ class BufferCore:
                 raw = self._walk_fast(path, t)
                 if raw is None:  # the path does not apply at t: the general walk decides
                     del self._paths[key]
-                    raw = self._walk(path[3], path[4], t)
-                q, v = raw
+                    q, v = self._walk(path[3], path[4], t)
+                    return _make_stamped_canonical(target_frame, source_frame, t, q, v)
+                result = _result(t, raw)
+                path[5] = (version, asked, *result)
+                return _stamped(target_frame, source_frame, result)
+            ids = self._ids
+            tid = ids.get(target_frame)
+            sid = ids.get(source_frame)
+            if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
+                if not t:
+                    t = self._latest_common_time(tid, sid)
+                q, v = self._walk(tid, sid, t)
                 used = t
+                # only after a successful walk: a path is cached for working lookups
+                new_path = self._build_path(tid, sid)
+                if new_path is not None:
+                    self._paths[key] = new_path
             else:
-                ids = self._ids
-                tid = ids.get(target_frame)
-                sid = ids.get(source_frame)
-                if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
-                    if not t:
-                        t = self._latest_common_time(tid, sid)
-                    q, v = self._walk(tid, sid, t)
-                    used = t
-                    # only after a successful walk: a path is cached for working lookups
-                    new_path = self._build_path(tid, sid)
-                    if new_path is not None:
-                        self._paths[key] = new_path
-                else:
-                    (q, v), used = self._lookup_raw(target_frame, source_frame, t)
+                (q, v), used = self._lookup_raw(target_frame, source_frame, t)
         return _make_stamped_canonical(target_frame, source_frame, used, q, v)
 
     def lookup_transform_full_core(
