@@ -61,6 +61,7 @@ from aiohttp import WSMsgType, web
 
 from posekit.robot.worlds import World
 from posekit.runtime.ratelimit import RateLimitedLog
+from posekit.viewer.access import host_allowed, own_hosts
 from posekit.viewer.errors import ViewerError
 from posekit.viewer.images import encode_jpeg
 from posekit.viewer.taps import ViewerTap
@@ -283,22 +284,11 @@ class ViewerServer:
     # -- who may connect ---------------------------------------------------------------------
     def _own_hosts(self) -> set[str]:
         """``host:port`` values that name this server (loopback names and the bound host)."""
-        names = {"localhost", "127.0.0.1", "[::1]"}
-        if self.host not in ("", "0.0.0.0", "::"):
-            names.add(f"[{self.host}]" if ":" in self.host else self.host)
-        return {f"{n.lower()}:{self.port}" for n in names}
+        return own_hosts(self.host, self.port)
 
     def host_allowed(self, host: str | None) -> bool:
         """Whether a request's ``Host`` header names this server (see the module docstring)."""
-        if "*" in self.allow_hosts:
-            return True
-        if not host:
-            return False
-        host = host.strip().lower()
-        if host in self.allow_hosts or host in self._own_hosts():
-            return True
-        name = host.rsplit(":", 1)[0] if not host.endswith("]") else host
-        return name in self.allow_hosts
+        return host_allowed(host, self.host, self.port, self.allow_hosts)
 
     def origin_allowed(self, origin: str | None) -> bool:
         """Whether a WebSocket ``Origin`` may connect (absent: not a browser, allowed)."""
