@@ -200,6 +200,30 @@ def test_stale_frame_is_greyed_in_the_tree(page: Any, support: SimpleNamespace) 
                                  "r => r.classList.contains('stale')") is False
 
 
+def test_clock_shows_sim_time_wall_time_and_the_real_time_factor(page: Any) -> None:
+    """The toolbar's clock: the run's sim time (the executor's), the wall time, and an RTF that
+    matches the sim/wall progress the page itself saw between two readings (the run is
+    paced to the wall clock, so close to 1)."""
+    first = wait_for(lambda: debug(page, "clock"), what="the clock state")
+    assert first["source"] == "executor"
+    assert first["rate_clock"] == "sim"
+    assert abs(first["wall"] - time.time()) < 5.0
+    assert page.is_visible("#clock")
+    wait_for(lambda: debug(page, "clock.wall") >= first["wall"] + 1.5, what="1.5 s of clock")
+    second = debug(page, "clock")
+    progress = (second["sim"] - first["sim"]) / (second["wall"] - first["wall"])
+    assert second["rtf"] is not None
+    assert second["rtf"] == pytest.approx(progress, abs=0.25)
+    assert 0.2 < second["rtf"] < 1.3
+    text = page.inner_text("#clock")
+    assert text.startswith("sim ")
+    assert " s · wall " in text
+    assert "RTF" in text
+    sim_shown = float(text.split()[1])
+    assert sim_shown == pytest.approx(second["sim"], abs=1.0)
+    assert page.inner_text("#topics-hz") == "Hz (sim)"
+
+
 def test_pause_stops_updates(page: Any) -> None:
     page.click("#pause")
     time.sleep(0.3)

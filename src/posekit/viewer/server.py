@@ -19,7 +19,9 @@ WebSocket protocol (server -> client, JSON text unless noted):
   w), at up to ``tf_rate`` Hz (default 30, at most 100) while TF changes, else 2 Hz;
 * ``odom``: ``{displays: {topic: {frame, child, received, trail: [[x, y, z, qx, qy, qz, qw,
   speed], ...]}}}`` at up to 10 Hz when a trail changed;
-* ``graph``: ``{tree: [...], topics: [...], images: [...]}`` at 2 Hz;
+* ``graph``: ``{tree: [...], topics: [...], images: [...], clock: {source, sim, wall, rtf,
+  rate_clock}}`` at 2 Hz (``clock``: :meth:`ViewerTap.time_state`; topic rates are on its
+  ``rate_clock``);
 * binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
   seq, stamp, width, height, encoding}``, then the JPEG bytes. Only for topics the client
   watches, newest only, at up to ``image_rate`` Hz (default 15).
@@ -409,6 +411,7 @@ class ViewerServer:
                 "tree": self.tap.tree(),
                 "topics": self.tap.topics(),
                 "odometry": self.tap.trails(),
+                "clock": self.tap.time_state(),
                 "stats": self.stats,
             }
         except Exception as exc:  # whatever the data, the API answers
@@ -527,6 +530,7 @@ class ViewerServer:
                 "tree": self.tap.tree(),
                 "topics": self.tap.topics(),
                 "images": self.tap.image_topics(),
+                "clock": self.tap.time_state(),
             }
         )
 

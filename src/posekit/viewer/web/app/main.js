@@ -189,9 +189,26 @@ function onOdom(msg) {
   state.dirty = true;
 }
 
+// The clock line: sim time, wall time, real-time factor (state from the server).
+function fillClock(clock) {
+  if (!clock) return;
+  debug.clock = clock;
+  const wall = new Date(clock.wall * 1000).toISOString().slice(11, 19) + " UTC";
+  const rtf = clock.rtf === null ? "—" : `${clock.rtf.toFixed(2)}×`;
+  const el = $("clock");
+  el.textContent = clock.sim === null
+    ? `sim — (wall clock) · wall ${wall} · RTF ${rtf}`
+    : `sim ${clock.sim.toFixed(2)} s · wall ${wall} · RTF ${rtf}`;
+  el.classList.toggle("slow", clock.rtf !== null && clock.rtf < 0.9);
+  el.dataset.source = clock.source;
+  debug.clockText = el.textContent;
+  $("topics-hz").textContent = clock.rate_clock === "sim" ? "Hz (sim)" : "Hz";
+}
+
 function onGraph(msg) {
   if (state.paused) return;
   debug.graphMessages += 1;
+  fillClock(msg.clock);
   fillTree(msg.tree);
   fillTopics(msg.topics);
   state.imageTopics = msg.images;
