@@ -234,6 +234,84 @@ def test_pause_stops_updates(page: Any) -> None:
     wait_for(lambda: debug(page, "tfMessages") > count, what="updates after resuming")
 
 
+def _magenta_pixels(image: np.ndarray) -> int:
+    """Pixels of the goal arrow's colour (#ff40ff; BGR 255, 64, 255), shading included."""
+    b, g, r = (image[..., i].astype(int) for i in range(3))
+    return int(((r > 150) & (b > 150) & (g < 0.6 * r) & (g < 0.6 * b)).sum())
+
+
+def test_goal_tool_publishes_a_goal_the_p_controller_drives_to(page: Any, viewer: Any) -> None:
+    """Press on the ground and drag with the 2D Goal Pose tool: a PoseStamped arrives on
+    goal_pose (an independent subscription on the run's bus) at the pressed point, heading
+    along the drag; the goal is drawn; and the simulated robot's true pose (the simulator's
+    ground truth) closes in on it, so the P controller acts on it."""
+    from posekit.msgs.geometry_msgs import PoseStamped
+    from posekit.msgs.nav_msgs import Odometry
+    from posekit.runtime.qos import QoSProfile
+    from posekit.runtime.transport import EndpointInfo
+
+    transport = viewer.tap.transport
+    goals: list[Any] = []
+    truth: list[Any] = []
+    logger = viewer.tap.logger
+    subs = [
+        transport.subscribe(EndpointInfo("/goal_pose", PoseStamped, QoSProfile(depth=10),
+                                         "test_goal_listener", "/", logger), goals.append),
+        transport.subscribe(EndpointInfo("/ground_truth/odom", Odometry, QoSProfile(depth=10),
+                                         "test_truth_listener", "/", logger), truth.append),
+    ]
+    try:
+        wait_for(lambda: truth, what="ground truth odometry")
+        pose = truth[-1].pose.pose
+        q = pose.orientation
+        heading = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y ** 2 + q.z ** 2))
+        # One metre behind the robot: where its current goal does not take it.
+        gx = pose.position.x - math.cos(heading)
+        gy = pose.position.y - math.sin(heading)
+        start = page.evaluate(f"window.posekitViewer.project({gx}, {gy})")
+        end = page.evaluate(f"window.posekitViewer.project({gx + 0.5}, {gy})")
+        assert 0 < start["x"] < 1280, start  # on screen
+        assert 0 < start["y"] < 800, start
+        page.click("#goal-tool")
+        assert debug(page, "goalTool") is True
+        page.mouse.move(start["x"], start["y"])
+        page.mouse.down()
+        page.mouse.move(end["x"], end["y"], steps=5)
+        page.mouse.up()
+        sent = wait_for(lambda: debug(page, "goalSent"), what="the goal_sent answer")
+        assert debug(page, "goalTool") is False  # one goal per activation, as in RViz2
+        assert (sent["x"], sent["y"]) == pytest.approx((gx, gy), abs=0.05)
+        assert sent["yaw"] == pytest.approx(0.0, abs=0.1)
+        wait_for(lambda: goals, what="a PoseStamped on goal_pose")
+        msg = goals[-1]
+        assert msg.header.frame_id == "odom"
+        assert (msg.pose.position.x, msg.pose.position.y) == pytest.approx((sent["x"], sent["y"]))
+        o = msg.pose.orientation
+        assert 2 * math.atan2(o.z, o.w) == pytest.approx(sent["yaw"], abs=1e-9)
+
+        drawn = wait_for(lambda: debug(page, "goal"), what="the goal drawn from goal_pose")
+        assert drawn["frame"] == "odom"
+        assert drawn["pose"][:2] == pytest.approx([sent["x"], sent["y"]])
+        time.sleep(0.2)  # next render: the goal arrow is in the scene
+        shown = _magenta_pixels(canvas_pixels(page, "#scene"))
+        page.uncheck("#show-goal")
+        time.sleep(0.3)
+        hidden = _magenta_pixels(canvas_pixels(page, "#scene"))
+        page.check("#show-goal")
+        assert shown > hidden + 30, (shown, hidden)
+
+        def distance() -> float:
+            p = truth[-1].pose.pose.position
+            return math.hypot(p.x - sent["x"], p.y - sent["y"])
+
+        before = distance()
+        wait_for(lambda: distance() < before - 0.4, timeout=30.0,
+                 what="the robot closing in on the clicked goal")
+    finally:
+        for sub in subs:
+            sub.destroy()
+
+
 def test_2d_fallback_draws(browser: Any, viewer: Any) -> None:
     page = browser.new_page(viewport={"width": 900, "height": 600})
     try:

@@ -20,15 +20,17 @@ WebSocket protocol (server -> client, JSON text unless noted):
 * ``odom``: ``{displays: {topic: {frame, child, received, trail: [[x, y, z, qx, qy, qz, qw,
   speed], ...]}}}`` at up to 10 Hz when a trail changed;
 * ``graph``: ``{tree: [...], topics: [...], images: [...], clock: {source, sim, wall, rtf,
-  rate_clock}}`` at 2 Hz (``clock``: :meth:`ViewerTap.time_state`; topic rates are on its
-  ``rate_clock``);
+  rate_clock}, goal: {frame, pose, stamp} | null}`` at 2 Hz (``clock``:
+  :meth:`ViewerTap.time_state`; topic rates are on its ``rate_clock``);
 * binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
   seq, stamp, width, height, encoding}``, then the JPEG bytes. Only for topics the client
   watches, newest only, at up to ``image_rate`` Hz (default 15).
 
 Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "topics":
-[...]}``, ``{"op": "pause", "paused": BOOL}``. A malformed request gets ``{"type": "error",
-"message": ...}`` and the connection stays open.
+[...]}``, ``{"op": "pause", "paused": BOOL}``, ``{"op": "goal", "frame": NAME, "x": M, "y": M,
+"yaw": RAD}`` (publishes a ``geometry_msgs/PoseStamped`` on ``/goal_pose``, answered by
+``{"type": "goal_sent", ...}``: :meth:`ViewerServer.publish_goal`). A malformed request gets
+``{"type": "error", "message": ...}`` and the connection stays open.
 
 Who may talk to it (against other web pages in the user's browser and DNS rebinding, as
 local development servers check): every HTTP request's ``Host`` header must name this
@@ -62,11 +64,13 @@ from typing import Any
 from aiohttp import WSMsgType, web
 
 from posekit.robot.worlds import World
+from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
+from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
 from posekit.viewer.access import host_allowed, own_hosts
 from posekit.viewer.errors import ViewerError
 from posekit.viewer.images import encode_jpeg
-from posekit.viewer.taps import ViewerTap
+from posekit.viewer.taps import GOAL_TOPIC, ViewerTap
 from posekit.viewer.world import world_payload
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "THREE_ROOT", "WEB_ROOT", "ViewerServer"]
@@ -84,6 +88,7 @@ _IDLE_TF_PERIOD = 0.5
 _MAX_NAME = 256
 _MAX_WATCH = 16
 _RESTART_DELAY_S = 0.5
+_MAX_GOAL_M = 10_000.0
 
 
 @dataclass(eq=False)
@@ -212,7 +217,10 @@ class ViewerServer:
         self._ready = threading.Event()
         self._start_error: BaseException | None = None
         self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0,
-                          "producer_errors": 0, "producer_restarts": 0, "forbidden": 0}
+                          "producer_errors": 0, "producer_restarts": 0, "forbidden": 0,
+                          "goals": 0}
+        self._goal_lock = threading.Lock()
+        self._goal_pub: PublisherEndpoint | None = None
         self._producers: set[asyncio.Task[None]] = set()
         self._warn = RateLimitedLog(tap.logger.warning)
 
@@ -353,6 +361,11 @@ class ViewerServer:
             thread.join(timeout=10.0)
         self._thread = None
         self._encoder.shutdown(wait=False, cancel_futures=True)
+        with self._goal_lock:
+            goal_pub, self._goal_pub = self._goal_pub, None
+        if goal_pub is not None:
+            with contextlib.suppress(Exception):  # a closing transport: nothing to undo
+                goal_pub.destroy()
         if self.close_tap:
             self.tap.close()
 
@@ -503,10 +516,58 @@ class ViewerServer:
                 client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
             elif op == "pause":
                 client.paused = bool(request.get("paused"))
+            elif op == "goal":
+                goal = self.publish_goal(request.get("frame"), request.get("x"),
+                                         request.get("y"), request.get("yaw"))
+                client.put("goal_sent", _dumps({"type": "goal_sent", **goal}))
             else:
-                raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause)")
+                raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause, goal)")
         except (ValueError, TypeError) as exc:
             client.put("error", _dumps({"type": "error", "message": f"bad request: {exc}"}))
+
+    # -- goals -------------------------------------------------------------------------------
+    def publish_goal(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
+        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose`` (RViz2's "2D Goal Pose"):
+        position ``(x, y, 0)`` m and heading ``yaw`` rad about z in ``frame``, stamped with
+        the tap's "now". The publisher is created on first use (the viewer adds no topic
+        until a goal is sent). Returns what was published.
+
+        Raises:
+            ValueError: a non-string or over-long frame, non-numeric or non-finite values,
+                or a position beyond 10 km.
+        """
+        from posekit.msgs.geometry_msgs import PoseStamped
+
+        if not isinstance(frame, str) or not frame.strip("/") or len(frame) > _MAX_NAME:
+            raise ValueError("'frame' must be a non-empty frame name")
+        values = []
+        for name, v in (("x", x), ("y", y), ("yaw", yaw)):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ValueError(f"goal '{name}' must be a finite number, got {v!r}")
+            values.append(float(v))
+        gx, gy, gyaw = values
+        if max(abs(gx), abs(gy)) > _MAX_GOAL_M:
+            raise ValueError(f"goal position beyond {_MAX_GOAL_M:g} m")
+        msg = PoseStamped()
+        msg.header.frame_id = frame.lstrip("/")
+        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(self.tap.now_ns(), 1_000_000_000)
+        msg.pose.position.x, msg.pose.position.y = gx, gy
+        msg.pose.orientation.z, msg.pose.orientation.w = math.sin(gyaw / 2), math.cos(gyaw / 2)
+        with self._goal_lock:
+            created = self._goal_pub is None
+            if self._goal_pub is None:
+                self._goal_pub = self.tap.transport.advertise(EndpointInfo(
+                    GOAL_TOPIC, PoseStamped, QoSProfile(depth=10), "posekit_viewer", "/",
+                    self.tap.logger))
+            publisher = self._goal_pub
+        if created:
+            self.tap.refresh()  # the goal display subscribes now that goal_pose has a publisher
+        publisher.publish(msg)
+        self._counters["goals"] += 1
+        self.tap.logger.info(
+            f"viewer: goal sent on {GOAL_TOPIC}: x={gx:.2f}, y={gy:.2f}, yaw={gyaw:.2f} "
+            f"in {msg.header.frame_id}")
+        return {"frame": msg.header.frame_id, "x": gx, "y": gy, "yaw": gyaw}
 
     # -- producers ---------------------------------------------------------------------------
     def _tf_message(self, fixed: str) -> str:
@@ -531,6 +592,7 @@ class ViewerServer:
                 "topics": self.tap.topics(),
                 "images": self.tap.image_topics(),
                 "clock": self.tap.time_state(),
+                "goal": self.tap.goal(),
             }
         )
 

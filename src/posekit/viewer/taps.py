@@ -21,6 +21,8 @@ What is tapped (topics are matched fully qualified):
   last ``trail_length`` poses that moved more than RViz2's Odometry display tolerances
   (0.1 m or 0.1 rad) from the previous kept pose, with the speed ``|v|`` for the arrow
   length;
+* ``/goal_pose`` (geometry_msgs/PoseStamped): the current goal (the newest message with
+  finite values), drawn as an arrow in its header frame;
 * every ``sensor_msgs/Image`` topic: the newest message only (a reference; the in-process
   bus shares the frozen pixel array, so this costs nothing); JPEG encoding happens on demand
   in the server, only for topics a client watches;
@@ -67,6 +69,7 @@ from posekit.tf2 import Buffer, TransformException
 from posekit.time import Duration
 
 __all__ = [
+    "GOAL_TOPIC",
     "GROUND_TRUTH_TOPIC",
     "IMAGE_TYPE",
     "ODOMETRY_TOPICS",
@@ -83,6 +86,9 @@ TF_TYPE = "tf2_msgs/msg/TFMessage"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
 IMAGE_TYPE = "sensor_msgs/msg/Image"
 CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
+POSE_STAMPED_TYPE = "geometry_msgs/msg/PoseStamped"
+#: The goal display's topic (what RViz2's "2D Goal Pose" tool publishes on).
+GOAL_TOPIC = "/goal_pose"
 #: Odometry displays shown by default (RViz2 config of the lecture) and the simulator's truth.
 ODOMETRY_TOPICS = ("/odometry/filtered", "/odometry/wheels")
 GROUND_TRUTH_TOPIC = "/ground_truth/odom"
@@ -249,6 +255,7 @@ class ViewerTap:
         self._endpoints: dict[str, SubscriptionEndpoint] = {}
         self._trails: dict[str, OdometryTrail] = {}
         self._images: dict[str, tuple[int, Any]] = {}
+        self._goal: dict[str, Any] | None = None
         self._clock_ns: int | None = None
         self._clock_fn = clock_ns
         # Newest stamp seen on /tf and when (monotonic s): "now" when there is no clock.
@@ -273,7 +280,8 @@ class ViewerTap:
             self.logger.warning(f"viewer: graph query failed: {exc}")
             return
         # The topics the page draws first: a graph with endless topics must not crowd them out.
-        shown = {"/tf", "/tf_static", "/clock", *self.odometry_topics, self.ground_truth_topic}
+        shown = {"/tf", "/tf_static", "/clock", GOAL_TOPIC, *self.odometry_topics,
+                 self.ground_truth_topic}
         names_and_types = sorted(names_and_types, key=lambda nt: nt[0] not in shown)
         for name, types in names_and_types:
             type_name = types[0] if types else ""
@@ -324,6 +332,8 @@ class ViewerTap:
         ):
             def handler(msg: Any) -> None:
                 self._on_odometry(name, msg)
+        elif info.type_name == POSE_STAMPED_TYPE and name == GOAL_TOPIC:
+            handler = self._on_goal
         elif info.type_name == IMAGE_TYPE:
             def handler(msg: Any) -> None:
                 with self._lock:
@@ -434,7 +444,24 @@ class ViewerTap:
                 trail = self._trails[topic] = OdometryTrail(topic)
             trail.add(pose, msg.header.frame_id.lstrip("/"), msg.child_frame_id, self.trail_length)
 
+    def _on_goal(self, msg: Any) -> None:
+        p, q = msg.pose.position, msg.pose.orientation
+        values = [float(v) for v in (p.x, p.y, p.z, q.x, q.y, q.z, q.w)]
+        if not all(math.isfinite(v) for v in values):
+            self._warn("viewer: goal not drawn (non-finite pose)", GOAL_TOPIC)
+            return
+        goal = {"frame": msg.header.frame_id.lstrip("/") or "odom", "pose": values,
+                "stamp": _stamp_ns(msg.header.stamp) / NS}
+        with self._lock:
+            self._goal = goal
+
     # -- snapshots for the server -----------------------------------------------------------
+    def goal(self) -> dict[str, Any] | None:
+        """The current goal: ``{frame, pose: [x, y, z, qx, qy, qz, qw], stamp}`` (m,
+        quaternion, s) from the newest ``/goal_pose``, or None."""
+        with self._lock:
+            return None if self._goal is None else dict(self._goal)
+
     def now_ns(self) -> int:
         """"Now" (ns) for frame ages: the ``clock_ns`` given, else ``/clock`` when the system
         publishes it, else the wall clock; but when the newest /tf stamp is more than an

@@ -38,6 +38,7 @@ const visibility = () => ({
   [ODOM_TOPICS.wheels]: $("show-odom-wheels").checked,
   truth: $("show-truth").checked,
   world: $("show-world").checked,
+  goal: $("show-goal").checked,
 });
 
 // ------------------------------------------------------------------------------ scene
@@ -136,6 +137,7 @@ function connect() {
       case "tf": onTf(msg); break;
       case "odom": onOdom(msg); break;
       case "graph": onGraph(msg); break;
+      case "goal_sent": debug.goalSent = msg; break;
       case "error": console.warn("viewer server:", msg.message); break;
       default: break;
     }
@@ -209,6 +211,8 @@ function onGraph(msg) {
   if (state.paused) return;
   debug.graphMessages += 1;
   fillClock(msg.clock);
+  debug.goal = msg.goal;
+  if (scene) scene.setGoal(msg.goal);
   fillTree(msg.tree);
   fillTopics(msg.topics);
   state.imageTopics = msg.images;
@@ -250,6 +254,46 @@ for (const input of document.querySelectorAll(".toggles input")) {
     if (scene) scene.setVisibility(visibility());
     state.dirty = true;
   });
+}
+
+// 2D Goal Pose (RViz2's tool): press on the ground for the position, drag for the heading,
+// release to publish geometry_msgs/PoseStamped on goal_pose in the Fixed Frame (the server
+// publishes it). One goal per activation, as in RViz2.
+const goalTool = { active: false, from: null, yaw: 0 };
+
+function setGoalTool(active) {
+  goalTool.active = active;
+  goalTool.from = null;
+  debug.goalTool = active;
+  $("goal-tool").setAttribute("aria-pressed", String(active));
+  $("view").classList.toggle("goal-tool", active);
+  if (scene) { scene.setControlsEnabled(!active); scene.setDraft(null, 0); }
+  state.dirty = true;
+}
+
+$("goal-tool").addEventListener("click", () => setGoalTool(!goalTool.active));
+
+function goalPointer(kind, ev) {
+  if (!goalTool.active || !scene || ev.button > 0) return;
+  const p = scene.pickGround(ev.clientX, ev.clientY);
+  if (kind === "down") {
+    if (!p) return;
+    goalTool.from = p;
+    goalTool.yaw = 0;
+  } else if (goalTool.from && p) {
+    const dx = p.x - goalTool.from.x, dy = p.y - goalTool.from.y;
+    if (Math.hypot(dx, dy) > 1e-3) goalTool.yaw = Math.atan2(dy, dx);
+  }
+  if (!goalTool.from) return;
+  ev.preventDefault();
+  if (kind === "up") {
+    const { from, yaw } = goalTool;
+    send({ op: "goal", frame: state.fixedFrame, x: from.x, y: from.y, yaw });
+    setGoalTool(false);
+  } else {
+    scene.setDraft(goalTool.from, goalTool.yaw);
+  }
+  state.dirty = true;
 }
 
 // ------------------------------------------------------------------------------ panels
@@ -364,5 +408,9 @@ function onImage(buffer) {
 
 // ------------------------------------------------------------------------------ start
 await createScene();
+scene.canvas.addEventListener("pointerdown", (ev) => goalPointer("down", ev));
+window.addEventListener("pointermove", (ev) => goalPointer("move", ev));
+window.addEventListener("pointerup", (ev) => goalPointer("up", ev));
+debug.project = (x, y) => scene.projectPoint(x, y, 0);
 connect();
 requestAnimationFrame(loop);

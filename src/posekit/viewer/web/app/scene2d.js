@@ -29,8 +29,11 @@ export function createScene2D(container) {
   let vis = {};
   let staleSeconds = 1.0;
 
+  let goal = null;          // goal_pose in its frame
+  let draft = null;         // the 2D Goal Pose tool's arrow {x, y, yaw} in the fixed frame
+  let panEnabled = true;
   let drag = null;
-  canvas.addEventListener("mousedown", (e) => { drag = { x: e.clientX, y: e.clientY }; });
+  canvas.addEventListener("mousedown", (e) => { if (panEnabled) drag = { x: e.clientX, y: e.clientY }; });
   window.addEventListener("mouseup", () => { drag = null; });
   window.addEventListener("mousemove", (e) => {
     if (!drag) return;
@@ -108,6 +111,13 @@ export function createScene2D(container) {
         arrow({ x, y, yaw: frame.yaw + yawOf(p[3], p[4], p[5], p[6]) }, Math.max(0.03, 0.5 * p[7]), color);
       }
     }
+    const goalFrame = goal && poses.get(goal.frame);
+    if (goalFrame && vis.goal !== false) {
+      const [x, y, , qx, qy, qz, qw] = goal.pose;
+      const [gx, gy] = apply(goalFrame, x, y);
+      arrow({ x: gx, y: gy, yaw: goalFrame.yaw + yawOf(qx, qy, qz, qw) }, 0.45, "#ff40ff");
+    }
+    if (draft) arrow(draft, 0.45, "#40ff40");
     const base = poses.get((hello && hello.base_frame) || "base_link");
     if (base && vis.robot !== false) {
       polygon([apply(base, 0.1, 0.075), apply(base, -0.1, 0.075), apply(base, -0.1, -0.075), apply(base, 0.1, -0.075)], "#3a3f47", "#c0392b");
@@ -151,6 +161,19 @@ export function createScene2D(container) {
     setOdometry(displays, helloMsg) { odom = displays; hello = helloMsg; },
     resetTrails() { odom = {}; },
     setVisibility(v) { vis = v; moved = true; },
+    setGoal(g) { goal = g; moved = true; },
+    setDraft(from, yaw) { draft = from ? { x: from.x, y: from.y, yaw } : null; moved = true; },
+    pickGround(clientX, clientY) {
+      const r = canvas.getBoundingClientRect();
+      const px = (clientX - r.left) * (canvas.width / r.width), py = (clientY - r.top) * (canvas.height / r.height);
+      return { x: center.x + (px - canvas.width / 2) / scale, y: center.y - (py - canvas.height / 2) / scale };
+    },
+    projectPoint(x, y) {
+      const r = canvas.getBoundingClientRect();
+      const [px, py] = toPx(x, y);
+      return { x: r.left + px * (r.width / canvas.width), y: r.top + py * (r.height / canvas.height) };
+    },
+    setControlsEnabled(on) { panEnabled = on; if (!on) drag = null; },
     needsRender: () => moved,
     render,
   };

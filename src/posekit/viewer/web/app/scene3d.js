@@ -173,6 +173,19 @@ export async function createScene3D(container) {
   scene.add(worldGroup);
   let worldFrame = "odom";
 
+  // The current goal (goal_pose, in its header frame) and the 2D Goal Pose tool's draft.
+  const GOAL_COLOR = 0xff40ff;
+  const goalGroup = new THREE.Group();
+  goalGroup.matrixAutoUpdate = false;
+  goalGroup.visible = false;
+  const goalArrow = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 0.45, GOAL_COLOR, 0.12, 0.07);
+  goalGroup.add(goalArrow);
+  scene.add(goalGroup);
+  let goal = null;
+  const draft = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 0.45, 0x40ff40, 0.12, 0.07);
+  draft.visible = false;
+  scene.add(draft);
+
   const odomGroups = new Map();                 // topic -> {group, arrows: [], frame}
   let vis = {};
   let hello = null;
@@ -238,6 +251,51 @@ export async function createScene3D(container) {
     if (base) robot.matrix.copy(base), (robot.matrixAutoUpdate = false), (robot.matrixWorldNeedsUpdate = true);
     placeWorld();
     placeOdometry();
+    placeGoal();
+  }
+
+  function placeGoal() {
+    const m = goal ? framePose.get(goal.frame) : null;
+    goalGroup.visible = Boolean(m) && vis.goal !== false;
+    if (m) { goalGroup.matrix.copy(m); goalGroup.matrixWorldNeedsUpdate = true; }
+  }
+
+  function setGoal(g) {
+    goal = g;
+    if (g) {
+      const [x, y, z, qx, qy, qz, qw] = g.pose;
+      goalArrow.position.set(x, y, z + 0.01);
+      goalArrow.setDirection(new THREE.Vector3(1, 0, 0).applyQuaternion(new THREE.Quaternion(qx, qy, qz, qw)));
+    }
+    placeGoal();
+    controlsMoved = true;
+  }
+
+  // Where a pixel of the canvas (client coordinates) meets the Fixed Frame's z = 0 plane.
+  const raycaster = new THREE.Raycaster();
+  const ground = new THREE.Plane(new THREE.Vector3(0, 0, 1), 0);
+  function pickGround(clientX, clientY) {
+    const r = canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - r.left) / r.width) * 2 - 1, -((clientY - r.top) / r.height) * 2 + 1);
+    raycaster.setFromCamera(ndc, camera);
+    const hit = raycaster.ray.intersectPlane(ground, new THREE.Vector3());
+    return hit ? { x: hit.x, y: hit.y } : null;
+  }
+
+  // The client coordinates of a point of the Fixed Frame (three.js's projection).
+  function projectPoint(x, y, z = 0) {
+    const r = canvas.getBoundingClientRect();
+    const v = new THREE.Vector3(x, y, z).project(camera);
+    return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height };
+  }
+
+  function setDraft(from, yaw) {
+    draft.visible = Boolean(from);
+    if (from) {
+      draft.position.set(from.x, from.y, 0.02);
+      draft.setDirection(new THREE.Vector3(Math.cos(yaw), Math.sin(yaw), 0));
+    }
+    controlsMoved = true;
   }
 
   function placeWorld() {
@@ -344,6 +402,7 @@ export async function createScene3D(container) {
   function setVisibility(v) {
     vis = v;
     grid.visible = v.grid !== false;
+    placeGoal();
     links.visible = v.tf !== false;
     for (const obj of frameObjects.values()) {
       obj.group.visible = obj.group.visible && v.tf !== false;
@@ -374,6 +433,11 @@ export async function createScene3D(container) {
     setOdometry,
     resetTrails,
     setVisibility,
+    setGoal,
+    setDraft,
+    pickGround,
+    projectPoint,
+    setControlsEnabled(on) { controls.enabled = on; },
     needsRender: () => controlsMoved,
     render() {
       controlsMoved = false;
