@@ -200,6 +200,82 @@ def test_stale_frame_is_greyed_in_the_tree(page: Any, support: SimpleNamespace) 
                                  "r => r.classList.contains('stale')") is False
 
 
+def _label_rects(page: Any) -> dict[str, dict[str, float]]:
+    return dict(page.evaluate("""() => Object.fromEntries(
+        [...document.querySelectorAll('#tf-labels .tf-label:not([hidden])')].map(e => {
+          const r = e.getBoundingClientRect();
+          return [e.dataset.frame, {x: r.x, y: r.y, w: r.width, h: r.height}];
+        }))"""))
+
+
+def test_frame_names_do_not_overlap_though_the_frames_do(page: Any) -> None:
+    """Around the robot many frame origins project within a label's height of each other
+    (three.js's projection of the frames' poses); the names shown never overlap (the
+    labels' own rectangles in the page) and every robot frame keeps its name."""
+    def all_named() -> dict[str, dict[str, float]]:
+        rects = _label_rects(page)
+        return rects if set(rects) >= ROBOT_FRAMES else {}
+
+    rects = wait_for(all_named, what="a name for every robot frame")
+    assert debug(page, "labels().hidden") == 0
+    names = list(rects)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            ra, rb = rects[a], rects[b]
+            apart = (ra["x"] + ra["w"] <= rb["x"] or rb["x"] + rb["w"] <= ra["x"]
+                     or ra["y"] + ra["h"] <= rb["y"] or rb["y"] + rb["h"] <= ra["y"])
+            assert apart, f"labels {a} and {b} overlap: {ra} {rb}"
+    rows = {f[0]: f for f in debug(page, "tf.frames") if f[11]}
+    anchors = [page.evaluate(f"window.posekitViewer.project({r[2]}, {r[3]}, {r[4]})")
+               for name, r in rows.items() if name in ROBOT_FRAMES]
+    height = max(r["h"] for r in rects.values())
+    crowded = sum(
+        1 for i, a in enumerate(anchors) for b in anchors[i + 1:]
+        if abs(a["y"] - b["y"]) < height and abs(a["x"] - b["x"]) < 60
+    )
+    assert crowded > 0, "the robot's frames do not crowd: this test would prove nothing"
+
+
+def test_tf_display_per_frame_axes_names_and_marker_scale(page: Any,
+                                                          support: SimpleNamespace) -> None:
+    """RViz2's TF display: a frame's 'show' box hides its axes and name, its 'name' box only
+    the name; the marker scale grows the axes (more drawn pixels); stale names are grey."""
+    wait_for(lambda: "imu_link" in debug(page, "labels().frames"), what="imu_link drawn")
+    page.uncheck("#tf-tree input[data-kind='show'][data-frame='imu_link']")
+    page.uncheck("#tf-tree input[data-kind='name'][data-frame='body_link']")
+    time.sleep(0.3)
+    state = debug(page, "labels()")
+    assert "imu_link" not in state["frames"]
+    assert "imu_link" not in state["shown"]
+    assert "body_link" in state["frames"]
+    assert "body_link" not in state["shown"]
+    assert debug(page, "tfOptions") == {"hidden": ["imu_link"], "noName": ["body_link"],
+                                        "scale": 1}
+    # The boxes survive the tree's periodic rebuild.
+    time.sleep(0.7)
+    assert page.is_checked("#tf-tree input[data-kind='show'][data-frame='imu_link']") is False
+    page.click("#tf-show-all")
+    wait_for(lambda: {"imu_link", "body_link"} <= set(debug(page, "labels().shown")),
+             what="names back after 'show all'")
+
+    page.uncheck("#show-grid")
+    page.click("#pause")  # a still scene: only the marker scale changes between the pictures
+    time.sleep(0.3)
+    small = drawn_fraction(canvas_pixels(page, "#scene"))
+    page.fill("#marker-scale", "4")
+    time.sleep(0.3)
+    large = drawn_fraction(canvas_pixels(page, "#scene"))
+    page.fill("#marker-scale", "1")
+    page.click("#pause")
+    page.check("#show-grid")
+    assert large > small + 0.002, (small, large)
+
+    stale = support.STALE_FRAME
+    label = page.wait_for_selector(f"#tf-labels .tf-label.stale[data-frame='{stale}']",
+                                   state="attached", timeout=10000)
+    assert label is not None
+
+
 def test_clock_shows_sim_time_wall_time_and_the_real_time_factor(page: Any) -> None:
     """The toolbar's clock: the run's sim time (the executor's), the wall time, and an RTF that
     matches the sim/wall progress the page itself saw between two readings (the run is

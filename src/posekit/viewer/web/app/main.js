@@ -29,6 +29,20 @@ const state = {
   fps: Number(params.get("fps") || 30),
 };
 
+// RViz2's TF display options (per-frame axes and names, marker scale).
+const tfOptions = { hidden: new Set(), noName: new Set(), scale: 1.0 };
+let knownFrames = [];
+
+function applyTfOptions() {
+  if (scene) scene.setTfOptions(tfOptions);
+  debug.tfOptions = { hidden: [...tfOptions.hidden].sort(), noName: [...tfOptions.noName].sort(), scale: tfOptions.scale };
+  for (const box of document.querySelectorAll("#tf-tree input[data-kind]")) {
+    const set = box.dataset.kind === "show" ? tfOptions.hidden : tfOptions.noName;
+    box.checked = !set.has(box.dataset.frame);
+  }
+  state.dirty = true;
+}
+
 const visibility = () => ({
   grid: $("show-grid").checked,
   tf: $("show-tf").checked,
@@ -91,6 +105,8 @@ async function createScene() {
     $("renderer-note").hidden = false;
   }
   scene.setVisibility(visibility());
+  scene.setTfOptions(tfOptions);
+  debug.labels = () => scene.labelState();
 }
 
 // Render loop capped at state.fps (30 by default) so a laptop stays cool.
@@ -304,7 +320,36 @@ function cell(text, cls) {
   return td;
 }
 
+function checkCell(frame, kind) {
+  const td = document.createElement("td");
+  const box = document.createElement("input");
+  box.type = "checkbox";
+  box.dataset.frame = frame;
+  box.dataset.kind = kind;
+  box.title = kind === "show" ? `show ${frame}` : `show the name of ${frame}`;
+  box.checked = !(kind === "show" ? tfOptions.hidden : tfOptions.noName).has(frame);
+  td.append(box);
+  return td;
+}
+
+$("tf-tree").addEventListener("change", (ev) => {
+  const box = ev.target;
+  if (!box.dataset || !box.dataset.kind) return;
+  const set = box.dataset.kind === "show" ? tfOptions.hidden : tfOptions.noName;
+  if (box.checked) set.delete(box.dataset.frame); else set.add(box.dataset.frame);
+  applyTfOptions();
+});
+
+$("marker-scale").addEventListener("input", (ev) => {
+  const v = Number(ev.target.value);
+  if (Number.isFinite(v) && v >= 0.1 && v <= 10) { tfOptions.scale = v; applyTfOptions(); }
+});
+$("tf-show-all").addEventListener("click", () => { tfOptions.hidden.clear(); tfOptions.noName.clear(); applyTfOptions(); });
+$("tf-hide-all").addEventListener("click", () => { for (const f of knownFrames) tfOptions.hidden.add(f); applyTfOptions(); });
+$("tf-names-none").addEventListener("click", () => { for (const f of knownFrames) tfOptions.noName.add(f); applyTfOptions(); });
+
 function fillTree(tree) {
+  knownFrames = [...new Set([...tree.map((f) => f.name), ...tree.map((f) => f.parent)])].filter(Boolean);
   const body = $("tf-tree").tBodies[0];
   // Depth-first order under each root, indented, like rqt_tf_tree read top-down.
   const children = new Map();
@@ -322,6 +367,8 @@ function fillTree(tree) {
       const stale = !f.static && f.age !== null && f.age > STALE_S;
       tr.className = `${f.static ? "static" : ""} ${stale ? "stale" : ""}`;
       tr.append(
+        checkCell(f.name, "show"),
+        checkCell(f.name, "name"),
         cell(`${"\u00a0".repeat(depth)}${f.name}`),
         cell(f.parent),
         cell(f.static ? "static" : f.rate.toFixed(1), "num"),
@@ -334,7 +381,7 @@ function fillTree(tree) {
   for (const root of roots) {
     const tr = document.createElement("tr");
     tr.dataset.frame = root;
-    tr.append(cell(root), cell(""), cell("", "num"), cell("", "num"));
+    tr.append(checkCell(root, "show"), checkCell(root, "name"), cell(root), cell(""), cell("", "num"), cell("", "num"));
     rows.push(tr);
     walk(root, 1);
   }
@@ -411,6 +458,6 @@ await createScene();
 scene.canvas.addEventListener("pointerdown", (ev) => goalPointer("down", ev));
 window.addEventListener("pointermove", (ev) => goalPointer("move", ev));
 window.addEventListener("pointerup", (ev) => goalPointer("up", ev));
-debug.project = (x, y) => scene.projectPoint(x, y, 0);
+debug.project = (x, y, z = 0) => scene.projectPoint(x, y, z);
 connect();
 requestAnimationFrame(loop);
