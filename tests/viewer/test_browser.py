@@ -388,6 +388,89 @@ def test_goal_tool_publishes_a_goal_the_p_controller_drives_to(page: Any, viewer
             sub.destroy()
 
 
+def test_a_saved_view_restores_the_same_view_from_a_file_and_from_the_url(
+    browser: Any, viewer: Any, tmp_path: Any
+) -> None:
+    """Orbit with the mouse, change displays and TF options, save the view to a file; a new
+    page that loads the file, and one opened with the Link URL, end with the same state and
+    (only static displays on) the same pixels as the page the view was saved from."""
+    import json
+
+    def open_page(url: str) -> Any:
+        p = browser.new_page(viewport={"width": 1100, "height": 700})
+        p.goto(url)
+        wait_for(lambda: debug(p, "connected"), what="the WebSocket connection")
+        wait_for(lambda: debug(p, "renders") > 2, what="renders")
+        return p
+
+    def still(p: Any) -> np.ndarray:
+        p.wait_for_timeout(400)  # the next capped-rate render has drawn the new view
+        return canvas_pixels(p, "#scene")
+
+    def settled(p: Any) -> Any:
+        """The configuration without the panels, camera rounded to 1 µm (three.js's orbit
+        update recomputes the position in floating point)."""
+        cfg = p.evaluate("window.posekitViewer.viewConfig()")
+        cfg["view"] = {k: [round(v, 6) for v in vec] for k, vec in cfg["view"].items()}
+        return {k: v for k, v in cfg.items() if k != "panels"}
+
+    first = open_page(viewer.url)
+    second = third = None
+    try:
+        box = first.locator("#scene").bounding_box()
+        cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        first.mouse.move(cx, cy)
+        first.mouse.down()
+        first.mouse.move(cx + 140, cy + 30, steps=8)  # orbit (three.js OrbitControls)
+        first.mouse.up()
+        for toggle in ("#show-tf", "#show-names", "#show-robot", "#show-odom-filtered",
+                       "#show-odom-wheels", "#show-truth", "#show-goal"):
+            first.uncheck(toggle)
+        first.fill("#marker-scale", "2.5")
+        first.uncheck("#tf-tree input[data-kind='show'][data-frame='imu_link']")
+        saved_state = settled(first)
+        assert saved_state["tf"]["hidden"] == ["imu_link"]
+        assert saved_state["view"]["camera"] != pytest.approx([-1.5, -2.5, 4.0])  # orbited
+        assert saved_state["tf"]["marker_scale"] == 2.5
+        with first.expect_download() as download:
+            first.click("#config-save")
+        path = tmp_path / "view.json"
+        download.value.save_as(path)
+        saved = json.loads(path.read_text())
+        assert saved["posekit_view"] == 1
+        saved_view = {k: [round(v, 6) for v in vec] for k, vec in saved["view"].items()}
+        assert {**{k: v for k, v in saved.items() if k != "panels"},
+                "view": saved_view} == saved_state
+        first.click("#config-link")
+        link = debug(first, "viewUrl")
+        assert "view=" in link
+        pixels = still(first)
+
+        second = open_page(viewer.url)
+        assert settled(second) != saved_state
+        second.set_input_files("#config-load", str(path))
+        wait_for(lambda: debug(second, "configLoaded"), what="the file loaded")
+        assert debug(second, "configProblems") == []
+        assert settled(second) == saved_state
+        assert np.abs(still(second).astype(int) - pixels.astype(int)).max() <= 2
+
+        third = open_page(link)
+        assert settled(third) == saved_state
+        assert np.abs(still(third).astype(int) - pixels.astype(int)).max() <= 2
+
+        # A file that is not a view configuration is named and changes nothing.
+        bad = tmp_path / "bad.json"
+        bad.write_text(json.dumps({"hello": 1}))
+        third.set_input_files("#config-load", str(bad))
+        wait_for(lambda: debug(third, "configError"), what="the refusal")
+        assert "not a posekit view configuration" in debug(third, "configError")
+        assert settled(third) == saved_state
+    finally:
+        for p in (first, second, third):
+            if p is not None:
+                p.close()
+
+
 def test_2d_fallback_draws(browser: Any, viewer: Any) -> None:
     page = browser.new_page(viewport={"width": 900, "height": 600})
     try:

@@ -312,6 +312,132 @@ function goalPointer(kind, ev) {
   state.dirty = true;
 }
 
+// ------------------------------------------------------------------------------ saved views
+// A view configuration (JSON, version 1): the fixed frame, the camera, every display toggle,
+// the TF display options and the image panels. "Save view" downloads it, "Load view" reads
+// it back, "Link" puts it in the URL (?view=<base64url JSON>) and a page opened with that
+// URL starts from it. Unknown keys are ignored; wrong values are skipped and named.
+const CONFIG_VERSION = 1;
+const toggleIds = () => [...document.querySelectorAll(".toggles input")].map((i) => i.id);
+
+function viewConfig() {
+  return {
+    posekit_view: CONFIG_VERSION,
+    fixed_frame: state.fixedFrame,
+    renderer: scene ? scene.kind : null,
+    view: scene ? scene.getView() : null,
+    displays: Object.fromEntries(toggleIds().map((id) => [id.replace(/^show-/, ""), $(id).checked])),
+    tf: { hidden: [...tfOptions.hidden].sort(), no_name: [...tfOptions.noName].sort(), marker_scale: tfOptions.scale },
+    panels: {
+      camera_topic: $("camera-topic").value || null,
+      open: Object.fromEntries([...document.querySelectorAll("#panels details")].map((d) => [d.id, d.open])),
+    },
+  };
+}
+
+function applyConfig(cfg) {
+  const problems = [];
+  if (!cfg || typeof cfg !== "object" || cfg.posekit_view !== CONFIG_VERSION) {
+    throw new Error(`not a posekit view configuration (version ${CONFIG_VERSION})`);
+  }
+  const names = (v) => Array.isArray(v) && v.every((n) => typeof n === "string" && n.length <= 256);
+  if (typeof cfg.fixed_frame === "string" && cfg.fixed_frame && cfg.fixed_frame.length <= 256) {
+    if (cfg.fixed_frame !== state.fixedFrame) {
+      state.fixedFrame = cfg.fixed_frame;
+      state.lastTf = null;
+      send({ op: "fixed_frame", frame: state.fixedFrame });
+      if (scene) scene.resetTrails();
+      fillFixedFrames(debug.frames);
+    }
+  } else if (cfg.fixed_frame !== undefined) problems.push("fixed_frame");
+  if (cfg.view !== undefined && !(scene && cfg.renderer === scene.kind && scene.setView(cfg.view))) {
+    problems.push("view");
+  }
+  for (const [key, on] of Object.entries(cfg.displays || {})) {
+    const box = $(`show-${key}`);
+    if (box && box.closest(".toggles") && typeof on === "boolean") box.checked = on;
+    else problems.push(`displays.${key}`);
+  }
+  const tf = cfg.tf || {};
+  if (names(tf.hidden)) tfOptions.hidden = new Set(tf.hidden); else if (tf.hidden !== undefined) problems.push("tf.hidden");
+  if (names(tf.no_name)) tfOptions.noName = new Set(tf.no_name); else if (tf.no_name !== undefined) problems.push("tf.no_name");
+  if (Number.isFinite(tf.marker_scale) && tf.marker_scale >= 0.1 && tf.marker_scale <= 10) {
+    tfOptions.scale = tf.marker_scale;
+    $("marker-scale").value = String(tf.marker_scale);
+  } else if (tf.marker_scale !== undefined) problems.push("tf.marker_scale");
+  const panels = cfg.panels || {};
+  for (const [id, open] of Object.entries(panels.open || {})) {
+    const d = $(id);
+    if (d && d.tagName === "DETAILS" && typeof open === "boolean") d.open = open;
+  }
+  if (typeof panels.camera_topic === "string") {
+    state.preferredCamera = panels.camera_topic;
+    const select = $("camera-topic");
+    if ([...select.options].some((o) => o.value === panels.camera_topic)) select.value = panels.camera_topic;
+  }
+  if (scene) scene.setVisibility(visibility());
+  applyTfOptions();
+  updateWatch(true);
+  debug.configProblems = problems;
+  const note = $("config-note");
+  note.hidden = problems.length === 0;
+  note.textContent = problems.length ? `view loaded; skipped: ${problems.join(", ")}` : "";
+  state.dirty = true;
+}
+
+function encodeConfig(cfg) {
+  const bytes = new TextEncoder().encode(JSON.stringify(cfg));
+  let bin = "";
+  for (const b of bytes) bin += String.fromCharCode(b);
+  return btoa(bin).replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
+}
+
+function decodeConfig(text) {
+  const bin = atob(text.replace(/-/g, "+").replace(/_/g, "/"));
+  return JSON.parse(new TextDecoder().decode(Uint8Array.from(bin, (c) => c.charCodeAt(0))));
+}
+
+function showConfigError(err) {
+  const note = $("config-note");
+  note.textContent = `view not loaded: ${err.message || err}`;
+  note.hidden = false;
+  debug.configError = note.textContent;
+}
+
+$("config-save").addEventListener("click", () => {
+  const blob = new Blob([JSON.stringify(viewConfig(), null, 2) + "\n"], { type: "application/json" });
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = "posekit-view.json";
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+});
+
+$("config-load").addEventListener("change", async (ev) => {
+  const file = ev.target.files && ev.target.files[0];
+  ev.target.value = "";
+  if (!file) return;
+  try {
+    if (file.size > 1 << 20) throw new Error("file larger than 1 MiB");
+    applyConfig(JSON.parse(await file.text()));
+    debug.configLoaded = (debug.configLoaded || 0) + 1;
+  } catch (err) {
+    showConfigError(err);
+  }
+});
+
+$("config-link").addEventListener("click", () => {
+  const url = new URL(location.href);
+  for (const key of ["view", "camera", "target", "fixed_frame"]) url.searchParams.delete(key);
+  url.searchParams.set("view", encodeConfig(viewConfig()));
+  history.replaceState(null, "", url);
+  debug.viewUrl = url.href;
+});
+
+debug.viewConfig = viewConfig;
+
 // ------------------------------------------------------------------------------ panels
 function cell(text, cls) {
   const td = document.createElement("td");
@@ -409,7 +535,7 @@ function fillCameraTopics(images) {
   if (current.join("\n") === cams.join("\n")) return;
   const previous = select.value;
   select.replaceChildren(...cams.map((t) => new Option(t, t)));
-  const preferred = CAMERA_PREFERENCE.find((t) => cams.includes(t)) || cams[0];
+  const preferred = [state.preferredCamera, ...CAMERA_PREFERENCE].find((t) => cams.includes(t)) || cams[0];
   select.value = cams.includes(previous) ? previous : (preferred || "");
   $("camera-info").textContent = cams.length ? "waiting for an image…" : "no image topic";
 }
@@ -455,6 +581,13 @@ function onImage(buffer) {
 
 // ------------------------------------------------------------------------------ start
 await createScene();
+if (params.get("view")) {
+  try {
+    applyConfig(decodeConfig(params.get("view")));
+  } catch (err) {
+    showConfigError(err);
+  }
+}
 scene.canvas.addEventListener("pointerdown", (ev) => goalPointer("down", ev));
 window.addEventListener("pointermove", (ev) => goalPointer("move", ev));
 window.addEventListener("pointerup", (ev) => goalPointer("up", ev));

@@ -181,6 +181,16 @@ export function createScene2D(container) {
     setVisibility(v) { vis = v; moved = true; },
     setGoal(g) { goal = g; moved = true; },
     setTfOptions(o) { tfOptions = o; moved = true; },
+    // The view (centre in the Fixed Frame, m; scale, px per m) for saved configs.
+    getView: () => ({ center: [center.x, center.y], scale }),
+    setView(v) {
+      if (!v || !Array.isArray(v.center) || v.center.length !== 2 || !v.center.every(Number.isFinite)
+          || !Number.isFinite(v.scale) || v.scale < 5 || v.scale > 2000) return false;
+      center = { x: v.center[0], y: v.center[1] };
+      scale = v.scale;
+      moved = true;
+      return true;
+    },
     labelState: () => ({ ...labels, frames: frames.filter((f) => f[11] && !tfOptions.hidden.has(f[0])).map((f) => f[0]) }),
     setDraft(from, yaw) { draft = from ? { x: from.x, y: from.y, yaw } : null; moved = true; },
     pickGround(clientX, clientY) {

@@ -443,6 +443,17 @@ export async function createScene3D(container) {
     projectPoint,
     setControlsEnabled(on) { controls.enabled = on; },
     setTfOptions,
+    // The view (camera position and orbit target in the Fixed Frame, m) for saved configs.
+    getView: () => ({ camera: camera.position.toArray(), target: controls.target.toArray() }),
+    setView(v) {
+      const ok = (a) => Array.isArray(a) && a.length === 3 && a.every(Number.isFinite);
+      if (!v || !ok(v.camera) || !ok(v.target)) return false;
+      camera.position.fromArray(v.camera);
+      controls.target.fromArray(v.target);
+      controls.update();
+      controlsMoved = true;
+      return true;
+    },
     labelState: () => ({ hidden: labelsHidden,
       shown: [...document.querySelectorAll("#tf-labels .tf-label:not([hidden])")].map((e) => e.dataset.frame),
       frames: [...frameObjects].filter(([, o]) => o.group.visible).map(([n]) => n) }),
