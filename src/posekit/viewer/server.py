@@ -89,6 +89,7 @@ _MAX_NAME = 256
 _MAX_WATCH = 16
 _RESTART_DELAY_S = 0.5
 _MAX_GOAL_M = 10_000.0
+_WORLD_RETRY_S = 2.0
 
 
 @dataclass(eq=False)
@@ -163,6 +164,10 @@ class ViewerServer:
             ``"*"``: any), e.g. when the page is reached through a proxy or a host name.
         allow_origins: more WebSocket ``Origin`` values accepted (``scheme://host:port``;
             ``"*"``: any).
+        discover_world: when no ``world`` is given, ask the system for it (the ``world``
+            parameter of its simulator, :func:`~posekit.viewer.world_discovery.
+            discover_world`) every 2 s until one answers, and send the pages a new ``hello``
+            with it. Default: when the tap's transport crosses processes.
     """
 
     def __init__(
@@ -181,6 +186,7 @@ class ViewerServer:
         close_tap: bool = False,
         allow_hosts: Iterable[str] = (),
         allow_origins: Iterable[str] = (),
+        discover_world: bool | None = None,
     ) -> None:
         if not 0 < tf_rate <= _MAX_TF_RATE:
             raise ValueError(f"tf_rate must be in (0, {_MAX_TF_RATE:g}] Hz, got {tf_rate}")
@@ -207,6 +213,9 @@ class ViewerServer:
             o.strip().lower().rstrip("/") for o in allow_origins if o.strip()
         )
         self._world = world_payload(world)
+        if discover_world is None:
+            discover_world = bool(getattr(tap.transport, "crosses_processes", False))
+        self.discover_world = world is None and discover_world
         self._clients: set[_Client] = set()
         self._loop: asyncio.AbstractEventLoop | None = None
         self._thread: threading.Thread | None = None
@@ -262,6 +271,8 @@ class ViewerServer:
             return
         self._ready.set()
         self._start_producer(loop)
+        if self.discover_world:
+            self._producers.add(loop.create_task(self._discover_world()))
         try:
             loop.run_forever()
         finally:
@@ -272,6 +283,28 @@ class ViewerServer:
                 loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
             loop.run_until_complete(self._cleanup())
             loop.close()
+
+    async def _discover_world(self) -> None:
+        """Ask the system for its world every 2 s until one answers (see ``discover_world``)."""
+        from posekit.viewer.world_discovery import discover_world
+
+        loop = asyncio.get_running_loop()
+        while not self._stopping and self._world is None:
+            name = await loop.run_in_executor(
+                None, discover_world, self.tap.transport, self.tap.logger)
+            if name:
+                try:
+                    self._world = world_payload(name)
+                except Exception as exc:  # an unknown or broken world: say so once, stop
+                    self._warn("viewer: the system's world cannot be drawn",
+                               f"{name!r}: {exc}")
+                    return
+                self.tap.logger.info(f"viewer: drawing the system's world '{name}'")
+                hello = _dumps(self._hello())
+                for client in list(self._clients):
+                    client.put("hello", hello)
+                return
+            await asyncio.sleep(_WORLD_RETRY_S)
 
     def _start_producer(self, loop: asyncio.AbstractEventLoop) -> None:
         """Run :meth:`_produce`, restarting it (after one logged line) if it ever fails."""
