@@ -58,6 +58,7 @@ from posekit.runtime.transport import (
     TopicTypeMismatchError,
     Transport,
 )
+from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.errors import ViewerError
 
 __all__ = ["DEFAULT_PORT", "FOXGLOVE_SUBPROTOCOL", "FOXGLOVE_SUBPROTOCOLS", "FoxgloveBridge"]
@@ -470,46 +471,22 @@ class _SubprotocolFront:
         self.bridge = bridge
         self.backend_url = f"ws://127.0.0.1:{backend_port}"
         self.port = bridge.requested_port
-        self._loop: asyncio.AbstractEventLoop | None = None
-        self._thread: threading.Thread | None = None
         self._runner: Any = None
         self._session: Any = None
         self._tasks: set[asyncio.Task[Any]] = set()
-        self._ready = threading.Event()
-        self._error: BaseException | None = None
+        self._loop_thread = LoopThread("posekit-foxglove-front", self._startup, self._cleanup,
+                                       pending=lambda: list(self._tasks))
 
     def start(self) -> None:
         """Bind and serve in a daemon thread. Raises OSError when the address is taken."""
-        self._thread = threading.Thread(target=self._run, name="posekit-foxglove-front",
-                                        daemon=True)
-        self._thread.start()
-        if not self._ready.wait(timeout=15.0):
-            raise OSError("the Foxglove front did not start within 15 s")
-        if self._error is not None:
-            self._thread.join(timeout=5.0)
-            raise OSError(str(self._error)) from self._error
-
-    def _run(self) -> None:
-        loop = asyncio.new_event_loop()
-        self._loop = loop
-        asyncio.set_event_loop(loop)
         try:
-            loop.run_until_complete(self._startup())
-        except BaseException as exc:  # bind errors go to start()
-            self._error = exc
-            self._ready.set()
-            loop.close()
-            return
-        self._ready.set()
-        try:
-            loop.run_forever()
-        finally:
-            for task in list(self._tasks):
-                task.cancel()
-            with contextlib.suppress(BaseException):
-                loop.run_until_complete(asyncio.gather(*self._tasks, return_exceptions=True))
-            loop.run_until_complete(self._cleanup())
-            loop.close()
+            self._loop_thread.start()
+        except TimeoutError as exc:
+            raise OSError(str(exc)) from exc
+        except OSError:
+            raise
+        except Exception as exc:
+            raise OSError(str(exc)) from exc
 
     async def _startup(self) -> None:
         from aiohttp import ClientSession, web
@@ -532,10 +509,7 @@ class _SubprotocolFront:
             await self._runner.cleanup()
 
     def stop(self) -> None:
-        loop, thread = self._loop, self._thread
-        if loop is not None and thread is not None and thread.is_alive():
-            loop.call_soon_threadsafe(loop.stop)
-            thread.join(timeout=10.0)
+        self._loop_thread.stop()
 
     async def _handle(self, request: Any) -> Any:
         from aiohttp import web

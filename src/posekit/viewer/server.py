@@ -67,6 +67,7 @@ from posekit.robot.worlds import World
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
+from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.access import host_allowed, own_hosts
 from posekit.viewer.errors import ViewerError
 from posekit.viewer.images import encode_jpeg
@@ -217,14 +218,12 @@ class ViewerServer:
             discover_world = bool(getattr(tap.transport, "crosses_processes", False))
         self.discover_world = world is None and discover_world
         self._clients: set[_Client] = set()
-        self._loop: asyncio.AbstractEventLoop | None = None
+        self._runner_thread: LoopThread | None = None
         self._thread: threading.Thread | None = None
         self._runner: web.AppRunner | None = None
         self._encoder = ThreadPoolExecutor(max_workers=1, thread_name_prefix="posekit-jpeg")
         self._stopping = False
         self._image_tasks: set[asyncio.Task[None]] = set()
-        self._ready = threading.Event()
-        self._start_error: BaseException | None = None
         self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0,
                           "producer_errors": 0, "producer_restarts": 0, "forbidden": 0,
                           "goals": 0}
@@ -245,44 +244,25 @@ class ViewerServer:
         when the address cannot be bound."""
         if self._thread is not None:
             raise ViewerError("viewer server already started")
-        self._thread = threading.Thread(target=self._run, name="posekit-viewer", daemon=True)
-        self._thread.start()
-        self._ready.wait(timeout=15.0)
-        if self._start_error is not None:
-            self._thread.join(timeout=5.0)
-            self._thread = None
-            raise ViewerError(
-                f"cannot serve the viewer on {self.host}:{self.port}: {self._start_error}"
-            ) from self._start_error
-        if not self._ready.is_set():
-            raise ViewerError("viewer server did not start within 15 s")
+        runner = LoopThread(
+            "posekit-viewer", self._startup, self._cleanup,
+            pending=lambda: [*self._producers, *self._image_tasks],
+            on_started=self._on_started,
+        )
+        try:
+            runner.start()
+        except TimeoutError as exc:
+            raise ViewerError("viewer server did not start within 15 s") from exc
+        except Exception as exc:
+            raise ViewerError(f"cannot serve the viewer on {self.host}:{self.port}: {exc}") from exc
+        self._runner_thread = runner
+        self._thread = runner.thread
         return self.url
 
-    def _run(self) -> None:
-        loop = asyncio.new_event_loop()
-        self._loop = loop
-        asyncio.set_event_loop(loop)
-        try:
-            loop.run_until_complete(self._startup())
-        except BaseException as exc:  # report bind errors to start()
-            self._start_error = exc
-            self._ready.set()
-            loop.close()
-            return
-        self._ready.set()
+    def _on_started(self, loop: asyncio.AbstractEventLoop) -> None:
         self._start_producer(loop)
         if self.discover_world:
             self._producers.add(loop.create_task(self._discover_world()))
-        try:
-            loop.run_forever()
-        finally:
-            pending = [*self._producers, *self._image_tasks]
-            for task in pending:
-                task.cancel()
-            with contextlib.suppress(BaseException):
-                loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
-            loop.run_until_complete(self._cleanup())
-            loop.close()
 
     async def _discover_world(self) -> None:
         """Ask the system for its world every 2 s until one answers (see ``discover_world``)."""
@@ -388,10 +368,8 @@ class ViewerServer:
     def stop(self) -> None:
         """Close every connection, stop serving and join the thread."""
         self._stopping = True
-        loop, thread = self._loop, self._thread
-        if loop is not None and thread is not None and thread.is_alive():
-            loop.call_soon_threadsafe(loop.stop)
-            thread.join(timeout=10.0)
+        if self._runner_thread is not None:
+            self._runner_thread.stop()
         self._thread = None
         self._encoder.shutdown(wait=False, cancel_futures=True)
         with self._goal_lock:
