@@ -18,7 +18,13 @@ package). ``--ekf`` times one 20 Hz EKF tick (25 Hz IMU + 20 Hz odometry fused, 
 filter written with 6x6 numpy products (the previous implementation) and with preallocated
 numpy buffers (``out=``), all fed the same measurements.
 
+``--lidar`` times one LiDAR scan (3000 beams ray-cast against the world's boxes, noise,
+the LaserScan and its CDR bytes) against its period (100 ms at 10 Hz), in aruco_box_world
+(3 boxes), in a 399-box grid and in husarion_world (505 wall faces); ``--lidar-only`` runs
+just that.
+
 Run:  .venv/bin/python benchmarks/sim.py [--duration 60] [--repeats 5] [--profile] [--ekf]
+      [--lidar | --lidar-only]
 """
 
 from __future__ import annotations
@@ -181,6 +187,47 @@ def _ekf_report() -> None:
         print(f"  {label:42s} {us:7.1f} us   x{dense / us:4.1f}")
 
 
+def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
+    """(median, best) CPU ms of one scan -> LaserScan -> CDR bytes, robot at the spawn."""
+    from posekit.geometry import Rotation, Transform
+    from posekit.msgs.cdr import to_cdr
+    from posekit.robot.description import T_base_frame
+    from posekit.robot.lidar import Lidar
+    from posekit.robot.obstacles import BoxObstacles, WallSegments
+
+    lidar = Lidar(BoxObstacles.from_world(world), seed=1, walls=WallSegments.from_world(world))
+    x, y, yaw = world.spawn
+    T = Transform(Rotation.from_rpy(0.0, 0.0, yaw), (x, y, 0.0)) * T_base_frame("laser")
+    times = []
+    for k in range(repeats):
+        c0 = time.process_time()
+        to_cdr(lidar.to_msg(lidar.scan(T, k)))
+        times.append((time.process_time() - c0) * 1e3)
+    return statistics.median(times), min(times)
+
+
+def _lidar_report() -> None:
+    from posekit.robot.lidar import DEFAULT_LIDAR
+    from posekit.robot.worlds import World, load_world
+
+    period_ms = 1e3 / DEFAULT_LIDAR.rate_hz
+    grid = World.from_dict({
+        "name": "grid400",
+        "boxes": [
+            {"name": f"b{i}_{j}", "model": "aruco_box", "pose": [1.5 * i, 1.5 * j, 0.25, 0, 0, 0]}
+            for i in range(-10, 10) for j in range(-10, 10) if (i, j) != (0, 0)
+        ],
+    })
+    print(f"\nLiDAR scan ({DEFAULT_LIDAR.samples} beams, noise, LaserScan, CDR), CPU ms vs its "
+          f"{period_ms:.0f} ms period:")
+    for label, world in (("aruco_box_world (3 boxes)", load_world("aruco_box_world")),
+                         ("grid of 399 boxes", grid),
+                         ("husarion_world (505 faces)", load_world("husarion_world"))):
+        median, best = _scan_cpu_ms(world)
+        print(f"  {label:28s} median {median:6.2f} ms  best {best:6.2f} ms  "
+              f"= {100 * median / period_ms:5.1f} % of the period")
+
+
 def _load() -> str:
     try:
         return " ".join(f"{x:.1f}" for x in os.getloadavg())
@@ -229,7 +276,12 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--profile", action="store_true", help="profile the node path")
     parser.add_argument("--ekf", action="store_true", help="EKF tick: posekit vs numpy forms")
+    parser.add_argument("--lidar", action="store_true", help="one LiDAR scan vs its period")
+    parser.add_argument("--lidar-only", action="store_true", help="only the LiDAR figures")
     args = parser.parse_args()
+    if args.lidar_only:
+        _lidar_report()
+        return
 
     quiet: list[LogRecord] = []
     add_sink(quiet.append)
@@ -279,6 +331,8 @@ def main() -> None:
             _profile(args.duration, args.seed)
         if args.ekf:
             _ekf_report()
+        if args.lidar:
+            _lidar_report()
     finally:
         remove_sink(quiet.append)
         add_sink(_stderr_sink)

@@ -290,18 +290,28 @@ def run_pair(pub_mode: str, sub_mode: str, phase: str, count: int) -> dict[str, 
     env = {k: v for k, v in os.environ.items() if not k.startswith(("ZENOH_", "ROS_DOMAIN"))}
     env.update(POSEKIT_TRANSPORT="zenoh", POSEKIT_ZENOH_ROUTER=endpoint)
     me = [sys.executable, os.path.abspath(__file__)]
-    sub = subprocess.Popen([*me, "--child", "sub", sub_mode, endpoint], env=env,
-                           stdout=subprocess.PIPE, text=True)
+    try:
+        return _run_children([*me, "--child", "sub", sub_mode, endpoint],
+                             [*me, "--child", "pub", pub_mode, endpoint, phase, str(count)],
+                             env, sub_mode, pub_mode)
+    finally:
+        router.close()
+
+
+def _run_children(sub_cmd: list[str], pub_cmd: list[str], env: dict[str, str],
+                  sub_name: str, pub_name: str) -> dict[str, Any]:
+    """Start the subscriber, wait for its "ready", run the publisher to its end; the
+    subscriber's JSON figures updated with the publisher's."""
+    sub = subprocess.Popen(sub_cmd, env=env, stdout=subprocess.PIPE, text=True)
     pub = None
     try:
         assert sub.stdout is not None
         if sub.stdout.readline().strip() != "ready":
-            raise RuntimeError(f"{sub_mode} subscriber did not start")
-        pub = subprocess.Popen([*me, "--child", "pub", pub_mode, endpoint, phase, str(count)],
-                               env=env, stdout=subprocess.PIPE, text=True)
+            raise RuntimeError(f"{sub_name} subscriber did not start")
+        pub = subprocess.Popen(pub_cmd, env=env, stdout=subprocess.PIPE, text=True)
         pub_out, _ = pub.communicate(timeout=120)
         if pub.returncode != 0:
-            raise RuntimeError(f"{pub_mode} publisher failed ({pub.returncode})")
+            raise RuntimeError(f"{pub_name} publisher failed ({pub.returncode})")
         line = sub.stdout.readline()
         sub.wait(timeout=30)
         result = dict(json.loads(line))
@@ -312,7 +322,6 @@ def run_pair(pub_mode: str, sub_mode: str, phase: str, count: int) -> dict[str, 
             if proc is not None and proc.poll() is None:
                 proc.kill()
                 proc.wait()
-        router.close()
 
 
 def best_run(runs: list[dict[str, Any]], key: str, lowest: bool = False) -> dict[str, Any]:
@@ -551,28 +560,9 @@ def run_dds_pair(mode: str, phase: str, count: int, domain_id: int) -> dict[str,
                RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONUNBUFFERED="1")
     python = os.path.join(ROS2_VENV, "bin", "python") if mode == "rclpy" else sys.executable
     me = [python, os.path.abspath(__file__)]
-    sub = subprocess.Popen([*me, "--child", "ddssub", mode, "-"], env=env,
-                           stdout=subprocess.PIPE, text=True)
-    pub = None
-    try:
-        assert sub.stdout is not None
-        if sub.stdout.readline().strip() != "ready":
-            raise RuntimeError(f"{mode} subscriber did not start")
-        pub = subprocess.Popen([*me, "--child", "ddspub", mode, "-", phase, str(count)],
-                               env=env, stdout=subprocess.PIPE, text=True)
-        pub_out, _ = pub.communicate(timeout=120)
-        if pub.returncode != 0:
-            raise RuntimeError(f"{mode} publisher failed ({pub.returncode})")
-        line = sub.stdout.readline()
-        sub.wait(timeout=30)
-        result = dict(json.loads(line))
-        result.update(json.loads(pub_out.strip().splitlines()[-1]))
-        return result
-    finally:
-        for proc in (pub, sub):
-            if proc is not None and proc.poll() is None:
-                proc.kill()
-                proc.wait()
+    return _run_children([*me, "--child", "ddssub", mode, "-"],
+                         [*me, "--child", "ddspub", mode, "-", phase, str(count)],
+                         env, mode, mode)
 
 
 def main_dds(burst: int, repeat: int) -> None:

@@ -8,9 +8,9 @@ Run it against the simulator, in one process with the detector (docs/tutorial.md
 
     posekit launch examples/dynamic_detector_listener.launch.py --until-sim-time 3
 
-or from a second terminal, against a simulation that runs on Zenoh:
+or from a second terminal, against a running simulation (every launch is visible on Zenoh):
 
-    posekit launch dynamic_detector --zenoh --realtime        # terminal 1
+    posekit launch dynamic_detector --realtime                # terminal 1
     POSEKIT_TRANSPORT=zenoh python examples/aruco_marker_listener.py   # terminal 2
 
 Expected output (marker 4 sits at (2.0, 0.0, 0.25) in odom)::

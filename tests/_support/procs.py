@@ -21,12 +21,14 @@ class Proc:
     """A child process whose stdout and stderr lines are collected by reader threads."""
 
     def __init__(self, args: list[str], env: dict[str, str], cwd: Path | None = None, *,
-                 new_session: bool = False) -> None:
+                 new_session: bool = False, stdin: int | None = None) -> None:
         """``new_session``: the child leads its own process group, so a signal sent to the
-        group (:meth:`interrupt_group`) reaches a shell and the command it runs."""
+        group (:meth:`interrupt_group`) reaches a shell and the command it runs. ``stdin``: a
+        file descriptor for the child's stdin (a pty, say); default none."""
         self.args = args
         self.popen = subprocess.Popen(
-            args, env=env, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+            args, env=env, cwd=cwd, stdin=subprocess.DEVNULL if stdin is None else stdin,
+            stdout=subprocess.PIPE,
             stderr=subprocess.PIPE, text=True, bufsize=1, start_new_session=new_session,
         )
         self.lines: queue.Queue[str] = queue.Queue()
@@ -111,41 +113,3 @@ def stop_all(procs: list[Proc]) -> None:
         for stream in (proc.popen.stdout, proc.popen.stderr):
             if stream is not None:
                 stream.close()
-
-
-#: Environment variables that would point a test's Zenoh sessions somewhere else.
-ZENOH_ENV_PREFIXES = ("ZENOH_", "ROS_DOMAIN", "POSEKIT_")
-
-
-def use_zenoh_endpoint(monkeypatch: Any, endpoint: str) -> None:
-    """Point this test process's Zenoh sessions at ``endpoint`` only (pytest monkeypatch)."""
-    for name in list(os.environ):
-        if name.startswith(ZENOH_ENV_PREFIXES):
-            monkeypatch.delenv(name)
-    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", endpoint)
-
-
-class ProcGroup:
-    """Processes sharing one Zenoh router endpoint (``POSEKIT_ZENOH_ROUTER``) and a clean
-    environment (no inherited ZENOH_/ROS_DOMAIN/POSEKIT_ variables); ``close()`` kills them
-    all."""
-
-    def __init__(self, endpoint: str, cwd: Path) -> None:
-        self.endpoint = endpoint
-        self.cwd = cwd
-        self.procs: list[Proc] = []
-        self.env = {k: v for k, v in os.environ.items() if not k.startswith(ZENOH_ENV_PREFIXES)}
-        self.env.update(POSEKIT_ZENOH_ROUTER=endpoint, PYTHONUNBUFFERED="1")
-
-    def start(self, args: list[str], env: dict[str, str] | None = None) -> Proc:
-        proc = Proc(args, {**self.env, **(env or {})}, cwd=self.cwd)
-        self.procs.append(proc)
-        return proc
-
-    def posekit(self, *args: str) -> Proc:
-        import sys
-
-        return self.start([sys.executable, "-m", "posekit.cli.main", *args])
-
-    def close(self) -> None:
-        stop_all(self.procs)

@@ -128,7 +128,7 @@ def test_sigterm_finishes_the_bag(procs: Procs) -> None:
     bag = procs.tmp / "term_bag"
     recorder = procs.cli("bag", "record", "-o", str(bag), "/numbered", "--transport", "zenoh")
     # Data reaches the disk while recording (not only at the end): within a few seconds.
-    wait_for_data_on_disk(bag / "term_bag.mcap", recorder, at_least=20)
+    wait_for_data_on_disk(bag / "term_bag_0.mcap", recorder, at_least=20)
     recorder.popen.send_signal(signal.SIGTERM)
     recorder.finish(20, "the recorder after SIGTERM")
     assert recorder.popen.returncode == 0, recorder.describe()
@@ -138,7 +138,7 @@ def test_sigterm_finishes_the_bag(procs: Procs) -> None:
     numbers = read_with_rosbags(bag)
     assert len(numbers) == int(wrote.group(1))
     assert_consecutive(numbers)
-    with (bag / "term_bag.mcap").open("rb") as f:
+    with (bag / "term_bag_0.mcap").open("rb") as f:
         summary = mcap_reader.make_reader(f).get_summary()
     assert summary is not None
     assert summary.statistics.message_count == len(numbers)
@@ -146,7 +146,7 @@ def test_sigterm_finishes_the_bag(procs: Procs) -> None:
 
 def test_sigkill_then_reindex_recovers_what_was_written(procs: Procs) -> None:
     bag = procs.tmp / "kill_bag"
-    mcap = bag / "kill_bag.mcap"
+    mcap = bag / "kill_bag_0.mcap"
     recorder = procs.cli("bag", "record", "-o", str(bag), "/numbered", "--transport", "zenoh")
     before = wait_for_data_on_disk(mcap, recorder, at_least=60)
     recorder.kill(signal.SIGKILL)
@@ -163,7 +163,7 @@ def test_sigkill_then_reindex_recovers_what_was_written(procs: Procs) -> None:
     numbers = read_with_rosbags(bag)
     assert_consecutive(numbers)
     assert numbers[: len(before)] == before  # everything that was on disk is kept
-    assert (bag / "kill_bag.mcap.orig").is_file()
+    assert (bag / "kill_bag_0.mcap.orig").is_file()
     with mcap.open("rb") as f:
         reader = mcap_reader.make_reader(f)
         assert reader.get_summary() is not None

@@ -61,7 +61,7 @@ def chunk_index_damaged(good: Path, tmp: Path) -> Path:
     u64 message_end_time."""
     bag = tmp / "chunk_index"
     shutil.copytree(good, bag)
-    storage = bag / "good.mcap"
+    storage = bag / "good_0.mcap"
     data = bytearray(storage.read_bytes())
     footer = len(data) - 8 - 29
     assert data[footer] == 0x02
@@ -86,7 +86,7 @@ def damaged_copies(good: Path, tmp: Path) -> Iterator[tuple[int, Path]]:
     for trial in range(TRIALS):
         bag = tmp / f"d{trial}"
         shutil.copytree(good, bag)
-        storage = bag / "good.mcap"
+        storage = bag / "good_0.mcap"
         data = bytearray(storage.read_bytes())
         kind = trial % 3
         if kind == 0:  # a few flipped bytes

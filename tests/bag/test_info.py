@@ -55,7 +55,7 @@ def test_format_looks_like_ros2_bag_info(recorded: Any, kit: Any) -> None:
     assert lines[1] == f"Files:             {info.files[0]}"
     assert lines[2] == f"Bag size:          {format_size(info.bag_size)}"
     assert lines[3] == "Storage id:        mcap"
-    assert lines[4] == "ROS Distro:        rosbags"
+    assert lines[4] == "ROS Distro:        jazzy"
     assert lines[5] == "Duration:          1.000000000s"
     # ros2 bag info: std::put_time(localtime, "%b %e %Y") and "%H:%M:%S", then the fraction.
     start = time.strftime("%b %e %Y %H:%M:%S", time.localtime(1000))
@@ -67,8 +67,10 @@ def test_format_looks_like_ros2_bag_info(recorded: Any, kit: Any) -> None:
         "Topic information: Topic: /camera/image | Type: sensor_msgs/msg/Image | Count: 5 | "
         "Serialization Format: cdr"
     )
-    assert all(line.startswith(" " * 19 + "Topic: ") for line in lines[10:])
-    assert len(lines) == 9 + len(info.topics)
+    assert all(line.startswith(" " * 19 + "Topic: ") for line in lines[10:-2])
+    assert len(lines) == 9 + len(info.topics) + 2
+    # Jazzy's service section (format_bag_metadata.cpp): no services recorded
+    assert lines[-2:] == ["Service:           0", "Service information: "]
     verbose = format_info(info, verbose=True)
     assert "Version:           9" in verbose
     assert "Compression:       zstd (storage chunks)" in verbose

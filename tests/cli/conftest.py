@@ -13,8 +13,7 @@ from pathlib import Path
 import pytest
 
 from _support.ports import free_port
-from _support.procs import ProcGroup, use_zenoh_endpoint
-from _support.world import World
+from _support.world import World, use_zenoh_endpoint
 
 
 @pytest.fixture
@@ -35,12 +34,7 @@ def routed(world: World) -> World:
 
 
 @pytest.fixture
-def group(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[ProcGroup]:
-    """Processes on a fresh loopback router endpoint, which this test process uses too;
-    all killed at the end."""
-    g = ProcGroup(f"tcp/127.0.0.1:{free_port()}", tmp_path)
-    use_zenoh_endpoint(monkeypatch, g.endpoint)
-    try:
-        yield g
-    finally:
-        g.close()
+def joined(world: World, monkeypatch: pytest.MonkeyPatch) -> World:
+    """A world whose endpoint this test process's own Zenoh sessions use too."""
+    use_zenoh_endpoint(monkeypatch, world.endpoint)
+    return world

@@ -116,8 +116,9 @@ def test_record_all_and_metadata_version(ctx: Context, tmp_path: Path) -> None:
     "argv",
     [
         ["-o", "X"],  # neither topics nor --all
-        ["-o", "X", "/a", "--all"],  # both
-        ["/a"],  # no output
+        ["-o", "X", "--exclude-regex", "b", "/a"],  # exclusion needs --all or --regex
+        ["-o", "X", "--exclude-topics", "/b", "--topics", "/a"],
+        ["-o", "X", "--compression-format", "zstd", "/a"],  # a format needs a mode
         ["-o", "X", "/a", "--metadata-version", "7"],
         ["-o", "X", "/a", "--duration", "-1"],
     ],
@@ -134,7 +135,7 @@ def test_record_refuses_existing_output(tmp_path: Path, ctx: Context,
                                         capsys: pytest.CaptureFixture[str]) -> None:
     (tmp_path / "exists").mkdir()
     assert record(["-o", str(tmp_path / "exists"), "/a"], context=ctx) == 1
-    assert "exists already" in capsys.readouterr().err
+    assert "already exists." in capsys.readouterr().err  # rosbag2's wording
 
 
 def test_info_prints_the_summary(small_bag: Path) -> None:
@@ -147,6 +148,9 @@ def test_info_prints_the_summary(small_bag: Path) -> None:
     verbose = io.StringIO()
     assert info([str(small_bag), "-v"], out=verbose) == 0
     assert "Version:           9" in verbose.getvalue()
+    names = io.StringIO()
+    assert info([str(small_bag), "-t"], out=names) == 0
+    assert names.getvalue() == "/words\n"
 
 
 def test_info_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -184,3 +188,134 @@ def test_play_errors(tmp_path: Path, small_bag: Path, ctx: Context,
     assert play([str(small_bag), "--topics", "/other"], context=ctx) == 1
     assert "not in bag" in capsys.readouterr().err
     assert play([], context=ctx) == 2
+
+
+def _listen(ctx: Context, topic: str) -> tuple[Node, list[str]]:
+    listener = Node(f"listener_{topic.strip('/')}", context=ctx)
+    words: list[str] = []
+    listener.create_subscription(String, topic, lambda m: words.append(m.data),
+                                 QoSProfile(depth=100))
+    return listener, words
+
+
+def _deliver(ctx: Context, *nodes: Node) -> None:
+    executor = SingleThreadedExecutor(context=ctx)
+    for node in nodes:
+        executor.add_node(node)
+    executor.spin_some()
+
+
+def test_play_start_offset_and_remap(small_bag: Path, ctx: Context) -> None:
+    # messages at 20.1 ... 20.5 s; 0.25 s into the bag is 20.35 s
+    listener, words = _listen(ctx, "/words")
+    assert play([str(small_bag), "--rate", "50", "--start-offset", "0.25",
+                 "--progress-bar", "0"], context=ctx) == 0
+    renamed, moved = _listen(ctx, "/renamed")
+    assert play([str(small_bag), "--rate", "50", "--remap", "/words:=/renamed",
+                 "--progress-bar", "0"], context=ctx) == 0
+    _deliver(ctx, listener, renamed)
+    assert words == ["w3", "w4"]
+    assert moved == ["w0", "w1", "w2", "w3", "w4"]
+
+
+def test_play_topic_selection_and_usage_errors(small_bag: Path, ctx: Context,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    listener, words = _listen(ctx, "/words")
+    assert play([str(small_bag), "--rate", "50", "-e", "ord", "--progress-bar", "0"],
+                context=ctx) == 0
+    _deliver(ctx, listener)
+    assert len(words) == 5
+    assert play([str(small_bag), "-x", "words"], context=ctx) == 2
+    assert "no recorded topic matches" in capsys.readouterr().err
+    assert play([str(small_bag), "--exclude-topics", "/words"], context=ctx) == 2
+    assert play([str(small_bag), "--remap", "/words"], context=ctx) == 2
+    assert "old:=new" in capsys.readouterr().err
+    assert play([str(small_bag), "--remap", "/nope:=/x"], context=ctx) == 1
+    assert "cannot remap ['/nope']" in capsys.readouterr().err
+
+
+def test_play_progress_line(small_bag: Path, ctx: Context) -> None:
+    err = io.StringIO()
+    assert play([str(small_bag), "--rate", "2", "--progress-bar", "50"], context=ctx,
+                err=err) == 0
+    updates = [u for u in err.getvalue().split("\r") if u.strip()]
+    assert len(updates) >= 5  # 0.2 s of playback at 50 updates/s
+    first = updates[0].split()
+    assert first[:3] == ["[RUNNING]", "Bag", "Time:"]
+    assert float(first[3]) == pytest.approx(20.1, abs=0.02)
+    assert first[4:] == ["Duration:", first[5]]
+    assert first[5].endswith("/0.400000")
+    times = [float(u.split()[3]) for u in updates]
+    assert times == sorted(times)
+
+
+def test_record_default_name_and_split_options(ctx: Context, tmp_path: Path,
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    import datetime
+
+    from posekit.cli.bag_cmd import default_bag_name
+
+    assert default_bag_name(datetime.datetime(2024, 5, 6, 7, 8, 9)) == (
+        "rosbag2_2024_05_06-07_08_09")
+    monkeypatch.chdir(tmp_path)
+    node = Node("one", context=ctx)
+    pub = node.create_publisher(
+        String, "only", QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    pub.publish(String(data="x"))
+    before = default_bag_name()
+    assert record(["--all", "--duration", "0.05", "--custom-data", "a=1", "b=x=y"],
+                  context=ctx) == 0
+    after = default_bag_name()
+    made = [p.name for p in tmp_path.iterdir()]
+    assert len(made) == 1
+    assert before <= made[0] <= after
+    assert sorted(p.name for p in (tmp_path / made[0]).iterdir()) == [
+        "metadata.yaml", f"{made[0]}_0.mcap"]
+    import yaml
+
+    meta = yaml.safe_load((tmp_path / made[0] / "metadata.yaml").read_text())[
+        "rosbag2_bagfile_information"]
+    assert meta["custom_data"]["a"] == "1"
+    assert meta["custom_data"]["b"] == "x=y"
+
+
+PTY_PLAY = """
+import sys
+from posekit.cli.main import main
+sys.exit(main(["bag", "play", *sys.argv[1:]]))
+"""
+
+
+@pytest.mark.slow
+def test_play_keyboard_pause_step_resume_on_a_terminal(small_bag: Path, tmp_path: Path) -> None:
+    """The real keyboard path: ``posekit bag play`` with a pseudo-terminal as stdin."""
+    import os
+    import pty
+    import sys
+
+    from _support.ports import free_port
+    from _support.procs import Proc
+
+    master, slave = pty.openpty()
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("ZENOH_", "ROS_DOMAIN"))}
+    env.update(POSEKIT_ZENOH_ROUTER=f"tcp/127.0.0.1:{free_port()}", PYTHONUNBUFFERED="1")
+    proc = Proc([sys.executable, "-c", PTY_PLAY, str(small_bag), "--start-paused",
+                 "--progress-bar", "20"], env, stdin=slave)
+    try:
+        proc.wait_stderr("Press SPACE for Pause/Resume", 30, "the keyboard help")
+        proc.wait_stderr("[PAUSED ]  Bag Time:     20.100000", 10, "a paused status line")
+        os.write(master, b"\x1b[C")  # CURSOR_RIGHT: publish the first message
+        os.write(master, b"\x1b[C")  # and the second: bag time 20.2
+        proc.wait_stderr("[PAUSED ]  Bag Time:     20.200000", 10, "two steps")
+        time.sleep(0.3)
+        assert "[RUNNING]" not in "".join(proc.err)  # still paused after stepping
+        os.write(master, b" ")  # SPACE: resume; the bag then plays to its end
+        proc.finish(20, "playback after resuming")
+        assert proc.popen.returncode == 0, proc.describe()
+        running = [line for line in proc.err if "[RUNNING]" in line]
+        assert running
+        assert float(running[0].split()[3]) >= 20.2
+    finally:
+        proc.kill()
+        os.close(master)
+        os.close(slave)

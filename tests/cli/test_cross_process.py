@@ -296,7 +296,7 @@ def test_topic_echo_tf_and_tf_frames_and_topic_tools(tf_world: World) -> None:
     assert "/tf_static [tf2_msgs/msg/TFMessage]" in listed
 
     out = frames.finish(40, "posekit tf frames")
-    gv = tf_world.cwd / "tree.gv"
+    gv = tf_world.tmp / "tree.gv"
     text = gv.read_text()
     edges = set(re.findall(r'^"([^"]+)" -> "([^"]+)"\[label=', text, re.MULTILINE))
     assert edges == {("map", "odom"), ("odom", "base_link")}, text
@@ -305,9 +305,9 @@ def test_topic_echo_tf_and_tf_frames_and_topic_tools(tf_world: World) -> None:
     dot = shutil.which("dot")
     if dot is None:
         assert "Graphviz 'dot' was not found" in out
-        assert not (tf_world.cwd / "tree.pdf").exists()
+        assert not (tf_world.tmp / "tree.pdf").exists()
     else:
-        assert (tf_world.cwd / "tree.pdf").read_bytes().startswith(b"%PDF")
+        assert (tf_world.tmp / "tree.pdf").read_bytes().startswith(b"%PDF")
         plain = subprocess.run([dot, "-Tplain", str(gv)], capture_output=True, text=True,
                                check=True).stdout
         plain_edges = {tuple(line.split()[1:3]) for line in plain.splitlines()

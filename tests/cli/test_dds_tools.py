@@ -1,7 +1,8 @@
 """posekit's command-line tools with ``--transport dds`` on a real ROS 2 Jazzy system.
 
-Oracles: real rclpy publishers (Fast DDS) with known content, rate, node name and QoS; the
-bag is read back with rosbags (not posekit's reader).
+Oracles: real rclpy publishers (Fast DDS) with known content, rate, node name and QoS, and a
+real rclpy subscription for ``topic pub``; the bag is read back with rosbags (not posekit's
+reader).
 """
 
 from __future__ import annotations
@@ -41,6 +42,8 @@ TALKER = textwrap.dedent("""
         odom.publish(msg)
         i += 1
     node.create_timer(0.05, tick)  # 20 Hz
+    node.create_subscription(String, "/from_cli", lambda m: print(f"heard: {m.data}",
+                                                                  flush=True), 10)
     print("ready", flush=True)
     deadline = time.monotonic() + float(sys.argv[1])
     while time.monotonic() < deadline:
@@ -59,9 +62,8 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
 
     from posekit.cli import topic_cmd
 
-    domain = 155
+    domain = dds_domain(monkeypatch)
     talker = Proc([str(ros2_python()), "-c", TALKER, "40"], env=ros2_env(domain))
-    dds_domain(monkeypatch, domain)
     context = dds_context()
     try:
         talker.wait_line(lambda line: line.startswith("ready"), 30, "the talker")
@@ -76,6 +78,11 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
         node_text = nodes.finish(30, "node list")
         echo_text = echo.finish(30, "topic echo")
         bag.finish(40, "bag record")
+        # topic pub --once waits for the real subscription, then its one message arrives
+        pub = _cli(domain, "topic", "pub", "--once", "/from_cli", "std_msgs/msg/String",
+                   "{data: from posekit}", "--transport", "dds")
+        pub.finish(30, "topic pub")
+        talker.wait_line(lambda line: line.startswith("heard:"), 15, "the talker hearing it")
         # in this process: hz and info -v
         hz_out, info_out = io.StringIO(), io.StringIO()
         assert topic_cmd.main_hz(["/chatter", "--count", "3", "-w", "15"], context=context,
@@ -93,6 +100,7 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
     assert "/robot/odom [nav_msgs/msg/Odometry]" in topic_text.splitlines()
     assert "/robot/ros_talker" in node_text.splitlines()
     assert re.search(r"^data: hello \d+$", echo_text, re.MULTILINE), echo_text
+    assert "heard: from posekit\n" in talker.out
     rates = [float(m) for m in re.findall(r"average rate: ([0-9.]+)", hz_out.getvalue())]
     assert len(rates) == 3, hz_out.getvalue()
     # the talker's 20 Hz timer, over the last 15 messages (the first report may include a

@@ -78,8 +78,15 @@ def test_network_is_the_default_and_isolated_switches_it_off(
     assert launch_cmd.network_transport(parser.parse_args(["x"])) is None
 
 
-def test_unknown_transport_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+def test_unknown_transport_is_one_line(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     code, _, err = run_cli(capsys, "p_controller", "--transport", "carrier_pigeon")
+    assert code == 2
+    assert err.count("\n") == 1
+    assert "invalid choice: 'carrier_pigeon'" in err
+    monkeypatch.setenv("POSEKIT_TRANSPORT", "carrier_pigeon")
+    code, _, err = run_cli(capsys, "p_controller")
     assert code == 2
     assert err.count("\n") == 1
     assert "unknown transport 'carrier_pigeon'" in err
@@ -139,6 +146,13 @@ def test_world_launch_has_the_robot_and_its_cameras() -> None:
         run.shutdown()
     assert names == {"world_simulation", "wheel_odometry", "ekf_node", "oak_camera",
                      "overhead_camera"}
+    run = start_scenario("husarion_world", {}, 0, record=False)  # its own walls
+    try:
+        assert {n.get_name() for n in run.nodes} == {
+            "world_simulation", "wheel_odometry", "ekf_node", "oak_camera"}
+        assert run.node("world_simulation").get_parameter("world").value == "husarion_world"
+    finally:
+        run.shutdown()
 
 
 def test_demo_launch_needs_the_network(capsys: pytest.CaptureFixture[str]) -> None:
@@ -229,3 +243,24 @@ def test_launch_file_show_args_and_one_line_errors(
     assert code == 2
     assert err.count("\n") == 1
     assert "declares no 'seed' launch argument" in err
+    # --plot on a launch file that runs no robot: one line, not a traceback.
+    code, _, err = run_cli(capsys, str(no_seed), "--plot", str(tmp_path / "odom.png"),
+                           "--until-sim-time", "0.5")
+    assert code == 2
+    assert err.count("\n") == 1
+    assert "--plot: the recording holds no odometry messages" in err
+
+
+def test_launch_file_plot_and_record(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "robot.launch.py"
+    path.write_text("from posekit.demos.scenarios import include_scenario\n"
+                    "from posekit.launch import LaunchDescription\n"
+                    "def generate_launch_description():\n"
+                    "    return LaunchDescription(include_scenario('p_controller'))\n")
+    png, bag = tmp_path / "odom.png", tmp_path / "bag"
+    code, out, err = run_cli(capsys, str(path), "--until-sim-time", "2", "--plot", str(png),
+                             "--record", str(bag))
+    assert code == 0, err
+    assert f"odometry plot: {png}" in out
+    assert png.read_bytes().startswith(b"\x89PNG")
+    assert (bag / "metadata.yaml").is_file()

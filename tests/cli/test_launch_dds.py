@@ -15,7 +15,7 @@ import textwrap
 
 import pytest
 
-from _support.dds import posekit_env
+from _support.dds import free_domain, posekit_env
 from _support.procs import Proc
 from _support.ros2 import ros2_env, ros2_python
 
@@ -98,7 +98,7 @@ CONTROLLER = textwrap.dedent("""
 
 
 def test_real_rclpy_controller_drives_the_simulated_rosbot_to_a_goal() -> None:
-    domain = 154
+    domain = free_domain()
     sim = Proc([sys.executable, "-m", "posekit.cli.main", "launch", "empty_world",
                 "--transport", "dds", "--realtime", "--until-sim-time", "60"],
                env=posekit_env(domain))

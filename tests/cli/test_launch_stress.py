@@ -19,7 +19,8 @@ import time
 
 import pytest
 
-from _support.procs import Proc, ProcGroup
+from _support.procs import Proc
+from _support.world import World
 
 pytestmark = pytest.mark.slow
 
@@ -79,9 +80,9 @@ def assert_advancing(samples: list[tuple[float, float]], start: float, end: floa
 
 
 def test_remote_image_subscribers_joining_leaving_and_dying_never_freeze_the_launch(
-    group: ProcGroup,
+    joined: World,
 ) -> None:
-    launch = group.posekit("launch", "kdl_chain_demo", "--realtime")
+    launch = joined.cli("launch", "kdl_chain_demo", "--realtime")
     launch.wait_stderr("[overhead_camera]", 60, "the launch to start")
     watch = ClockWatch()
     try:
@@ -95,7 +96,7 @@ def test_remote_image_subscribers_joining_leaving_and_dying_never_freeze_the_lau
         waves = 0
         while time.monotonic() - start < STRESS_S:
             # A wave: three new subscribers join while the previous wave's leave or die.
-            joining = [group.posekit("topic", "hz", IMAGE) for _ in range(3)]
+            joining = [joined.cli("topic", "hz", IMAGE) for _ in range(3)]
             for i, proc in enumerate(live):
                 if i == 0:  # frozen mid-stream: its socket stays open, nobody reads it
                     proc.popen.send_signal(signal.SIGSTOP)
@@ -115,7 +116,7 @@ def test_remote_image_subscribers_joining_leaving_and_dying_never_freeze_the_lau
         assert_advancing(watch.samples, start, time.monotonic())  # with frozen readers
         for proc in frozen:
             proc.kill(signal.SIGKILL)
-        received = sum(any("average rate" in line for line in p.out) for p in group.procs)
+        received = sum(any("average rate" in line for line in p.out) for p in joined.procs)
         time.sleep(WINDOW_S + 1.0)  # the launch goes on after the last one died
         end = time.monotonic()
         assert waves >= 3
@@ -125,7 +126,7 @@ def test_remote_image_subscribers_joining_leaving_and_dying_never_freeze_the_lau
         sim_before = watch.sim_time()
     finally:
         watch.close()
-    echo = group.posekit("topic", "echo", "/clock", "--once")
+    echo = joined.cli("topic", "echo", "/clock", "--once")
     text = echo.finish(30, "a fresh topic echo /clock")
     sec = int(text.split("sec:")[1].split()[0])
     assert sec >= int(sim_before), (text, sim_before)

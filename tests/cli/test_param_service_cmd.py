@@ -124,3 +124,15 @@ def test_service_list_type_find_call(ctx, served: Node) -> None:
                          ["/absent", "std_srvs/srv/Empty", "--timeout", "0.2"], ctx)
     assert (code, out) == (1, "waiting for service to become available...\n")
     assert err == "service '/absent' did not become available within 0.2 s\n"
+
+
+def test_bad_input_is_one_line_never_a_traceback(ctx) -> None:
+    code, _, err = run(service_cmd.main_call, ["bad name", "std_srvs/srv/Empty"], ctx)
+    assert code == 1
+    assert err.startswith("posekit service call: InvalidServiceNameException: Invalid service")
+    assert err.count("\n") == 1
+    code, _, err = run(param_cmd.main_set, ["/nobody", "x", "1"], ctx)
+    assert (code, err) == (1, "Node not found\n")
+    code, _, err = run(param_cmd.main_list, ["--filter", "("], ctx)  # a bad regex
+    assert code == 1
+    assert err.count("\n") == 1

@@ -27,6 +27,7 @@ from posekit.cli.topic_cmd import (
     set_message_fields,
     yaml_scalar,
 )
+from posekit.msgs import yaml_io
 from posekit.msgs.geometry_msgs import TransformStamped, Twist, Vector3
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.registry import MESSAGE_CLASSES
@@ -65,7 +66,7 @@ def filled(cls: type, seed: int) -> Any:
             setattr(msg, f.name, (rng.integers(0, 200, n)).astype(value.dtype)
                     if value.dtype.kind in "iu" else rng.normal(size=n).astype(value.dtype))
         elif isinstance(value, list):
-            elem = topic_cmd._list_element_class(cls, f.name)
+            elem = yaml_io._list_element_class(cls, f.name)
             setattr(msg, f.name, [filled(elem, seed + i) for i in range(2)] if elem
                     else ["a", "1.5"])
         elif isinstance(value, bool):
@@ -187,12 +188,13 @@ def test_set_message_fields_errors_name_the_field(values: Any, match: str) -> No
 
 
 def test_hz_report_statistics() -> None:
+    # Jazzy's ros2topic hz prints the number of inter-arrival times in the window (n)
     deltas = [100_000_000, 110_000_000, 90_000_000, 100_000_000]
     arr = np.array(deltas) * 1e-9
     text = hz_report(deltas)
     assert text == (
         f"average rate: {1 / arr.mean():.3f}\n"
-        f"\tmin: {arr.min():.3f}s max: {arr.max():.3f}s std dev: {arr.std():.5f}s window: 5\n"
+        f"\tmin: {arr.min():.3f}s max: {arr.max():.3f}s std dev: {arr.std():.5f}s window: 4\n"
     )
     assert text.startswith("average rate: 10.000\n\tmin: 0.090s max: 0.110s std dev: 0.00707s")
 
@@ -309,9 +311,14 @@ def test_hz_reports_the_publish_rate(ctx: Context) -> None:
 
 
 def test_dispatcher_routes_topic_and_node(capsys: pytest.CaptureFixture[str]) -> None:
-    assert posekit_main(["topic"]) == 2
-    assert "unknown command" in capsys.readouterr().err
+    assert posekit_main(["topic"]) == 0  # as `ros2 topic`: the verbs, on stdout
+    listing = capsys.readouterr().out
+    for verb in ("list", "info", "type", "find", "echo", "hz", "bw", "delay", "pub"):
+        assert f"\n  {verb} " in listing
     assert posekit_main(["topic", "bogus"]) == 2
+    assert "posekit topic: error: unknown verb 'bogus'" in capsys.readouterr().err
+    assert posekit_main(["nosuch"]) == 2
+    assert "posekit: error: unknown command 'nosuch'" in capsys.readouterr().err
     assert posekit_main(["--help"]) == 0
     text = capsys.readouterr().out
     for verb in ("topic list", "topic echo", "topic hz", "topic pub", "node list", "router"):

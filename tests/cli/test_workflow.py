@@ -24,7 +24,7 @@ import time
 import pytest
 import yaml
 
-from _support.procs import ProcGroup
+from _support.world import World
 
 pytestmark = pytest.mark.slow
 
@@ -43,7 +43,11 @@ def expected_graph(scenario: str) -> tuple[set[str], set[str]]:
         clock_node = run.executor._clock_node  # the executor's own /clock publisher node
         assert clock_node is not None
         nodes.add(clock_node.get_fully_qualified_name())
-        topics = {name for name, _ in run.context.transport().get_topic_names_and_types()}
+        # as `topic list` shows them: hidden ones (an action's /_action/ topics) left out
+        from posekit.cli.topic_cmd import is_hidden_name
+
+        topics = {name for name, _ in run.context.transport().get_topic_names_and_types()
+                  if not is_hidden_name(name)}
     finally:
         run.shutdown()
     return nodes, topics
@@ -93,12 +97,12 @@ def wait_for_graph(nodes: set[str], topics: set[str], timeout: float) -> None:
         time.sleep(0.2)
 
 
-def test_graph_listings_are_complete_in_100_of_100_runs(group: ProcGroup) -> None:
+def test_graph_listings_are_complete_in_100_of_100_runs(joined: World) -> None:
     nodes, topics = expected_graph("p_controller")
     assert {"/world_simulation", "/ekf_node", "/p_controller"} <= nodes
     assert {"/cmd_vel", "/odometry/filtered", "/tf", "/clock"} <= topics
-    launch = group.posekit("launch", "p_controller", "--realtime")
-    wait_for_router(group.endpoint, 40)
+    launch = joined.cli("launch", "p_controller", "--realtime")
+    wait_for_router(joined.endpoint, 40)
     wait_for_graph(nodes, topics, 40)
 
     failures = []
@@ -110,54 +114,67 @@ def test_graph_listings_are_complete_in_100_of_100_runs(group: ProcGroup) -> Non
     assert not failures, f"{len(failures)} of 100 incomplete: {failures[:3]}"
 
     # A few real command-line processes, as a user types them.
-    topic_list = group.posekit("topic", "list").finish(30, "topic list")
+    topic_list = joined.cli("topic", "list").finish(30, "topic list")
     assert set(topic_list.split()) == topics
-    node_list = group.posekit("node", "list").finish(30, "node list")
+    node_list = joined.cli("node", "list").finish(30, "node list")
     assert set(node_list.split()) == nodes
     for topic in ("/odometry/filtered", "/cmd_vel", "/tf_static"):
-        info = group.posekit("topic", "info", topic)
+        info = joined.cli("topic", "info", topic)
         text = info.finish(30, f"topic info {topic}")
         assert info.popen.returncode == 0, info.describe()
         assert "Publisher count: 1" in text, info.describe()
-    echo = group.posekit("topic", "echo", "/odometry/filtered", "--once")
+    echo = joined.cli("topic", "echo", "/odometry/filtered", "--once")
     assert "frame_id: odom" in echo.finish(30, "topic echo --once")
     assert not any("does not appear to be published" in line for line in echo.err), (
         echo.describe())
     assert launch.popen.poll() is None, launch.describe()
 
 
-def test_empty_graph_prints_one_hint_line(group: ProcGroup) -> None:
+def test_empty_graph_prints_one_hint_line(joined: World) -> None:
     # Nothing runs on this endpoint: the listing is empty and says what to check.
     topics, nodes, err = list_once()
-    assert topics <= {"/rosout", "/parameter_events"}  # the tool's own node's, as with ros2
+    assert topics <= {"/parameter_events", "/rosout"}  # the tool node's own, as in ROS 2
     assert nodes == set()
     lines = err.splitlines()
     assert len(lines) == 2, err  # one per tool
-    assert all(group.endpoint in line and "ROS_DOMAIN_ID" in line for line in lines), err
+    assert all(joined.endpoint in line and "ROS_DOMAIN_ID" in line for line in lines), err
 
 
-def ground_truth(group: ProcGroup) -> tuple[float, float]:
-    echo = group.posekit("topic", "echo", "/ground_truth/odom", "--once")
+def ground_truth(joined: World) -> tuple[float, float]:
+    echo = joined.cli("topic", "echo", "/ground_truth/odom", "--once")
     doc = yaml.safe_load(echo.finish(30, "echo ground truth").split("---")[0])
     position = doc["pose"]["pose"]["position"]
     return float(position["x"]), float(position["y"])
 
 
 def test_p_controller_demo_reaches_its_goal_against_a_world_in_another_process(
-    group: ProcGroup,
+    joined: World,
 ) -> None:
-    world = group.posekit("launch", "rosbot_gazebo", "empty_world.launch.py", "--realtime")
+    world = joined.cli("launch", "rosbot_gazebo", "empty_world.launch.py", "--realtime")
     world.wait_stderr("[world_simulation]", 40, "the world to start")
     goal = (1.0, 0.5)
-    demo = group.posekit("launch", "robot_control_demo", "p_controller.launch.py",
+    demo = joined.cli("launch", "robot_control_demo", "p_controller.launch.py",
                          f"goal_x:={goal[0]}", "--until-sim-time", "200", f"goal_y:={goal[1]}",
                          "goal_yaw:=0.0")
     demo.wait_stderr("Goal reached", 90, "the P controller to reach its goal")
-    x, y = ground_truth(group)
+    x, y = ground_truth(joined)
     assert math.hypot(x - goal[0], y - goal[1]) < 0.10 + 0.02, (x, y)
     # One clock in the system: the world's.
-    info = group.posekit("topic", "info", "/clock").finish(30, "topic info /clock")
+    info = joined.cli("topic", "info", "/clock").finish(30, "topic info /clock")
     assert re.search(r"Publisher count: 1\b", info), info
     assert world.popen.poll() is None, world.describe()
     assert demo.popen.poll() is None, demo.describe()
     assert not any("Rejected cmd_vel" in line for line in world.err), world.describe()
+
+
+def test_a_demo_without_a_world_waits_and_says_what_is_missing(joined: World) -> None:
+    demo = joined.cli("run", "robot_control_demo", "random_mover")
+    demo.wait_stderr("no /clock yet", 40, "the hint that no world runs")
+    hint = [line for line in demo.err if "no /clock yet" in line]
+    assert len(hint) == 1, demo.describe()
+    assert "posekit launch empty_world --realtime" in hint[0]
+    # It follows a clock, it does not make one: nothing publishes /clock.
+    info = joined.cli("topic", "info", "/clock")
+    text = info.finish(30, "topic info /clock")
+    assert "Publisher count: 1" not in text, info.describe()
+    assert demo.popen.poll() is None, demo.describe()

@@ -3,18 +3,16 @@
 
 Oracle: the contract of posekit.runtime.parameters.parse_parameter_value (every string gives
 a value of a ROS 2 parameter type: bool, int, float, str or a list of one of those, or
-raises RCLError as rcl does) and of the launch command's argument parser (argparse's
-ArgumentTypeError for text without ``:=``); and that a value accepted here makes a
-Parameter.
+raises RCLError as rcl does) and of the launch command's argument parser (its one-line
+usage error for text without ``:=``); and that a value accepted here makes a Parameter.
 """
 
 from __future__ import annotations
 
-import argparse
 import random
 import string
 
-from posekit.cli.launch_cmd import _parse_assignment
+from posekit.cli.launch_cmd import _parse_assignment, _UsageError
 from posekit.runtime.arguments import RCLError
 from posekit.runtime.parameters import Parameter, parse_parameter_value
 
@@ -28,7 +26,7 @@ def _is_parameter_value(value: object) -> bool:
                                            for v in value)
 
 
-def test_random_assignments_parse_or_raise_argument_type_error() -> None:
+def test_random_assignments_parse_or_raise_a_usage_error() -> None:
     rng = random.Random(41)
     parsed = refused = 0
     for _ in range(3000):
@@ -37,7 +35,7 @@ def test_random_assignments_parse_or_raise_argument_type_error() -> None:
             text = f"p{rng.randrange(9)}:=" + text
         try:
             name, value = _parse_assignment(text)
-        except (argparse.ArgumentTypeError, RCLError):
+        except (_UsageError, RCLError):
             refused += 1
             continue
         parsed += 1

@@ -51,7 +51,8 @@ def test_chain_inverse_and_matrices(T_a_b, T_b_c, T_c_d):
     p_c = np.array([0.5, -2.0, 3.0])
     p_a = T_a_b.apply(T_b_c.apply(p_c))
     np.testing.assert_allclose((T_a_b * T_b_c).apply(p_c), p_a, atol=1e-11)
-    np.testing.assert_allclose(T_a_b.as_matrix() @ np.r_[p_c, 1.0], np.r_[T_a_b.apply(p_c), 1])
+    np.testing.assert_allclose(T_a_b.as_matrix() @ np.r_[p_c, 1.0], np.r_[T_a_b.apply(p_c), 1],
+                               atol=1e-11)  # a component near 0 has no relative tolerance
     np.testing.assert_allclose(T_a_b.apply(T_a_b.apply(p_c), inverse=True), p_c, atol=1e-11)
     assert Transform.from_matrix(T_a_b.as_matrix()).approx_equal(T_a_b, atol=1e-12)
 

@@ -106,10 +106,28 @@ def _write(tmp_path: Path, data: Any, name: str = "w.json") -> Path:
 
 
 def test_json_round_trip(tmp_path: Path) -> None:
-    original = load_world("aruco_box_world")
-    loaded = load_world(_write(tmp_path, original.to_dict()))
-    assert loaded == original
-    assert loaded.source.endswith("w.json")
+    for name in ("aruco_box_world", "husarion_world"):
+        original = load_world(name)
+        loaded = load_world(_write(tmp_path, original.to_dict()))
+        assert loaded == original
+        assert loaded.source.endswith("w.json")
+
+
+def test_husarion_world_walls_as_derived() -> None:
+    """husarion_world: 8 logo shapes 1.8 m tall (one 1.802 m), the ring as two loops that
+    enclose the spawn, 505 faces (the outline edges of the mesh's top faces)."""
+    world = load_world("husarion_world")
+    assert [w.name for w in world.walls] == [
+        "rectangle", "feather6", "feather2", "feather4", "feather3", "feather5", "feather1", "H"
+    ]
+    assert sum(len(w.segments()) for w in world.walls) == 505
+    assert {w.height for w in world.walls} == {1.8, 1.802}
+    ring = world.walls[0]
+    assert len(ring.loops) == 2
+    for loop in ring.loops:
+        xs, ys = zip(*loop, strict=True)
+        assert min(xs) < world.spawn[0] < max(xs)
+        assert min(ys) < world.spawn[1] < max(ys)
 
 
 def test_pose_as_mapping(tmp_path: Path) -> None:
@@ -161,6 +179,24 @@ def test_pose_as_mapping(tmp_path: Path) -> None:
         ),
         (_world(static_transforms=[{"parent": "a", "child": "a"}]), "same frame"),
         (_world(physics_step=-1), "physics_step: must be > 0"),
+        (
+            _world(walls=[{"name": "w", "height": 1.0, "loops": [[[0, 0], [1, 0]]]}]),
+            r"walls\[0\]\.loops\[0\]: a loop needs >= 3 points, got 2",
+        ),
+        (
+            _world(walls=[{"name": "w", "height": 0.0, "loops": [[[0, 0], [1, 0], [0, 1]]]}]),
+            r"walls\[0\]\.height: must be > 0",
+        ),
+        (_world(walls=[{"name": "w", "height": 1.0, "loops": []}]), "needs at least one loop"),
+        (
+            _world(walls=[{"name": "w", "height": 1, "loops": [[[0, 0], [1, "a"], [0, 1]]]}]),
+            r"walls\[0\]\.loops\[0\]\[1\]\[1\]: expected a number",
+        ),
+        (
+            _world(boxes=[{"name": "b", "model": "aruco_box", "pose": [0] * 6,
+                           "collision": "yes"}]),
+            r"boxes\[0\]\.collision: expected true or false",
+        ),
         ([1, 2, 3], "expected a mapping"),
     ],
 )

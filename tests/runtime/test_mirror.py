@@ -1,11 +1,12 @@
-"""MirroredTransport: in-process delivery plus visibility and traffic on a network transport.
+"""MirroredTransport: in-process delivery plus visibility and traffic on a network transport,
+over Zenoh and over DDS.
 
 Oracles: the messages each subscription must receive, counted by sender (every local message
 exactly once, never echoed back through the network; remote messages once; none on an owned
-topic), the KEEP_LAST promise (the newest ``depth`` messages survive a stalled network), and
-the graph another Zenoh session sees (the node and topic names created here). A network
-endpoint that blocks forever stands in for a vanished subscriber: publishing must still
-return.
+topic), the KEEP_LAST promise (the newest ``depth`` messages survive a stalled network), the
+graph another session sees (the node names created here), and the isolated run of the same
+scenario. A network endpoint that blocks forever stands in for a vanished subscriber:
+publishing must still return.
 """
 
 from __future__ import annotations
@@ -17,8 +18,9 @@ from typing import Any
 
 import pytest
 
+from _support.dds import dds_domain
 from _support.ports import free_port
-from _support.procs import use_zenoh_endpoint
+from _support.world import use_zenoh_endpoint
 from posekit.msgs.std_msgs import String
 from posekit.runtime.bus import InProcessBus
 from posekit.runtime.context import Context
@@ -39,14 +41,15 @@ from posekit.runtime.transport import (
 
 
 class _StuckPublisher(PublisherEndpoint):
-    """Stuck on /chatter only (the nodes' own /rosout and /parameter_events pass)."""
+    """Stuck on ``/chatter``; other topics (a node's /parameter_events) have no remote
+    subscriber."""
 
     def __init__(self, net: StuckNetwork, topic: str) -> None:
         self.net = net
-        self.topic = topic
+        self.stuck = topic == "/chatter"
 
     def publish(self, msg: Any) -> None:
-        if self.topic != "/chatter":
+        if not self.stuck:
             return
         self.net.entered.set()
         self.net.release.wait()
@@ -57,7 +60,7 @@ class _StuckPublisher(PublisherEndpoint):
 
     @property
     def subscription_count(self) -> int:
-        return 1  # a remote subscriber that never reads
+        return 1 if self.stuck else 0  # a remote subscriber that never reads
 
 
 class _NoSubscription(SubscriptionEndpoint):
@@ -167,11 +170,20 @@ def router(monkeypatch: pytest.MonkeyPatch) -> str:
     return endpoint
 
 
-@pytest.fixture
-def contexts(router: str) -> Iterator[tuple[Context, Context]]:
+@pytest.fixture(params=["zenoh", "dds"])
+def contexts(request: pytest.FixtureRequest,
+             monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
+    """A mirrored context and a plain one ("another process": its own session or DDS
+    participant) on the network transport ``request.param``."""
+    network = request.param
+    if network == "zenoh":
+        use_zenoh_endpoint(monkeypatch, f"tcp/127.0.0.1:{free_port()}")
+    else:
+        pytest.importorskip("cyclonedds")
+        dds_domain(monkeypatch, 171)
     mirrored, remote = Context(), Context()
-    mirrored.init(transport="inprocess+zenoh")
-    remote.init(transport="zenoh")
+    mirrored.init(transport=f"inprocess+{network}")
+    remote.init(transport=network)
     try:
         yield mirrored, remote
     finally:
@@ -209,9 +221,9 @@ def test_mirrored_nodes_are_seen_and_reached_without_echo(
     ex_here.add_node(here_sub)
     ex_there.add_node(there)
 
-    graph = remote.transport().graph  # type: ignore[attr-defined]
+    graph = remote.transport()
     spin_until([ex_here, ex_there],
-               lambda: {"/here_talker", "/here_listener"} <= set(graph.node_names()),
+               lambda: {"/here_talker", "/here_listener"} <= set(graph.get_node_names()),
                20, "the mirrored nodes on the remote graph")
     spin_until([ex_here, ex_there], lambda: pub_here.get_subscription_count() == 2, 20,
                "the remote subscription to be noticed")

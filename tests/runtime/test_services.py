@@ -66,10 +66,10 @@ def test_service_names_are_expanded_remapped_and_validated(ctx) -> None:
     assert node.create_service(Empty, "~/enable", lambda q, r: r).service_name == (
         "/robot1/cam/enable"
     )
-    assert node.create_service(Empty, "calibrate", lambda q, r: r).srv_name == (
+    assert node.create_service(Empty, "calibrate", lambda q, r: r).service_name == (
         "/robot1/calibrate"
     )
-    assert node.create_client(Empty, "reset").srv_name == "/global_reset"
+    assert node.create_client(Empty, "reset").service_name == "/global_reset"
     with pytest.raises(InvalidServiceNameException):
         node.create_service(Empty, "bad name", lambda q, r: r)
     with pytest.raises(TypeError):
@@ -165,10 +165,11 @@ def test_multithreaded_executor_with_reentrant_group(ctx) -> None:
     client = node.create_client(SetBool, "set_flag", callback_group=group)
     ex = MultiThreadedExecutor(num_threads=2, context=ctx)
     ex.add_node(node)
-    futures = [client.call_async(SetBool.Request(data=i % 2 == 0)) for i in range(20)]
+    # 10 at once: the service QoS default keeps the last 10 waiting requests
+    futures = [client.call_async(SetBool.Request(data=i % 2 == 0)) for i in range(10)]
     for f in futures:
         ex.spin_until_future_complete(f, timeout_sec=5.0)
-    assert [f.result().success for f in futures] == [i % 2 == 1 for i in range(20)]
+    assert [f.result().success for f in futures] == [i % 2 == 1 for i in range(10)]
 
 
 def test_async_service_callback_is_awaited(ctx, executor: SimulatedTimeExecutor) -> None:
@@ -244,3 +245,60 @@ def test_simulated_time_serves_requests_deterministically(ctx) -> None:
     assert first[:4] == [
         "serve True @100000000", "serve False @100000000", "a got True", "b got False",
     ]
+
+
+def test_a_transport_without_services_says_so(ctx) -> None:
+    from posekit.runtime.bus import InProcessBus
+    from posekit.runtime.transport import ServicesNotSupportedError, Transport
+
+    class TopicsOnly(Transport):
+        """Topics through a bus; services left at the contract's default."""
+
+        name = "topics_only"
+
+        def __init__(self) -> None:
+            self.bus = InProcessBus()
+
+        def advertise(self, info):
+            return self.bus.advertise(info)
+
+        def subscribe(self, info, sink):
+            return self.bus.subscribe(info, sink)
+
+        def get_topic_names_and_types(self):
+            return self.bus.get_topic_names_and_types()
+
+        def count_publishers(self, topic):
+            return self.bus.count_publishers(topic)
+
+        def count_subscribers(self, topic):
+            return self.bus.count_subscribers(topic)
+
+    node = Node("plain", context=ctx, transport=TopicsOnly())  # no parameter services: fine
+    assert node.get_service_names_and_types() == []
+    assert node.count_services("x") == 0
+    with pytest.raises(ServicesNotSupportedError, match="'topics_only' transport does not carry"):
+        node.create_service(Empty, "x", lambda q, r: r)
+    with pytest.raises(ServicesNotSupportedError):
+        node.create_client(Empty, "x")
+    node.declare_parameter("still", 1)  # parameters work; /parameter_events is a topic
+    assert node.get_parameter("still").value == 1
+
+
+def test_waiting_requests_are_bounded_by_the_qos_depth(ctx) -> None:
+    from posekit.runtime.qos import QoSProfile
+
+    server = Node("server", context=ctx, start_parameter_services=False)
+    seen: list[bool] = []
+    server.create_service(SetBool, "s", lambda q, r: (seen.append(q.data), r)[1],
+                          qos_profile=QoSProfile(depth=2))
+    client_node = Node("client", context=ctx, start_parameter_services=False)
+    client = client_node.create_client(SetBool, "s")
+    futures = [client.call_async(SetBool.Request(data=i >= 3)) for i in range(5)]
+    ex = SingleThreadedExecutor(context=ctx)  # nothing ran while the requests piled up
+    ex.add_node(server)
+    ex.add_node(client_node)
+    ex.spin_until_future_complete(futures[-1], timeout_sec=5.0)
+    ex.spin_some()
+    assert seen == [True, True]  # the two newest; the three oldest were dropped
+    assert [f.done() for f in futures] == [False, False, False, True, True]

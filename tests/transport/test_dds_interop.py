@@ -27,7 +27,7 @@ from posekit.msgs.registry import get_message_class
 from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.logging import LogRecord
 from posekit.runtime.node import Node
-from posekit.runtime.qos import QoSProfile
+from posekit.runtime.qos import QoSProfile, ReliabilityPolicy
 
 pytestmark = pytest.mark.slow
 
@@ -99,9 +99,10 @@ REFERENCE = ROS_MSG_HELPERS + textwrap.dedent("""
         "big", [m.height, m.width, m.encoding, hashlib.sha256(bytes(m.data)).hexdigest()]), 2)
     done = []
     node.create_subscription(String, "/interop/done", lambda m: done.append(m.data), 10)
-    names = []
+    names, graph = [], {}
     deadline, next_pub = time.monotonic() + 45, 0.0
-    while time.monotonic() < deadline and not (done and len(received) == len(SPEC) + 1):
+    while time.monotonic() < deadline and not (
+            done and graph and len(received) == len(SPEC) + 1):
         rclpy.spin_once(node, timeout_sec=0.05)
         if time.monotonic() >= next_pub:
             for pub, msg in pubs:
@@ -109,8 +110,16 @@ REFERENCE = ROS_MSG_HELPERS + textwrap.dedent("""
             big_pub.publish(big)
             next_pub = time.monotonic() + 0.3
             names = node.get_node_names_and_namespaces()
+            if ["posekit_interop", "/"] in [list(n) for n in names]:
+                pubs_of = node.get_publisher_names_and_types_by_node("posekit_interop", "/")
+                subs_of = node.get_subscriber_names_and_types_by_node("posekit_interop", "/")
+                info = node.get_publishers_info_by_topic("/interop/odometry/from_pk")
+                graph = {"pubs": sorted([n, t] for n, ts in pubs_of for t in ts),
+                         "subs": sorted([n, t] for n, ts in subs_of for t in ts),
+                         "odom_pub": [[i.node_name, i.node_namespace, i.topic_type,
+                                       i.qos_profile.reliability.name] for i in info]}
     print(json.dumps({"received": received, "expected": expected, "nodes": names,
-                      "done": done}), flush=True)
+                      "graph": graph, "done": done}), flush=True)
     node.destroy_node()
     rclpy.shutdown()
 """)
@@ -129,9 +138,9 @@ def _last_json(proc: Proc) -> Any:
 
 def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
         monkeypatch: pytest.MonkeyPatch) -> None:
-    dds_domain(monkeypatch, 151)
+    domain = dds_domain(monkeypatch)
     context = dds_context()
-    proc = _start_reference(151, REFERENCE, json.dumps(SPEC), str(BIG_W), str(BIG_H))
+    proc = _start_reference(domain, REFERENCE, json.dumps(SPEC), str(BIG_W), str(BIG_H))
     try:
         node = Node("posekit_interop", context=context)
         executor = SingleThreadedExecutor(context=context)
@@ -166,7 +175,7 @@ def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
                 pub.publish(msg)
             big_pub.publish(big)
             seen_nodes.update(node.transport.get_node_names())  # type: ignore[attr-defined]
-            if len(got) == len(SPEC) + 1:
+            if len(got) == len(SPEC) + 1 and "/ros_interop" in seen_nodes:
                 done_pub.publish(string_cls(data="done"))
 
         assert spin_until(executor, lambda: proc.popen.poll() is not None, 50, publish_all), \
@@ -190,9 +199,16 @@ def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
         3 * BIG_W * BIG_H)).hexdigest()
     assert got["big"] == [BIG_H, BIG_W, "rgb8", digest]
     assert result["received"]["big"] == [BIG_H, BIG_W, "rgb8", digest]
-    # the graph both ways: each side lists the other's node
+    # the graph both ways: each side lists the other's node, the real one with the posekit
+    # node's publishers and subscriptions (ros_discovery_info's GIDs matched to endpoints)
     assert ["posekit_interop", "/"] in result["nodes"]
     assert "/ros_interop" in seen_nodes
+    graph = result["graph"]
+    for name, (ros_type, _values) in SPEC.items():
+        assert [f"/interop/{name}/from_pk", ros_type] in graph["pubs"], name
+        assert [f"/interop/{name}/from_ros", ros_type] in graph["subs"], name
+    assert ["/interop/done", "std_msgs/msg/String"] in graph["pubs"]
+    assert graph["odom_pub"] == [["posekit_interop", "/", "nav_msgs/msg/Odometry", "RELIABLE"]]
 
 
 BAD_PEERS = textwrap.dedent("""
@@ -206,6 +222,7 @@ BAD_PEERS = textwrap.dedent("""
         String, "/qos_probe", QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT))
     other_type = node.create_publisher(Int32, "/type_probe", 5)
     alive = node.create_publisher(String, "/alive", 5)
+    node.create_subscription(String, "/be_from_pk", lambda m: None, 5)  # RELIABLE
     deadline = time.monotonic() + float(sys.argv[1])
     i = 0
     while time.monotonic() < deadline:
@@ -220,9 +237,9 @@ BAD_PEERS = textwrap.dedent("""
 
 def test_incompatible_qos_and_another_type_each_log_one_reason_and_the_node_runs_on(
         monkeypatch: pytest.MonkeyPatch, logs: list[LogRecord]) -> None:
-    dds_domain(monkeypatch, 152)
+    domain = dds_domain(monkeypatch)
     context = dds_context()
-    proc = _start_reference(152, BAD_PEERS, "25")
+    proc = _start_reference(domain, BAD_PEERS, "25")
     try:
         node = Node("posekit_strict", context=context)
         executor = SingleThreadedExecutor(context=context)
@@ -233,21 +250,29 @@ def test_incompatible_qos_and_another_type_each_log_one_reason_and_the_node_runs
         node.create_subscription(string_cls, "/qos_probe", wrong.append, QoSProfile(depth=5))
         node.create_subscription(string_cls, "/type_probe", wrong.append, 5)
         node.create_subscription(string_cls, "/alive", lambda m: alive.append(m.data), 5)
+        node.create_publisher(string_cls, "/be_from_pk", QoSProfile(
+            depth=5, reliability=ReliabilityPolicy.BEST_EFFORT))
 
         def warnings(word: str) -> list[str]:
             return [r.message for r in logs if r.name == "posekit_strict" and word in r.message]
 
         assert spin_until(executor, lambda: bool(
-            warnings("incompatible QoS") and warnings("also has endpoints of type")
+            warnings("offering incompatible QoS") and warnings("requesting incompatible QoS")
+            and warnings("also has endpoints of type")
             and len(alive) >= 3), 25), f"{[r.message for r in logs]}\n{proc.describe()}"
         spin_until(executor, lambda: False, 1.0)  # more samples from the same peers
     finally:
         proc.kill()
         context.try_shutdown()
-    qos_warnings = warnings("incompatible QoS")
+    qos_warnings = warnings("offering incompatible QoS")
     assert len(qos_warnings) == 1, qos_warnings
     assert "'/qos_probe'" in qos_warnings[0]
     assert "RELIABILITY" in qos_warnings[0]
+    # and the other way round: posekit's BEST_EFFORT publisher, a real RELIABLE subscription
+    offer_warnings = warnings("requesting incompatible QoS")
+    assert len(offer_warnings) == 1, offer_warnings
+    assert "'/be_from_pk'" in offer_warnings[0]
+    assert "RELIABILITY" in offer_warnings[0]
     type_warnings = warnings("also has endpoints of type")
     assert len(type_warnings) == 1, type_warnings
     assert "std_msgs/msg/Int32" in type_warnings[0]
@@ -333,7 +358,7 @@ def test_late_independent_reader_gets_tf_static_from_posekit(
     from posekit.msgs.geometry_msgs import TransformStamped
     from posekit.runtime.tf2_ros import StaticTransformBroadcaster
 
-    dds_domain(monkeypatch, 153)
+    domain = dds_domain(monkeypatch)
     context = dds_context()
     try:
         node = Node("static_publisher", context=context)
@@ -349,7 +374,8 @@ def test_late_independent_reader_gets_tf_static_from_posekit(
         script = tmp_path / "tf_reader.py"
         script.write_text(INDEPENDENT_TF_READER)
         # The reader joins after the transforms were sent (transient local hands them over).
-        reader = Proc([sys.executable, "-I", str(script), "153"], env=posekit_env(153))
+        reader = Proc([sys.executable, "-I", str(script), str(domain)],
+                      env=posekit_env(domain))
         out = reader.finish(30, "the independent /tf_static reader")
     finally:
         context.try_shutdown()

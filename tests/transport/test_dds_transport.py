@@ -2,14 +2,16 @@
 process, selection by name and environment, and its rejections.
 
 Oracles: what the other participant receives and announces (the contract says a transport
-delivers copies, keeps TRANSIENT_LOCAL history for late joiners, reports the graph), and
-the module list of a fresh interpreter for the lazy import.
+delivers copies, keeps TRANSIENT_LOCAL history for late joiners, reports the graph), the
+module list of a fresh interpreter for the lazy import, and for ``ROS_AUTOMATIC_DISCOVERY_
+RANGE=OFF`` a twin process left at LOCALHOST as the control that is discovered.
 """
 
 from __future__ import annotations
 
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 
 import pytest
@@ -32,7 +34,7 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 @pytest.fixture
 def two(monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
-    dds_domain(monkeypatch, 160)
+    dds_domain(monkeypatch)
     a, b = dds_context(), dds_context()
     yield a, b
     b.try_shutdown()
@@ -96,7 +98,7 @@ def test_two_participants_exchange_messages_latched_history_and_graph(
 
 def test_selected_by_environment_and_rejections(
         monkeypatch: pytest.MonkeyPatch, logs: list[LogRecord]) -> None:
-    dds_domain(monkeypatch, 161)
+    dds_domain(monkeypatch)
     monkeypatch.setenv("POSEKIT_TRANSPORT", "dds")
     context = Context()
     context.init()
@@ -124,3 +126,76 @@ def test_selected_by_environment_and_rejections(
         assert received[0].data == "ok"
     finally:
         context.try_shutdown()
+
+
+def test_a_service_call_on_dds_is_one_line_not_a_traceback(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    from posekit.cli.main import main
+
+    dds_domain(monkeypatch)
+    assert main(["service", "call", "/reset", "std_srvs/srv/Trigger", "--transport", "dds"]) == 1
+    err = capsys.readouterr().err
+    assert err == ("posekit service call: error: the 'dds' transport does not carry services "
+                   "(posekit's 'inprocess' and 'zenoh' transports do)\n")
+
+
+CHILD = """
+import sys, time
+import posekit.rclpy as rclpy
+from posekit.msgs.std_msgs import String
+rclpy.init(transport="dds")
+node = rclpy.create_node(sys.argv[1])
+pub = node.create_publisher(String, sys.argv[2], 10)
+print("ready", flush=True)
+deadline = time.monotonic() + 30
+while time.monotonic() < deadline:
+    pub.publish(String(data="x"))
+    time.sleep(0.1)
+"""
+
+
+def test_discovery_range_off_keeps_a_process_out_of_the_graph(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from _support.dds import posekit_env
+    from _support.procs import Proc
+
+    domain = dds_domain(monkeypatch)
+    on = Proc([sys.executable, "-c", CHILD, "on_child", "/on_probe"], env=posekit_env(domain))
+    off = Proc([sys.executable, "-c", CHILD, "off_child", "/off_probe"],
+               env=posekit_env(domain, ROS_AUTOMATIC_DISCOVERY_RANGE="OFF"))
+    context = dds_context()
+    try:
+        node = Node("observer", context=context)
+        transport = node.transport
+        on.wait_line(lambda line: line.startswith("ready"), 30, "the LOCALHOST child")
+        off.wait_line(lambda line: line.startswith("ready"), 30, "the OFF child")
+        deadline = time.monotonic() + 20
+        while "/on_child" not in transport.get_node_names():  # type: ignore[attr-defined]
+            assert time.monotonic() < deadline, "the LOCALHOST child was never discovered"
+            transport.sync_graph(0.5)  # type: ignore[attr-defined]
+        transport.sync_graph(2.0)  # type: ignore[attr-defined]  # time for the other one too
+        names = transport.get_node_names()  # type: ignore[attr-defined]
+        on_count = node.count_publishers("/on_probe")
+        off_count = node.count_publishers("/off_probe")
+    finally:
+        on.kill()
+        off.kill()
+        context.try_shutdown()
+    assert "/off_child" not in names
+    assert on_count == 1
+    assert off_count == 0
+
+
+def test_a_lifespan_becomes_the_writers_lifespan_policy() -> None:
+    """rcl's /rosout profile (lifespan 10 s) on a DDS writer; readers carry no lifespan."""
+    from cyclonedds.qos import Policy
+
+    from posekit.runtime.rosout import qos_profile_rosout_default
+    from posekit.transport.dds_transport import endpoint_qos, wire_qos_of
+
+    writer = endpoint_qos(qos_profile_rosout_default, b"", writer=True)
+    assert writer[Policy.Lifespan] == Policy.Lifespan(lifespan=10_000_000_000)
+    assert wire_qos_of(writer).lifespan == (10, 0)
+    reader = endpoint_qos(qos_profile_rosout_default, b"", writer=False)
+    assert Policy.Lifespan not in reader
+    assert Policy.Lifespan not in endpoint_qos(LATCHED, b"", writer=True)

@@ -9,7 +9,7 @@ import sys
 import textwrap
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -17,6 +17,7 @@ import pytest
 import zenoh
 
 from _support.ports import free_port
+from _support.waiting import wait_for
 from posekit.msgs import to_cdr
 from posekit.msgs.builtin_interfaces import Time
 from posekit.msgs.geometry_msgs import Transform, TransformStamped, Vector3
@@ -65,13 +66,6 @@ def pair(options: SessionOptions) -> Iterator[tuple[ZenohSession, ZenohSession]]
     a.close()
 
 
-def wait_for(cond: Callable[[], bool], timeout: float = 5.0) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if cond():
-            return True
-        time.sleep(0.01)
-    return cond()
 
 
 class Inbox:

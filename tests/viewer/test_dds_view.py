@@ -39,8 +39,8 @@ ODOM_TALKER = textwrap.dedent("""
 
 def test_tap_over_dds_follows_a_real_rclpy_odometry_publisher(
         monkeypatch: pytest.MonkeyPatch) -> None:
-    dds_domain(monkeypatch, 156)
-    talker = Proc([str(ros2_python()), "-c", ODOM_TALKER], env=ros2_env(156))
+    domain = dds_domain(monkeypatch)
+    talker = Proc([str(ros2_python()), "-c", ODOM_TALKER], env=ros2_env(domain))
     context = dds_context()
     try:
         tap = ViewerTap(context.transport())

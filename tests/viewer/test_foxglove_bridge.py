@@ -249,12 +249,14 @@ def test_cli_bridge_serves_the_p_controller_scenario_on_sim_time() -> None:
         bridge = _start_foxglove(ns, run.context.transport(), _sim_clock(run))
         assert bridge is not None
         assert bridge.host == "127.0.0.1"  # loopback unless --host says otherwise
-        # Every topic with a publisher (an independent graph query) becomes a channel.
+        # Every topic with a publisher (an independent graph query) becomes a channel, but
+        # the P controller's action feedback (a pkg/action/ type has no ros2msg schema text).
         transport = run.context.transport()
         graph = {
-            t for t, _ in transport.get_topic_names_and_types()
-            if transport.count_publishers(t) > 0
+            t for t, types in transport.get_topic_names_and_types()
+            if transport.count_publishers(t) > 0 and "/action/" not in types[0]
         }
+        assert "/navigate_to_pose/_action/status" in graph
         assert {"/tf", "/tf_static", "/odometry/filtered", "/odometry/wheels"} <= graph
         url = f"ws://127.0.0.1:{bridge.port}"
 

@@ -3,8 +3,11 @@
 :func:`bag_info` reads ``metadata.yaml`` and opens the storage (so a damaged storage file is
 reported here, not only on playback); :func:`format_info` lays it out like ``ros2 bag info``:
 file list, size in KiB/MiB, storage id, ROS distro, duration, start and end as local date and
-time with the epoch seconds, message count and one line per topic. Times are printed to the
-nanosecond (ROS 2 releases before Jazzy printed milliseconds without zero padding).
+time with the epoch seconds, message count, one line per topic, then Jazzy's service section
+(``Service:`` count and ``Service information:`` lines for recorded service event topics,
+``<service>/_service_event`` of type ``pkg/srv/Name_Event``, which are left out of the topic
+lines and of the message count, as rosbag2 does). Times are printed to the nanosecond (ROS 2
+releases before Jazzy printed milliseconds without zero padding).
 ``verbose=True`` adds the metadata version, compression and each topic's offered QoS.
 """
 
@@ -20,7 +23,7 @@ from posekit.bag._storage import check_bag_dir, open_reader
 from posekit.bag.errors import BagFormatError
 from posekit.runtime.qos import QoSProfile
 
-__all__ = ["BagInfo", "TopicInfo", "bag_info", "format_info"]
+__all__ = ["BagInfo", "TopicInfo", "bag_info", "format_info", "is_service_event_topic"]
 
 _INDENT = 19  # width of the longest label, "Topic information: "
 
@@ -196,6 +199,10 @@ def format_info(info: BagInfo, *, verbose: bool = False) -> str:
     lines.append(f"{'Start:':<{_INDENT}}{_time_point(info.start_ns)}")
     lines.append(f"{'End:':<{_INDENT}}{_time_point(info.end_ns)}")
     lines.append(f"{'Messages:':<{_INDENT}}{info.message_count}")
+    topics = [t for t in info.topics if not is_service_event_topic(t.name, t.msgtype)]
+    services = [t for t in info.topics if is_service_event_topic(t.name, t.msgtype)]
+    lines[-1] = (f"{'Messages:':<{_INDENT}}"
+                 f"{info.message_count - sum(t.message_count for t in services)}")
     topic_lines = [
         f"Topic: {t.name} | Type: {t.msgtype} | Count: {t.message_count} | "
         f"Serialization Format: {t.serialization_format}"
@@ -204,8 +211,28 @@ def format_info(info: BagInfo, *, verbose: bool = False) -> str:
             if verbose and t.offered_qos
             else ""
         )
-        for t in info.topics
+        for t in topics
     ] or [""]
     lines.append(f"{'Topic information:':<{_INDENT}}{topic_lines[0]}")
     lines.extend(pad + t for t in topic_lines[1:])
+    lines.append(f"{'Service:':<{_INDENT}}{len(services)}")
+    service_lines = [
+        f"Service: {t.name.removesuffix(_SERVICE_EVENT_SUFFIX)} | "
+        f"Type: {t.msgtype.removesuffix('_Event')} | Event Count: {t.message_count} | "
+        f"Serialization Format: {t.serialization_format}"
+        for t in services
+    ]
+    lines.append("Service information: " + (service_lines[0] if service_lines else ""))
+    lines.extend(" " * (_INDENT + 2) + t for t in service_lines[1:])
     return "\n".join(lines) + "\n"
+
+
+_SERVICE_EVENT_SUFFIX = "/_service_event"
+
+
+def is_service_event_topic(name: str, msgtype: str) -> bool:
+    """rosbag2's test for a service event topic (``/srv/`` type ending ``_Event`` on a topic
+    ending ``/_service_event``)."""
+    return (len(name) > len(_SERVICE_EVENT_SUFFIX) and name.endswith(_SERVICE_EVENT_SUFFIX)
+            and len(msgtype) > len("_Event") and "/srv/" in msgtype
+            and msgtype.endswith("_Event"))

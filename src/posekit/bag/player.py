@@ -32,8 +32,9 @@ with enough depth to latch every recorded static message.
 
 from __future__ import annotations
 
+import threading
 import time
-from collections.abc import Callable, Collection, Iterator
+from collections.abc import Callable, Collection, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
@@ -91,6 +92,10 @@ class Player:
         publish_clock: publish ``/clock`` in :meth:`play` (in :meth:`run_simulated` the
             executor publishes it).
         clock_frequency: ``/clock`` messages per wall second in :meth:`play`.
+        start_offset: start this many seconds of bag time after the first message.
+        start_paused: :meth:`play` starts paused (:meth:`resume`, :meth:`play_next`).
+        remap: recorded topic -> topic to publish on (``--remap old:=new``).
+        delay: wall seconds to wait before each pass in :meth:`play`.
         node_name: name of the player node.
         transport: transport name for the node (default: the context's).
 
@@ -111,9 +116,21 @@ class Player:
         clock_frequency: float = 100.0,
         node_name: str = "rosbag2_player",
         transport: str | None = None,
+        start_offset: float = 0.0,
+        start_paused: bool = False,
+        remap: Mapping[str, str] | None = None,
+        delay: float = 0.0,
     ) -> None:
         if not rate > 0:
             raise BagOptionError(f"playback rate must be > 0, got {rate}")
+        if not (start_offset >= 0 and delay >= 0):
+            raise BagOptionError(
+                f"start offset and delay must be >= 0 s, got {start_offset} and {delay}")
+        self.start_offset_ns = int(start_offset * 1e9)
+        self.delay = float(delay)
+        self._paused = bool(start_paused)
+        self._steps = 0
+        self._control = threading.Lock()
         if publish_clock and not clock_frequency > 0:
             raise BagOptionError(f"clock frequency must be > 0 Hz, got {clock_frequency}")
         self.path = Path(bag)
@@ -146,8 +163,12 @@ class Player:
         }
         classes = {name: _message_class(info.msgtype) for name, info in self.topics.items()}
         self.node = Node(node_name, context=context, transport=transport)
+        remap = dict(remap or {})
+        if unknown := sorted(set(remap) - set(self.topics)):
+            self.node.destroy_node()
+            raise BagOptionError(f"cannot remap {unknown}: not played from this bag")
         self._publishers: dict[str, Any] = {
-            name: self.node.create_publisher(classes[name], name, info.qos)
+            name: self.node.create_publisher(classes[name], remap.get(name, name), info.qos)
             for name, info in self.topics.items()
         }
         self._clock_pub: Any = None
@@ -205,6 +226,43 @@ class Player:
         """Make :meth:`play` / :meth:`run_simulated` return before the next message."""
         self._stopped = True
 
+    # -- controls (``ros2 bag play``'s keyboard: pause/resume, next message, rate) ------
+    @property
+    def paused(self) -> bool:
+        """True while :meth:`play` holds the bag time still."""
+        return self._paused
+
+    def pause(self) -> None:
+        """Hold playback (the clock keeps publishing the paused time)."""
+        with self._control:
+            self._paused = True
+
+    def resume(self) -> None:
+        """Continue playback from where it was paused."""
+        with self._control:
+            self._paused = False
+
+    def toggle_pause(self) -> bool:
+        """Pause if playing, resume if paused; returns the new paused state."""
+        with self._control:
+            self._paused = not self._paused
+            return self._paused
+
+    def play_next(self) -> bool:
+        """While paused, publish the next message now; False (nothing done) when playing."""
+        with self._control:
+            if not self._paused:
+                return False
+            self._steps += 1
+            return True
+
+    def set_rate(self, rate: float) -> None:
+        """Change the playback speed factor (> 0) from now on."""
+        if not rate > 0:
+            raise BagOptionError(f"playback rate must be > 0, got {rate}")
+        with self._control:
+            self.rate = float(rate)
+
     def _passes(self, loops: int | None) -> Iterator[int]:
         if loops is not None and loops < 1:
             raise BagOptionError(f"loops must be >= 1, got {loops}")
@@ -248,11 +306,14 @@ class Player:
 
     # -- wall clock -------------------------------------------------------------------
     def play(self, executor: Executor | None = None, *, loops: int | None = None,
-             sleep: Callable[[float], None] = time.sleep) -> int:
+             sleep: Callable[[float], None] = time.sleep,
+             progress: Callable[[int, bool], None] | None = None) -> int:
         """Play in wall-clock time at ``rate`` (``ros2 bag play``); returns messages published.
 
         ``executor`` (if given) runs other nodes' callbacks while the player waits; the
-        player node is added to it. ``loops`` as in :meth:`run_simulated`.
+        player node is added to it. ``loops`` as in :meth:`run_simulated`. Playback follows
+        :meth:`pause`, :meth:`resume`, :meth:`play_next` and :meth:`set_rate` from other
+        threads; ``progress(bag_time_ns, paused)`` is called while waiting (for a display).
         """
         from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
 
@@ -264,24 +325,53 @@ class Player:
             )
         before = self.published
         period = 1.0 / self.clock_frequency
+
+        def wait(seconds: float) -> None:
+            if executor is not None:
+                executor.spin_once(timeout_sec=max(0.0, seconds))
+            else:
+                sleep(max(0.0, seconds))
+
         for _ in self._passes(loops):
-            wall0 = time.monotonic()
-            next_clock = wall0
+            end_delay = time.monotonic() + self.delay
+            while not self._stopped and (left := end_delay - time.monotonic()) > 0:
+                wait(left)
+            origin = self.start_ns + self.start_offset_ns
+            # bag time at wall time w: anchor_bag + (w - anchor_wall) * rate, unless paused
+            anchor_wall, anchor_bag, anchor_rate = time.monotonic(), origin, self.rate
+            next_clock = anchor_wall
             for message in self._pass_messages():
-                due = wall0 + (message.timestamp_ns - self.start_ns) / 1e9 / self.rate
+                if message.timestamp_ns < origin:
+                    continue
                 while not self._stopped:
                     now = time.monotonic()
-                    if self._clock_pub is not None and now >= next_clock:
-                        elapsed_ns = int((now - wall0) * self.rate * 1e9)
-                        self._send_clock(min(self.start_ns + elapsed_ns, message.timestamp_ns))
-                        next_clock = now + period
-                    if now >= due:
-                        break
-                    wait = min(due, next_clock) - now if self._clock_pub is not None else due - now
-                    if executor is not None:
-                        executor.spin_once(timeout_sec=max(0.0, wait))
+                    with self._control:
+                        paused, rate, step = self._paused, self.rate, self._steps > 0
+                        if step:
+                            self._steps -= 1
+                    if paused:
+                        bag_now = anchor_bag
+                        anchor_wall = now  # resuming continues from anchor_bag
+                    elif rate != anchor_rate:  # a rate change starts from the current time
+                        anchor_bag += int((now - anchor_wall) * anchor_rate * 1e9)
+                        anchor_wall, anchor_rate = now, rate
+                        bag_now = anchor_bag
                     else:
-                        sleep(max(0.0, wait))
+                        bag_now = anchor_bag + int((now - anchor_wall) * rate * 1e9)
+                    if progress is not None:
+                        progress(min(bag_now, message.timestamp_ns), paused)
+                    if self._clock_pub is not None and now >= next_clock:
+                        self._send_clock(min(bag_now, message.timestamp_ns))
+                        next_clock = now + period
+                    if step or (not paused and bag_now >= message.timestamp_ns):
+                        if step:
+                            anchor_bag, anchor_wall = message.timestamp_ns, now
+                        break
+                    due_in = (message.timestamp_ns - bag_now) / 1e9 / rate
+                    timeout = 0.05 if paused else due_in
+                    if self._clock_pub is not None:
+                        timeout = min(timeout, max(0.0, next_clock - now))
+                    wait(min(timeout, 0.05) if progress is not None else timeout)
                 if self._stopped:
                     break
                 if self._clock_pub is not None:

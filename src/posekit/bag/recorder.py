@@ -4,7 +4,7 @@
     with Recorder("run1", topics=["/tf", "/tf_static"], context=ctx) as rec:
         executor.add_node(rec.node)
         executor.run_for(10.0)
-    # run1/metadata.yaml + run1/run1.mcap
+    # run1/metadata.yaml + run1/run1_0.mcap
 
 What is written, and how it relates to ``ros2 bag record``:
 
@@ -15,12 +15,15 @@ What is written, and how it relates to ``ros2 bag record``:
   ``header.stamp`` of messages published "now". ``stamp="header"`` stores ``header.stamp``
   instead (for ``tf2_msgs/TFMessage`` the first transform's stamp), falling back to the
   receive time for messages without a header.
-* **Storage**: rosbags' ``Writer`` with ``StoragePlugin.MCAP`` and
-  ``CompressionMode.STORAGE``, which zstd-compresses every MCAP chunk (what rosbag2's
-  ``--storage-preset-profile zstd_fast`` does, so ``compression_format``/``compression_mode``
-  stay empty in metadata.yaml as in ROS 2's own bags). ``compression=None`` writes
-  uncompressed chunks. rosbags' file/message compression modes (whole-file or per-message
-  zstd) are not used: MCAP readers such as Foxglove cannot open those without rosbag2.
+* **Storage**: rosbags' ``Writer`` with ``StoragePlugin.MCAP``, one per storage file, named
+  and split as rosbag2 Jazzy does (:mod:`posekit.bag._split`): ``<name>_0.mcap``,
+  ``<name>_1.mcap``... with ``max_bag_size`` (bytes) / ``max_bag_duration`` (seconds of
+  message time), ``ros_distro: jazzy`` in metadata.yaml. ``compression="zstd"`` (default)
+  zstd-compresses every MCAP chunk (what rosbag2's MCAP storage does by default, so
+  ``compression_format``/``compression_mode`` stay empty in metadata.yaml as in ROS 2's own
+  bags); None writes uncompressed chunks; ``"file"`` and ``"message"`` are rosbag2's
+  ``--compression-mode file|message`` with zstd (readable by rosbag2 and rosbags, not by
+  plain MCAP readers such as Foxglove).
 * **metadata.yaml** version 9 (ROS 2 Jazzy) by default, 8 (Iron) selectable: version 9 stores
   ``offered_qos_profiles`` as a YAML list with lower-case policy names, version 8 as a YAML
   string with numeric policies. The QoS recorded per topic is what each publisher offered
@@ -34,13 +37,17 @@ What is written, and how it relates to ``ros2 bag record``:
   most the last second; ``posekit bag reindex`` (:func:`posekit.bag.reindex`) turns what it
   left into a complete bag. ``posekit bag record`` finishes the bag on SIGTERM as on Ctrl-C.
 * **Topic selection**: explicit topic names, or every topic the graph shows (``topics=None``)
-  except hidden ones (a name token starting with ``_``) and ``exclude``; the graph is
+  except hidden ones (a name token starting with ``_``) and ``exclude``; ``regex`` selects
+  the topics whose name contains a match (``re.search``, as rosbag2's ``std::regex_search``)
+  in addition to explicit names, ``exclude_regex`` removes matches from any selection; the
+  graph is
   re-checked every ``discovery_period`` seconds of the node clock, so topics that appear
   later are recorded from then on. Types posekit cannot serialize are skipped with a warning.
 """
 
 from __future__ import annotations
 
+import re
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -49,8 +56,9 @@ from types import TracebackType
 from typing import Any
 
 from posekit.bag._qos import offered_qos_profiles, recording_qos, to_rosbags_qos
+from posekit.bag._split import SplitWriter
 from posekit.bag._storage import SUPPORTED_VERSIONS
-from posekit.bag.errors import BagExistsError, BagOptionError
+from posekit.bag.errors import BagOptionError
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor, SimulatedTimeExecutor
 from posekit.runtime.logging import get_logger
@@ -87,11 +95,16 @@ class Recorder:
         context: context of the recorder node (default: the default context).
         node_name: name of the recorder node.
         version: metadata.yaml version, 9 (default) or 8.
-        compression: ``"zstd"`` (default) compresses MCAP chunks; None stores them raw.
+        compression: ``"zstd"`` (default) compresses MCAP chunks; None stores them raw;
+            ``"file"`` / ``"message"`` compress whole files / single messages (zstd).
         stamp: ``"receive"`` (default, as rosbag2) or ``"header"``.
         exclude: topics never recorded in all-topics mode (default ``/clock``: the player
             regenerates the clock from the bag's timestamps; list it explicitly to record it).
         include_hidden: also record hidden topics in all-topics mode.
+        regex: also record every topic whose name contains a match of this expression.
+        exclude_regex: never record topics whose name contains a match.
+        max_bag_size: bytes per storage file before a new one starts (0: no splitting).
+        max_bag_duration: seconds of message time per storage file (0: no splitting).
         discovery_period: seconds of node-clock time between graph checks (None: only
             at start and on :meth:`discover`).
         transport: transport name for the node (default: the context's).
@@ -100,7 +113,7 @@ class Recorder:
 
     Raises:
         BagExistsError: ``output`` exists.
-        BagOptionError: bad version, compression, stamp or topic name.
+        BagOptionError: bad version, compression, stamp, topic name, regex or threshold.
     """
 
     def __init__(
@@ -117,24 +130,29 @@ class Recorder:
         include_hidden: bool = False,
         discovery_period: float | None = 0.1,
         transport: str | None = None,
+        regex: str | None = None,
+        exclude_regex: str | None = None,
+        max_bag_size: int = 0,
+        max_bag_duration: float = 0.0,
         flush_period: float | None = 1.0,
     ) -> None:
-        from rosbags.rosbag2 import (
-            CompressionFormat,
-            CompressionMode,
-            StoragePlugin,
-            Writer,
-            WriterError,
-        )
-
         if version not in SUPPORTED_VERSIONS:
             raise BagOptionError(
                 f"unsupported rosbag2 metadata version {version!r}; choose 8 or 9"
             )
-        if compression not in ("zstd", None):
+        modes = {"zstd": "storage", None: "none", "file": "file", "message": "message"}
+        if compression not in modes:
             raise BagOptionError(
-                f"unsupported compression {compression!r}; MCAP chunks are 'zstd' or None"
+                f"unsupported compression {compression!r}; choose 'zstd' (MCAP chunks), "
+                "'file', 'message' or None"
             )
+        try:
+            self._regex = re.compile(regex) if regex else None
+            self._exclude_regex = re.compile(exclude_regex) if exclude_regex else None
+        except re.error as exc:
+            raise BagOptionError(f"invalid regular expression: {exc}") from None
+        if not (max_bag_size >= 0 and max_bag_duration >= 0):
+            raise BagOptionError("max_bag_size and max_bag_duration must be >= 0 (0: no split)")
         if stamp not in _STAMPS:
             raise BagOptionError(f"stamp must be 'receive' or 'header', got {stamp!r}")
         if flush_period is not None and not flush_period > 0:
@@ -142,8 +160,10 @@ class Recorder:
         if discovery_period is not None and discovery_period <= 0:
             raise BagOptionError(f"discovery_period must be > 0 s, got {discovery_period}")
         self.path = Path(output)
-        if self.path.exists():
-            raise BagExistsError(f"{str(self.path)!r} exists already; bags are not overwritten")
+        self._writer = SplitWriter(
+            self.path, version=8 if version == 8 else 9, compression=modes[compression],
+            max_bytes=int(max_bag_size), max_duration_ns=int(max_bag_duration * 1e9),
+        )
 
         self.node = Node(node_name, context=context, transport=transport)
         try:
@@ -158,18 +178,13 @@ class Recorder:
         self._use_header = stamp == "header"
         self.version = version
         self._lock = threading.Lock()
-        self._writer = Writer(
-            self.path, version=8 if version == 8 else 9, storage_plugin=StoragePlugin.MCAP
-        )
-        if compression == "zstd":
-            self._writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
         self._writer.set_custom_data("recorder", "posekit")
         self._writer.set_custom_data("timestamps", stamp)
         try:
             self._writer.open()
-        except WriterError as exc:
+        except BaseException:
             self.node.destroy_node()
-            raise BagExistsError(str(exc)) from exc
+            raise
         self._flush_period = flush_period
         self._last_flush = time.monotonic()
         self._flush_storage(close_chunk=False)  # the file header is on disk from the start
@@ -222,8 +237,13 @@ class Recorder:
         return sorted(self._connections)
 
     def _wanted(self, topic: str) -> bool:
-        if self._explicit is not None:
-            return topic in self._explicit
+        if self._exclude_regex is not None and self._exclude_regex.search(topic):
+            return False
+        if self._explicit is not None and topic in self._explicit:
+            return True
+        if (self._explicit is not None or self._regex is not None) and (
+                self._regex is None or not self._regex.search(topic)):
+            return False  # a selection was given and this topic is not in it
         if topic in self._exclude:
             return False
         return self._include_hidden or not _is_hidden(topic)
@@ -304,6 +324,10 @@ class Recorder:
                 self._maybe_flush()
 
         return on_message
+
+    def set_custom_data(self, key: str, value: str) -> None:
+        """Store ``key: value`` under ``custom_data`` in the bag's metadata.yaml."""
+        self._writer.set_custom_data(key, value)
 
     # -- lifetime ---------------------------------------------------------------------
     @property

@@ -107,18 +107,25 @@ def _connection_args(topic: _Topic) -> dict[str, Any]:
     }
 
 
+def _file_order(path: Path) -> tuple[str, int, str]:
+    """rosbag2's file order: ``<bag>_2.mcap`` before ``<bag>_10.mcap``."""
+    stem, _, index = path.stem.rpartition("_")
+    return (stem, int(index), path.name) if index.isdigit() else (path.stem, -1, path.name)
+
+
 def reindex(path: str | Path) -> ReindexResult:
     """Rebuild the bag directory ``path`` from its MCAP storage files (module docstring).
 
     Raises :class:`BagNotFoundError` if ``path`` is missing or holds no ``.mcap`` file, and
     :class:`BagFormatError` if nothing at all could be read.
     """
-    from rosbags.rosbag2 import StoragePlugin, Writer
+    from posekit.bag._split import SplitWriter
 
     bag = Path(path)
     if not bag.is_dir():
         raise BagNotFoundError(f"bag {str(bag)!r} does not exist or is not a directory")
-    files = sorted(p for p in bag.iterdir() if p.suffix == ".mcap" and p.is_file())
+    files = sorted((p for p in bag.iterdir() if p.suffix == ".mcap" and p.is_file()),
+                   key=_file_order)
     if not files:
         raise BagNotFoundError(f"{str(bag)!r} holds no .mcap storage file to reindex")
     result = ReindexResult(bag)
@@ -135,7 +142,7 @@ def reindex(path: str | Path) -> ReindexResult:
     staging = bag / f".reindex-{os.getpid()}"
     out = staging / bag.name
     try:
-        writer = Writer(out, version=9, storage_plugin=StoragePlugin.MCAP)
+        writer = SplitWriter(out, version=9)  # rosbag2's names: <bag>_0.mcap
         writer.set_custom_data("reindexed_by", "posekit")
         writer.open()
         try:

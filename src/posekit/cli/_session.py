@@ -21,7 +21,7 @@ from posekit.runtime.parameters import Parameter
 from posekit.runtime.transport import ENV_TRANSPORT
 
 __all__ = ["TRANSPORT_CHOICES", "ToolSession", "add_sim_time_args", "add_transport_option",
-           "empty_graph_hint", "tool_transport", "transport_option"]
+           "tool_transport", "transport_option"]
 
 #: What ``--transport`` accepts on every tool (``--zenoh`` stays as an alias).
 TRANSPORT_CHOICES = ("inprocess", "zenoh", "dds")
@@ -58,19 +58,6 @@ def add_transport_option(parser: argparse.ArgumentParser, default_text: str = "z
 def transport_option(ns: argparse.Namespace) -> str | None:
     """The transport named by :func:`add_transport_option`'s options (None: the default)."""
     return "zenoh" if getattr(ns, "zenoh", False) else getattr(ns, "transport", None)
-
-
-def empty_graph_hint(what: str, transport: Any) -> str:
-    """The one line a tool prints when it finds no ``what`` (topics, nodes) on the graph."""
-    where = f"the {getattr(transport, 'name', 'selected')} transport"
-    session = getattr(transport, "session", None)
-    if session is not None and hasattr(session, "domain_id"):
-        endpoint = getattr(getattr(session, "options", None), "router_endpoint", "?")
-        hosted = " (hosted by this tool: no router was running)" if session.hosts_router else ""
-        where = f"zenoh domain {session.domain_id} via router {endpoint}{hosted}"
-    return (f"no {what} found on {where}; check that a launch or node is running (posekit "
-            "launch NAME, not --isolated) with the same ROS_DOMAIN_ID, POSEKIT_ZENOH_ROUTER "
-            "and POSEKIT_TRANSPORT\n")
 
 
 class ToolSession:

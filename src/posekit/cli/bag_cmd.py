@@ -1,11 +1,15 @@
-"""``posekit bag record|play|info``: ros2 bag's three everyday verbs on posekit.bag.
+"""``posekit bag record|play|info|convert``: ros2 bag's everyday verbs (Jazzy) on posekit.bag.
 
-* ``posekit bag record -o DIR [TOPICS... | --all]`` records until Ctrl-C (or ``--duration``
-  wall seconds) into a new rosbag2 directory (MCAP, zstd chunks, metadata version 9 unless
-  ``--metadata-version 8``).
-* ``posekit bag play DIR [--rate R] [--loop]`` publishes the bag with ``/clock`` at the
-  recorded timing (wall clock scaled by R) until the end (or Ctrl-C with ``--loop``).
-* ``posekit bag info DIR [-v]`` prints what ``ros2 bag info`` prints.
+* ``posekit bag record [-o DIR] [TOPICS | --topics T.. | --all | -e REGEX] ...`` records until
+  Ctrl-C (or ``--duration`` wall seconds) into a new rosbag2 directory (MCAP, zstd chunks,
+  ``<name>_0.mcap``..., metadata version 9 unless ``--metadata-version 8``); default name
+  ``rosbag2_YYYY_MM_DD-HH_MM_SS``; ``-b``/``-d`` split the files, ``--exclude-regex`` /
+  ``--exclude-topics`` thin the selection, ``--compression-mode file|message`` as rosbag2.
+* ``posekit bag play DIR [-r R] [-l] [--topics ..] [-e/-x REGEX] [--remap a:=b] [-p]
+  [--start-offset S] ...`` publishes the bag with ``/clock`` at the recorded timing, with
+  ros2 bag play's keyboard controls on a terminal and a progress line on stderr.
+* ``posekit bag info DIR [-t] [-v]`` prints what ``ros2 bag info`` prints.
+* ``posekit bag convert -i DIR [-i DIR..] -o OPTIONS.yaml`` is ``ros2 bag convert``.
 * ``posekit bag reindex DIR`` rebuilds a bag whose recorder was killed (no summary, no
   metadata.yaml) from the chunks it wrote (``ros2 bag reindex``; see posekit.bag.reindex).
 
@@ -19,12 +23,15 @@ and exit with 1 (2 for bad usage).
 from __future__ import annotations
 
 import argparse
+import datetime
+import os
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
-__all__ = ["info", "play", "record", "reindex"]
+__all__ = ["convert", "info", "play", "record", "reindex"]
 
 
 class _UsageError(Exception):
@@ -76,36 +83,95 @@ def _context(context: Any, transport: str | None) -> tuple[Any, bool]:
     return ctx, True
 
 
+def default_bag_name(now: datetime.datetime | None = None) -> str:
+    """rosbag2's default output name: ``rosbag2_YYYY_MM_DD-HH_MM_SS`` in local time."""
+    return (now or datetime.datetime.now()).strftime("rosbag2_%Y_%m_%d-%H_%M_%S")
+
+
 def record(argv: Sequence[str], *, context: Any = None) -> int:
     """``posekit bag record``; ``context`` (tests) replaces the tool's own context."""
     parser = _Parser(prog="posekit bag record",
                      description="Record topics into a rosbag2 directory (MCAP storage).")
-    parser.add_argument("topics", nargs="*", help="topics to record")
+    parser.add_argument("topics_positional", nargs="*", metavar="TOPIC",
+                        help="topics to record (as ros2 bag's deprecated positional form)")
+    parser.add_argument("--topics", nargs="+", default=[], metavar="TOPIC",
+                        help="space-delimited list of topics to record")
     parser.add_argument("-a", "--all", action="store_true",
-                        help="record every topic (discovered continuously; not /clock)")
-    parser.add_argument("-o", "--output", required=True, help="bag directory to create")
-    parser.add_argument("--metadata-version", type=int, choices=(8, 9), default=9,
-                        help="metadata.yaml version (default 9, ROS 2 Jazzy)")
+                        help="record all topics (discovered continuously; not /clock)")
+    parser.add_argument("--all-topics", action="store_true", help="same as --all")
+    parser.add_argument("-e", "--regex", default="",
+                        help="record only topics containing the provided regular expression "
+                             "(--all overrides it)")
+    parser.add_argument("--exclude-regex", default="",
+                        help="exclude topics containing the provided regular expression; "
+                             "works on top of --all, --topics or --regex")
+    parser.add_argument("--exclude-topics", nargs="+", default=[], metavar="TOPIC",
+                        help="space-delimited list of topics not to record; works on top of "
+                             "--all or --regex")
+    parser.add_argument("--include-hidden-topics", action="store_true",
+                        help="also record hidden topics (with --all or --regex)")
+    parser.add_argument("-o", "--output", default=None,
+                        help="bag directory to create (default: rosbag2_YYYY_MM_DD-HH_MM_SS)")
+    parser.add_argument("-s", "--storage", default="mcap", choices=("mcap",),
+                        help="storage identifier (posekit writes MCAP)")
+    parser.add_argument("-b", "--max-bag-size", type=int, default=0,
+                        help="maximum size in bytes before the bagfile will be split "
+                             "(default 0: no splitting)")
+    parser.add_argument("-d", "--max-bag-duration", type=int, default=0,
+                        help="maximum duration in seconds before the bagfile will be split "
+                             "(default 0: no splitting); with -b, whichever comes first")
+    parser.add_argument("--compression-mode", default="none",
+                        choices=("none", "file", "message"),
+                        help="compression of the storage: none (default; MCAP chunks are "
+                             "still zstd-compressed unless --no-compression), file or message")
+    parser.add_argument("--compression-format", default="", choices=("", "zstd"),
+                        help="compression format for --compression-mode file|message "
+                             "(zstd, the only one; the default with a mode)")
     parser.add_argument("--no-compression", action="store_true",
                         help="store MCAP chunks uncompressed (default: zstd)")
+    parser.add_argument("--custom-data", nargs="*", default=[], metavar="KEY=VALUE",
+                        help="key=value pairs stored under custom_data in metadata.yaml")
+    parser.add_argument("--node-name", default="rosbag2_recorder",
+                        help="name of the recorder node (default rosbag2_recorder)")
+    parser.add_argument("--metadata-version", type=int, choices=(8, 9), default=9,
+                        help="metadata.yaml version (default 9, ROS 2 Jazzy)")
     parser.add_argument("--stamp", choices=("receive", "header"), default="receive",
                         help="message timestamp: receive time (default, as rosbag2) or "
                              "header.stamp")
-    parser.add_argument("--include-hidden-topics", action="store_true",
-                        help="with --all, also record hidden topics")
     parser.add_argument("--duration", type=float, default=None,
                         help="stop after this many wall seconds (default: until Ctrl-C)")
     _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
-    if bool(ns.topics) == bool(ns.all):
-        sys.stderr.write(parser.format_usage() +
-                         "posekit bag record: give topics to record or --all (not both)\n")
+    topics = list(ns.topics_positional) + list(ns.topics)
+    every = ns.all or ns.all_topics
+    problem = _record_usage_problem(ns, topics, every)
+    if problem:
+        sys.stderr.write(parser.format_usage() + f"posekit bag record: error: {problem}\n")
         return 2
-    if ns.duration is not None and not ns.duration >= 0:
-        sys.stderr.write(f"posekit bag record: --duration must be >= 0, got {ns.duration}\n")
-        return 2
+    if every and topics:
+        sys.stderr.write("[WARN] [ros2bag]: --all or --all-topics will override --topics\n")
+    if every and ns.regex:
+        sys.stderr.write("[WARN] [ros2bag]: --all, --all-topics or --all-services will "
+                         "override --regex\n")
+    output = ns.output or default_bag_name()
+    if Path(output).is_dir():
+        sys.stderr.write(f"posekit bag record: error: Output folder '{output}' already exists.\n")
+        return 1
+    custom: dict[str, str] = {}
+    for pair in ns.custom_data:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            sys.stderr.write(f"posekit bag record: error: --custom-data needs KEY=VALUE, "
+                             f"got {pair!r}\n")
+            return 2
+        custom[key] = value
+    compression: str | None = "zstd"
+    if ns.compression_mode != "none":
+        compression = ns.compression_mode
+    elif ns.no_compression:
+        compression = None
 
     from posekit.bag import BagError, Recorder
     from posekit.runtime.executors import SingleThreadedExecutor
@@ -118,14 +184,22 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
     try:
         try:
             recorder = Recorder(
-                ns.output,
-                ns.topics or None,
+                output,
+                None if every else (topics or None),
                 context=ctx,
+                node_name=ns.node_name,
                 version=ns.metadata_version,
-                compression=None if ns.no_compression else "zstd",
+                compression=compression,
                 stamp=ns.stamp,
                 include_hidden=ns.include_hidden_topics,
+                exclude=["/clock", *ns.exclude_topics],
+                regex=None if every else (ns.regex or None),
+                exclude_regex=ns.exclude_regex or None,
+                max_bag_size=ns.max_bag_size,
+                max_bag_duration=ns.max_bag_duration,
             )
+            for key, value in custom.items():
+                recorder.set_custom_data(key, value)
         except BagError as exc:
             sys.stderr.write(f"posekit bag record: {exc}\n")
             return 1
@@ -146,7 +220,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
         total = sum(counts.values())
         sys.stderr.write(
             f"posekit bag record: wrote {total} messages on {len(counts)} topics to "
-            f"{ns.output}\n"
+            f"{output}\n"
         )
         return 0
     finally:
@@ -154,21 +228,189 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
             ctx.try_shutdown()
 
 
-def play(argv: Sequence[str], *, context: Any = None) -> int:
+def _record_usage_problem(ns: argparse.Namespace, topics: list[str], every: bool) -> str:
+    """rosbag2 Jazzy's argument checks of ``ros2 bag record``, with its wording."""
+    if not (every or topics or ns.regex):
+        return ("Need to specify at least one option out of --all, --all-topics, --topics or "
+                "--regex")
+    if ns.exclude_regex and not (every or ns.regex):
+        return "--exclude-regex argument requires either --all, --all-topics or --regex"
+    if ns.exclude_topics and not (every or ns.regex):
+        return "--exclude-topics argument requires either --all, --all-topics or --regex"
+    if ns.compression_format and ns.compression_mode == "none":
+        return "Invalid choice: Cannot specify compression format without a compression mode."
+    if ns.max_bag_size < 0 or ns.max_bag_duration < 0:
+        return "--max-bag-size and --max-bag-duration must be >= 0"
+    if ns.duration is not None and not ns.duration >= 0:
+        return f"--duration must be >= 0, got {ns.duration}"
+    return ""
+
+
+KEYBOARD_HELP = (
+    "Press SPACE for Pause/Resume",
+    "Press CURSOR_RIGHT for Play Next Message",
+    "Press CURSOR_UP for Increase Rate 10%",
+    "Press CURSOR_DOWN for Decrease Rate 10%",
+)
+#: terminal key sequences -> player action, as ros2 bag play's keyboard handler
+KEYS = {" ": "toggle", "\x1b[C": "next", "\x1b[A": "faster", "\x1b[B": "slower"}
+
+
+def handle_key(player: Any, key: str) -> str | None:
+    """Apply one key of ros2 bag play's keyboard controls to ``player``; returns the action."""
+    action = KEYS.get(key)
+    if action == "toggle":
+        player.toggle_pause()
+    elif action == "next":
+        player.play_next()
+    elif action == "faster":
+        player.set_rate(player.rate * 1.1)
+    elif action == "slower":
+        player.set_rate(player.rate * 0.9)
+    return action
+
+
+def _keyboard_thread(player: Any, fd: int) -> Any:
+    """Read keys from the terminal ``fd`` (cbreak mode) until the player stops."""
+    import select
+    import termios
+    import threading
+    import tty
+
+    saved = termios.tcgetattr(fd)
+    tty.setcbreak(fd)
+
+    def run() -> None:
+        pending = ""
+        while not player._stopped:
+            ready, _, _ = select.select([fd], [], [], 0.1)
+            if not ready:
+                pending = ""
+                continue
+            data = os.read(fd, 16).decode(errors="replace")
+            if not data:
+                return
+            pending += data
+            while pending:
+                for key in KEYS:
+                    if pending.startswith(key):
+                        handle_key(player, key)
+                        pending = pending[len(key):]
+                        break
+                else:
+                    if pending.startswith("\x1b") and len(pending) < 3:
+                        break  # the rest of an arrow key is on its way
+                    pending = pending[1:]
+
+    thread = threading.Thread(target=run, name="bag-play-keyboard", daemon=True)
+    thread.start()
+
+    def restore() -> None:
+        termios.tcsetattr(fd, termios.TCSADRAIN, saved)
+
+    return restore
+
+
+def _progress_printer(player: Any, hz: float, err: TextIO) -> Any:
+    """``progress(bag_ns, paused)`` writing one updating status line at most ``hz`` times/s."""
+    last = [0.0]
+    duration = max(player.duration_ns, 0) / 1e9
+
+    def progress(bag_ns: int, paused: bool) -> None:
+        now = time.monotonic()
+        if hz <= 0 or now - last[0] < 1.0 / hz:
+            return
+        last[0] = now
+        state = "PAUSED " if paused else "RUNNING"
+        elapsed = (bag_ns - player.start_ns) / 1e9
+        err.write(f" [{state}]  Bag Time: {bag_ns / 1e9:13.6f}  "
+                  f"Duration: {elapsed:.6f}/{duration:.6f}\r")
+        err.flush()
+
+    return progress
+
+
+def _remaps(pairs: Sequence[str]) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for pair in pairs:
+        old, sep, new = pair.partition(":=")
+        if not sep or not old or not new:
+            raise _UsageError(f"posekit bag play: error: --remap needs old:=new, got {pair!r}")
+        out[old] = new
+    return out
+
+
+def _play_topics(bag: str, ns: argparse.Namespace) -> list[str] | None:
+    """The recorded topics ``--topics``, ``-e``, ``-x`` and ``--exclude-topics`` select."""
+    import re
+
+    if not (ns.regex or ns.exclude_regex or ns.exclude_topics):
+        return list(ns.topics) or None
+    from posekit.bag import bag_info
+
+    try:
+        include = re.compile(ns.regex) if ns.regex else None
+        exclude = re.compile(ns.exclude_regex) if ns.exclude_regex else None
+    except re.error as exc:
+        raise _UsageError(f"posekit bag play: error: invalid regular expression: {exc}") \
+            from None
+    chosen = []
+    for topic in (t.name for t in bag_info(bag).topics):
+        picked = (not ns.topics and include is None) or topic in ns.topics or (
+            include is not None and include.search(topic) is not None)
+        if picked and topic not in ns.exclude_topics and not (
+                exclude is not None and exclude.search(topic)):
+            chosen.append(topic)
+    if not chosen:
+        raise _UsageError("posekit bag play: error: no recorded topic matches the selection")
+    return chosen
+
+
+def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None) -> int:
     """``posekit bag play``; ``context`` (tests) replaces the tool's own context."""
+    err = err or sys.stderr
     parser = _Parser(prog="posekit bag play",
                      description="Publish a bag at its recorded timing, with /clock.")
     parser.add_argument("bag", help="rosbag2 directory")
-    parser.add_argument("-r", "--rate", type=float, default=1.0, help="speed factor (> 0)")
-    parser.add_argument("-l", "--loop", action="store_true", help="repeat until Ctrl-C")
-    parser.add_argument("--topics", nargs="+", default=None, help="only these topics")
-    parser.add_argument("--clock", type=float, default=100.0, metavar="HZ",
-                        help="/clock messages per second (default 100)")
+    parser.add_argument("-r", "--rate", type=float, default=1.0,
+                        help="rate at which to play back messages (> 0)")
+    parser.add_argument("-l", "--loop", action="store_true",
+                        help="start back at the beginning on reaching the end, indefinitely")
+    parser.add_argument("--topics", nargs="+", default=[], metavar="TOPIC",
+                        help="space-delimited list of topics to play")
+    parser.add_argument("-e", "--regex", default="",
+                        help="play only topics matching the regular expression")
+    parser.add_argument("-x", "--exclude-regex", default="",
+                        help="regular expression excluding topics from replay")
+    parser.add_argument("--exclude-topics", nargs="+", default=[], metavar="TOPIC",
+                        help="space-delimited list of topics not to play")
+    parser.add_argument("--remap", "-m", nargs="+", default=[], metavar="OLD:=NEW",
+                        help="topics to remap: old_topic1:=new_topic1 old_topic2:=new_topic2")
+    parser.add_argument("--clock", type=float, nargs="?", const=40.0, default=100.0,
+                        metavar="HZ",
+                        help="/clock messages per second (posekit publishes /clock by default "
+                             "at 100 Hz; --clock alone: 40 Hz, as ros2)")
     parser.add_argument("--no-clock", action="store_true", help="do not publish /clock")
+    parser.add_argument("-d", "--delay", type=float, default=0.0,
+                        help="sleep duration before play (each loop), in seconds")
+    parser.add_argument("-p", "--start-paused", action="store_true",
+                        help="start the playback player in a paused state")
+    parser.add_argument("--start-offset", type=float, default=0.0,
+                        help="start the playback player this many seconds into the bag")
+    parser.add_argument("--disable-keyboard-controls", action="store_true",
+                        help="disables keyboard controls for playback")
+    parser.add_argument("--progress-bar", type=float, default=3.0, metavar="HZ",
+                        help="status line updates per second on stderr (0: none; default 3)")
     _transport_option(parser)
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
+    try:
+        remap = _remaps(ns.remap)
+        topics = _play_topics(ns.bag, ns)
+    except _UsageError as exc:
+        err.write(parser.format_usage() + f"{exc}\n")
+        return 2
 
     from posekit.bag import BagError, Player
     from posekit.runtime.executors import SingleThreadedExecutor
@@ -178,54 +420,112 @@ def play(argv: Sequence[str], *, context: Any = None) -> int:
     except Exception as exc:
         sys.stderr.write(f"posekit bag play: cannot start the transport: {exc}\n")
         return 1
+    restore: Any = None
     try:
         try:
-            player = Player(ns.bag, context=ctx, topics=ns.topics, rate=ns.rate,
+            player = Player(ns.bag, context=ctx, topics=topics, rate=ns.rate,
                             loop=ns.loop, publish_clock=not ns.no_clock,
-                            clock_frequency=ns.clock)
+                            clock_frequency=ns.clock, start_offset=ns.start_offset,
+                            start_paused=ns.start_paused, remap=remap, delay=ns.delay)
         except BagError as exc:
-            sys.stderr.write(f"posekit bag play: {exc}\n")
+            err.write(f"posekit bag play: {exc}\n")
             return 1
         executor = SingleThreadedExecutor(context=ctx)
+        if not ns.disable_keyboard_controls and sys.stdin.isatty():
+            logger = player.node.get_logger()
+            logger.info("Adding keyboard callbacks.")
+            for line in KEYBOARD_HELP:
+                logger.info(line)
+            restore = _keyboard_thread(player, sys.stdin.fileno())
         try:
-            player.play(executor)
+            player.play(executor, progress=_progress_printer(player, ns.progress_bar, err)
+                        if ns.progress_bar > 0 else None)
         except KeyboardInterrupt:
             pass
         except BagError as exc:
-            sys.stderr.write(f"posekit bag play: {exc}\n")
+            err.write(f"posekit bag play: {exc}\n")
             return 1
         finally:
+            if ns.progress_bar > 0:
+                err.write("\n")
             executor.shutdown()
             player.close()
         if player.missing:
-            sys.stderr.write(
+            err.write(
                 f"posekit bag play: {ns.bag} is damaged: {player.missing} of the messages "
                 "its metadata lists could not be read (posekit bag info / reindex)\n"
             )
             return 1
         return 0
     finally:
+        if restore is not None:
+            restore()
         if own:
             ctx.try_shutdown()
 
 
 def info(argv: Sequence[str], *, out: TextIO | None = None) -> int:
-    """``posekit bag info DIR [-v]``."""
+    """``posekit bag info DIR [-t] [-v]``."""
     parser = _Parser(prog="posekit bag info", description="Print a bag's summary.")
     parser.add_argument("bag", help="rosbag2 directory")
+    parser.add_argument("-t", "--topic-name", action="store_true",
+                        help="only display topic names")
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="also metadata version, compression and offered QoS")
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
     from posekit.bag import BagError, bag_info, format_info
+    from posekit.bag.info import is_service_event_topic
 
+    out = out or sys.stdout
     try:
         summary = bag_info(ns.bag)
     except BagError as exc:
         sys.stderr.write(f"posekit bag info: {exc}\n")
         return 1
-    (out or sys.stdout).write(format_info(summary, verbose=ns.verbose))
+    if ns.topic_name and ns.verbose:
+        out.write("Warning! You have set both the '-t' and '-v' parameters. The '-t' parameter "
+                  "will be ignored.\n")
+    if ns.topic_name and not ns.verbose:
+        out.write("".join(f"{t.name}\n" for t in summary.topics
+                          if not is_service_event_topic(t.name, t.msgtype)))
+        return 0
+    out.write(format_info(summary, verbose=ns.verbose))
+    return 0
+
+
+def convert(argv: Sequence[str]) -> int:
+    """``posekit bag convert -i BAG [STORAGE] [-i ...] -o OUTPUT_OPTIONS.yaml``."""
+    parser = _Parser(prog="posekit bag convert",
+                     description="Merge, split, select and recompress bags (ros2 bag convert).")
+    parser.add_argument("-i", "--input", required=True, action="append", nargs="+",
+                        metavar=("uri", "storage_id"),
+                        help="URI (and optional storage ID) of an input bag; repeatable")
+    parser.add_argument("-o", "--output-options", required=True,
+                        help="YAML file with a top-level 'output_bags' list of output bag "
+                             "options (uri, storage_id, max_bagfile_size, "
+                             "max_bagfile_duration, compression_mode, compression_format, "
+                             "all_topics, topics, regex, exclude_regex, exclude_topics, "
+                             "include_hidden_topics)")
+    ns = _parse(parser, argv)
+    if isinstance(ns, int):
+        return ns
+    for entry in ns.input:
+        if len(entry) > 2:
+            sys.stderr.write(parser.format_usage() + "posekit bag convert: error: --input "
+                             f"expects 1 or 2 arguments, {len(entry)} provided\n")
+            return 2
+        if len(entry) == 2 and entry[1] not in ("", "mcap", "sqlite3"):
+            sys.stderr.write(f"posekit bag convert: error: unknown storage id {entry[1]!r}\n")
+            return 2
+
+    from posekit.bag.convert import convert as rewrite
+    from posekit.bag.convert import load_output_options
+
+    counts = rewrite([entry[0] for entry in ns.input], load_output_options(ns.output_options))
+    for uri, count in counts.items():
+        sys.stderr.write(f"posekit bag convert: wrote {count} messages to {uri}\n")
     return 0
 
 

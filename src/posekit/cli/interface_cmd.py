@@ -39,10 +39,9 @@ def _store() -> Any:
 
 
 def _action_types() -> dict[str, Any]:
-    from posekit.msgs import registry
+    from posekit.msgs.registry import ACTION_CLASSES
 
-    actions: dict[str, Any] = dict(getattr(registry, "ACTION_CLASSES", {}))
-    return actions
+    return dict(ACTION_CLASSES)
 
 
 def interfaces() -> dict[str, dict[str, list[str]]]:
@@ -51,7 +50,8 @@ def interfaces() -> dict[str, dict[str, list[str]]]:
 
     found: dict[str, dict[str, list[str]]] = {"msg": {}, "srv": {}, "action": {}}
     names = [n for n in _store().fielddefs if n.split("/")[1] == "msg"]
-    names += list(SERVICE_CLASSES) + list(_action_types())
+    names += [n for n in SERVICE_CLASSES if n.split("/")[1] == "srv"]  # not actions' parts
+    names += list(_action_types())
     for full in names:
         pkg, kind, name = full.split("/")
         found[kind].setdefault(pkg, []).append(name)

@@ -8,20 +8,20 @@ Targets: a scenario name (``posekit launch --list``), the lecture's launch files
 p_controller.launch.py``), or your own launch file ``FILE.py`` (its folder is importable).
 
 Visibility: by default the launch's nodes keep their deterministic in-process delivery *and*
-are visible on the network transport (Zenoh unless ``--transport`` or $POSEKIT_TRANSPORT
+are visible on the network transport (Zenoh unless ``--transport dds`` or $POSEKIT_TRANSPORT
 says otherwise), so ``posekit topic list``, ``node list``, ``tf echo`` or your own node in
-another terminal see and talk to them; the run then also publishes ``/clock``.
-``--isolated`` (or POSEKIT_TRANSPORT=inprocess) keeps everything in this process: no
-network, no ``/clock``, the fastest mode.
+another terminal see and talk to them; the run then also publishes ``/clock`` (and refuses to
+start when another simulation already does). ``--isolated`` (or POSEKIT_TRANSPORT=inprocess)
+keeps everything in this process: no network, no ``/clock``, the fastest mode. Without the
+network transport's package installed, a launch that did not ask for it runs isolated and
+says so in one line.
 
 Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:=value``
 reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds),
 ``--realtime`` (pace to the wall clock; default is as fast as possible; a paced run that
-falls behind logs its real-time factor), ``--transport zenoh|dds`` (the network the
-launch is visible on, default zenoh; over DDS real ROS 2 nodes see it too; ``--zenoh`` is
-``--transport zenoh``; ``--isolated``: no network), ``--record DIR`` (a ROS 2 bag),
-``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot), ``--save-images DIR``
-(debug images as PNG, rqt_image_view's role), ``--show-args`` (the parameters and their defaults, as
+falls behind logs its real-time factor), ``--record DIR`` (a ROS 2 bag), ``--viewer`` (serve
+the browser viewer), ``--plot PNG`` (odometry plot), ``--save-images DIR`` (debug images as
+PNG, rqt_image_view's role), ``--show-args`` (the parameters and their defaults, as
 ``ros2 launch -s`` lists launch arguments). Every option applies to launch files as well
 (``--seed`` as the file's ``seed`` launch argument).
 """
@@ -59,9 +59,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--realtime", action="store_true")
     parser.add_argument("--isolated", action="store_true",
                         help="no network: nodes in this process only, no /clock (fastest)")
-    parser.add_argument("--transport", default=None, metavar="NAME",
+    parser.add_argument("--transport", default=None, choices=("inprocess", "zenoh", "dds"),
                         help="network transport to be visible on (default: "
-                             "$POSEKIT_TRANSPORT or zenoh)")
+                             "$POSEKIT_TRANSPORT or zenoh; inprocess = --isolated; dds joins "
+                             "ROS 2 systems on DDS)")
     parser.add_argument("--zenoh", action="store_true", help="same as --transport zenoh")
     parser.add_argument("--record", default=None, metavar="DIR")
     parser.add_argument("--viewer", action="store_true")
@@ -86,20 +87,33 @@ def _parse_assignment(text: str) -> tuple[str, Any]:
 
 
 def network_transport(ns: argparse.Namespace) -> str | None:
-    """The network transport a launch is visible on, or None (isolated)."""
-    if ns.isolated:
-        return None
-    if ns.zenoh:
-        return "zenoh"
-    chosen = ns.transport or os.environ.get("POSEKIT_TRANSPORT", "").strip() or "zenoh"
-    chosen = chosen.rpartition("+")[2]
-    if chosen == "inprocess":
-        return None
+    """The network transport a launch is visible on, or None (isolated).
+
+    An explicit choice (``--zenoh``, ``--transport``, $POSEKIT_TRANSPORT) whose package is
+    missing is a one-line error; the implicit default (zenoh) without its package means an
+    isolated run, said in one line."""
+    from posekit.cli._extras import require
     from posekit.runtime.transport import registered_transports
 
+    if ns.isolated:
+        return None
+    explicit = "zenoh" if ns.zenoh else (
+        ns.transport or os.environ.get("POSEKIT_TRANSPORT", "").strip())
+    chosen = (explicit or "zenoh").rpartition("+")[2]
+    if chosen == "inprocess":
+        return None
     if chosen not in registered_transports():
         raise _UsageError(f"unknown transport {chosen!r}; known: "
                           f"{', '.join(registered_transports())}")
+    what = ("--zenoh" if ns.zenoh else f"--transport {chosen}" if ns.transport
+            else f"POSEKIT_TRANSPORT={chosen}" if explicit else "the default network (zenoh)")
+    problem = require("posekit launch", [(what, chosen)]) if chosen in ("zenoh", "dds") else None
+    if problem and explicit:
+        raise _UsageError(problem.removeprefix("posekit launch: "))
+    if problem:
+        sys.stderr.write(f"posekit launch: running isolated (not visible to other processes): "
+                         f"{problem.removeprefix('posekit launch: ')}\n")
+        return None
     return chosen
 
 
@@ -194,30 +208,22 @@ def _main(argv: list[str]) -> int:
             sys.stdout.write(f"{name:<38}{get_scenario(name).description}\n")
         return 0
     ns = _parser().parse_intermixed_args(argv)
+    from posekit.cli._extras import require
+
+    problem = require("posekit launch", [
+        (flag, extra) for flag, extra, given in (
+            ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
+            ("--record", "bag", ns.record), ("--save-images", "vision", ns.save_images),
+        ) if given
+    ])
+    if problem:  # before anything runs, not after a whole simulation
+        raise _UsageError(problem.removeprefix("posekit launch: "))
     words = [w for w in ns.words if ":=" not in w or w.startswith("/") or w.endswith(".py")]
     assignments = [_parse_assignment(w) for w in ns.words if w not in words]
     params = dict(assignments + [_parse_assignment(p) for p in ns.param])
     if not words:
         raise _UsageError("which scenario? (posekit launch --list names them)")
     network = network_transport(ns)
-    from posekit.cli._extras import require
-    from posekit.demos.scenarios import SCENARIO_EXTRAS
-
-    network_label = ("--zenoh" if ns.zenoh else f"--transport {network}" if ns.transport
-                     else f"a launch visible on {network} (the default; --isolated: not)")
-    target = words[0] if len(words) == 1 else " ".join(words)
-    scenario_extra = SCENARIO_EXTRAS.get(words[0]) if len(words) == 1 else None
-    problem = require("posekit launch", [
-        *([(f"scenario {target}", scenario_extra)] if scenario_extra else []),
-        *((flag, extra) for flag, extra, given in (
-            ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
-            (network_label, network or "", network is not None), ("--record", "bag", ns.record),
-            ("--save-images", "vision", ns.save_images),
-        ) if given),
-    ])
-    if problem:  # before anything runs, not after a whole simulation
-        sys.stderr.write(problem + "\n")
-        return 2
     transport = "inprocess" if network is None else f"inprocess+{network}"
 
     if len(words) == 1 and (words[0].endswith(".py") or Path(words[0]).is_file()) and (
@@ -263,8 +269,7 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
         result = run_scenario(
             name, params, seed=seed, until_sim_time=ns.until_sim_time,
             realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
-            record=ns.plot is not None,  # odometry is kept in memory only for the plot
-            transport=transport,
+            transport=transport, record=ns.plot is not None,  # odometry kept only for the plot
         )
     finally:
         for server in servers:
@@ -345,7 +350,6 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
         start,
     )
     from posekit.launch import Node as LaunchNode
-    from posekit.runtime.executors import ClockConflictError
 
     try:
         description = load_launch_file(path)
@@ -370,15 +374,19 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
         run = start(description, sim_time=True,
                     real_time_factor=1.0 if ns.realtime or ns.viewer else None,
                     launch_arguments=params, transport=transport)
-    except (LaunchDescriptionError, ClockConflictError) as exc:
+    except LaunchDescriptionError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
         return 2
     if ns.plot:
         recorder_node = run.node("odometry_recorder")
     _run_started(ns, run)
     if recorder_node is not None:
-        from posekit.robot.plot import plot_odometry
+        from posekit.robot.plot import PlotError, plot_odometry
 
-        written = plot_odometry(recorder_node.recording(), ns.plot, title=Path(path).name)
+        try:
+            written = plot_odometry(recorder_node.recording(), ns.plot, title=Path(path).name)
+        except PlotError as exc:
+            sys.stderr.write(f"posekit launch: --plot: {exc} (does {path} run the robot?)\n")
+            return 2
         sys.stdout.write(f"odometry plot: {written}\n")
     return 0

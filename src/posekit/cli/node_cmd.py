@@ -1,4 +1,10 @@
-"""``posekit node list [-a] [-c]``: the nodes on the graph, as ``ros2 node list`` prints them.
+"""``posekit node list|info``: the nodes on the graph, as ``ros2 node`` prints them (Jazzy).
+
+* ``list [-a] [-c]``: one fully qualified name per line.
+* ``info NODE [--include-hidden]``: the node's subscribers, publishers, service servers and
+  clients, action servers and clients (``    /name: type``), every section printed, an empty
+  one as an empty line, as ``ros2 node info`` prints them. ``Unable to find node 'NODE'`` and
+  exit 1 for a node not on the graph.
 
 Over Zenoh the graph is every ``NN`` liveliness token of the domain: posekit processes and
 real ROS 2 nodes running rmw_zenoh alike. Hidden nodes (a name starting with ``_``, such as
@@ -13,26 +19,22 @@ from collections import Counter
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-from posekit.cli.topic_cmd import cli_node_name, is_hidden_name, sync_graph
+from posekit.cli._graph import (
+    add_transport_args,
+    empty_graph_hint,
+    is_hidden_name,
+    node_interfaces,
+    node_names,
+    session_for,
+    sync_graph,
+)
 
-__all__ = ["main", "main_list", "node_names"]
+__all__ = ["main", "main_info", "main_list", "node_names"]
 
 DUPLICATE_WARNING = (
     "WARNING: Be aware that there are nodes in the graph that share an exact name, "
     "which can have unintended side effects.\n"
 )
-
-
-def node_names(session: Any) -> list[str]:
-    """Fully qualified node names on the session's transport (duplicates kept), sorted."""
-    transport = session.node.transport
-    graph = getattr(transport, "graph", None)
-    if graph is not None:
-        from posekit.transport.zenoh_wire import EntityKind
-
-        return sorted(t.node_fqn for t in graph.entities() if t.kind is EntityKind.NODE)
-    getter = getattr(transport, "get_node_names", None)
-    return sorted(getter()) if getter is not None else []
 
 
 def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
@@ -45,19 +47,15 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
                         help="display all nodes even hidden ones")
     parser.add_argument("-c", "--count-nodes", action="store_true",
                         help="only display the number of nodes discovered")
-    from posekit.cli._session import ToolSession, add_transport_option, transport_option
-
-    add_transport_option(parser)
+    add_transport_args(parser)
     ns = parser.parse_args(list(argv))
-    transport = transport_option(ns)
-    with ToolSession(cli_node_name(), context=context, transport=transport) as session:
+    with session_for(ns, context) as session:
         sync_graph(session)
         own = session.node.get_fully_qualified_name()
         names = [n for n in node_names(session) if n != own and (ns.all or not is_hidden_name(n))]
-        if not names:
-            from posekit.cli._session import empty_graph_hint
-
-            err.write(empty_graph_hint("nodes", session.node.transport))
+        hint = empty_graph_hint(session)
+    if hint:
+        err.write(hint + "\n")
     if ns.count_nodes:
         out.write(f"{len(names)}\n")
         return 0
@@ -70,11 +68,64 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     return 0
 
 
+INFO_NONUNIQUE_WARNING = (
+    "There are {count} nodes in the graph with the exact name \"{name}\". You are seeing "
+    "information about only one of them.\n"
+)
+
+
+def main_info(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+              err: TextIO | None = None) -> int:
+    """``node info NODE [--include-hidden]``."""
+    from posekit.cli.errors import CliError
+
+    out = out or sys.stdout
+    err = err or sys.stderr
+    parser = argparse.ArgumentParser(prog="posekit node info",
+                                     description="Output information about a node")
+    parser.add_argument("node_name", help="Node name to request information")
+    parser.add_argument("--include-hidden", action="store_true",
+                        help="Display hidden topics, services, and actions as well")
+    add_transport_args(parser)
+    ns = parser.parse_args(list(argv))
+    with session_for(ns, context) as session:
+        sync_graph(session)
+        names = [n for n in node_names(session) if ns.include_hidden or not is_hidden_name(n)]
+        found = node_interfaces(session, ns.node_name) if ns.node_name in names else None
+        hint = empty_graph_hint(session)
+    if found is None:
+        if hint:
+            err.write(hint + "\n")
+        raise CliError(f"Unable to find node '{ns.node_name}'")
+    count = names.count(ns.node_name)
+    if count > 1:
+        err.write(INFO_NONUNIQUE_WARNING.format(count=count, name=ns.node_name))
+
+    def visible(items: list[tuple[str, list[str]]]) -> list[tuple[str, list[str]]]:
+        return [(n, t) for n, t in items if ns.include_hidden or not is_hidden_name(n)]
+
+    lines = [ns.node_name]
+    for title, items in (("Subscribers", found.subscribers), ("Publishers", found.publishers),
+                         ("Service Servers", found.service_servers),
+                         ("Service Clients", found.service_clients),
+                         ("Action Servers", found.action_servers),
+                         ("Action Clients", found.action_clients)):
+        lines.append(f"  {title}:")
+        shown = visible(items)
+        lines.extend(f"    {name}: {', '.join(types)}" for name, types in shown)
+        if not shown:
+            lines.append("")
+    out.write("\n".join(lines) + "\n")
+    out.flush()
+    return 0
+
+
 def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
          err: TextIO | None = None) -> int:
-    """``posekit node VERB``; only ``list`` exists."""
+    """``posekit node VERB``: ``list`` or ``info``."""
     args = list(argv)
-    if not args or args[0] != "list":
-        (err or sys.stderr).write("usage: posekit node list [-a] [-c]\n")
+    verbs = {"list": main_list, "info": main_info}
+    if not args or args[0] not in verbs:
+        (err or sys.stderr).write("usage: posekit node {list,info} ...\n")
         return 2
-    return main_list(args[1:], context=context, out=out, err=err)
+    return verbs[args[0]](args[1:], context=context, out=out, err=err)

@@ -16,12 +16,36 @@ posekit processes and of real ROS 2 nodes on rmw_zenoh are listed and callable.
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
 __all__ = ["main", "main_call", "main_find", "main_list", "main_type"]
+
+
+_Verb = Callable[..., int]
+
+
+def _one_line_errors(verb: str) -> Callable[[_Verb], _Verb]:
+    """Report an unexpected failure (no transport, ...) as one line, exit code 1."""
+
+    def decorate(fn: _Verb) -> _Verb:
+        @functools.wraps(fn)
+        def wrapper(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+                    err: TextIO | None = None) -> int:
+            try:
+                return fn(argv, context=context, out=out, err=err)
+            except Exception as exc:
+                first = (str(exc).splitlines() or [""])[0]
+                name = type(exc).__name__
+                (err or sys.stderr).write(f"posekit service {verb}: {name}: {first}\n")
+                return 1
+
+        return wrapper
+
+    return decorate
 
 
 def _parser(verb: str) -> argparse.ArgumentParser:
@@ -49,6 +73,7 @@ def _services(session: Any, include_hidden: bool) -> list[tuple[str, list[str]]]
     return [(n, t) for n, t in found if include_hidden or not is_hidden_name(n)]
 
 
+@_one_line_errors("list")
 def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
               err: TextIO | None = None) -> int:
     """``service list [-t] [-c] [--include-hidden-services]``."""
@@ -72,6 +97,7 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     return 0
 
 
+@_one_line_errors("type")
 def main_type(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
               err: TextIO | None = None) -> int:
     """``service type SERVICE``."""
@@ -90,6 +116,7 @@ def main_type(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     return 1
 
 
+@_one_line_errors("find")
 def main_find(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
               err: TextIO | None = None) -> int:
     """``service find TYPE [-c] [--include-hidden-services]``."""
@@ -108,6 +135,7 @@ def main_find(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     return 0
 
 
+@_one_line_errors("call")
 def main_call(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
               err: TextIO | None = None) -> int:
     """``service call SERVICE TYPE [VALUES] [-r RATE] [--timeout S]``."""
@@ -149,7 +177,7 @@ def main_call(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
             out.write("waiting for service to become available...\n")
             out.flush()
             if not client.wait_for_service(timeout_sec=ns.timeout):
-                err.write(f"service '{client.srv_name}' did not become available "
+                err.write(f"service '{client.service_name}' did not become available "
                           f"within {ns.timeout:g} s\n")
                 return 1
         while session.context.ok():
@@ -159,7 +187,7 @@ def main_call(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
             future = client.call_async(request)
             session.executor.spin_until_future_complete(future, timeout_sec=ns.timeout)
             if not future.done():
-                err.write(f"no response from '{client.srv_name}' within {ns.timeout:g} s\n")
+                err.write(f"no response from '{client.service_name}' within {ns.timeout:g} s\n")
                 return 1
             out.write(f"response:\n{ros_repr(future.result())}\n\n")
             out.flush()

@@ -84,6 +84,30 @@ def format_echo_block(sec: int, nanosec: int, translation: Sequence[float],
     return "\n".join(lines) + "\n"
 
 
+#: posekit's options, printed after tf2_echo's usage by ``--help``
+OPTIONS = (
+    "\nposekit options:\n"
+    "  --count N          exit after printing N transforms\n"
+    "  --transport NAME   posekit transport (default: $POSEKIT_TRANSPORT or zenoh)\n"
+    "  --zenoh            same as --transport zenoh\n"
+    "  --use-sim-time     use the simulation's /clock (default: when one publishes it)\n"
+    "  --wall-time        use the wall clock even when a simulation publishes /clock\n"
+    "  -h, --help         show this help and exit\n"
+)
+
+
+def _count(text: str | None) -> int:
+    from posekit.cli.errors import CliError
+
+    try:
+        value = int(text) if text is not None else -1
+    except ValueError:
+        value = -1
+    if value < 1:
+        raise CliError(f"--count needs a positive integer, got {text!r}", 2)
+    return value
+
+
 def _split_options(
     argv: Sequence[str],
 ) -> tuple[list[str], int | None, str | None, bool | None]:
@@ -94,9 +118,9 @@ def _split_options(
     it = iter(argv)
     for token in it:
         if token == "--count":
-            count = int(next(it, "1"))
+            count = _count(next(it, None))
         elif token.startswith("--count="):
-            count = int(token.split("=", 1)[1])
+            count = _count(token.split("=", 1)[1])
         elif token == "--transport":
             transport = next(it, None)
         elif token == "--zenoh":
@@ -113,6 +137,9 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     """Run tf2_echo; ``context`` lets tests and launch files share a posekit context."""
     out = out or sys.stdout
     err = err or sys.stderr
+    if any(a in ("-h", "--help") for a in argv):
+        out.write(USAGE + OPTIONS)
+        return 0
     positional, count, transport, use_sim_time = _split_options(argv)
     if len(positional) not in (2, 3):
         out.write(USAGE)
@@ -126,6 +153,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
             return exc.exit_code
     target, source = positional[0], positional[1]
 
+    from posekit.cli._graph import hint_if_alone
     from posekit.cli._session import ToolSession
     from posekit.tf2 import Buffer, TransformException
     from posekit.time import Time
@@ -147,6 +175,8 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
                 session.node.get_logger().info(
                     f"Waiting for transform {target} ->  {source}: {reason}"
                 )
+                if last_wait_log == -math.inf:  # once: nobody to hear from at all?
+                    hint_if_alone(session, err)
                 last_wait_log = time.monotonic()
             session.spin_for(0.05)
         printed = 0

@@ -5,14 +5,14 @@ and terminal 2 a demo against it (``ros2 launch robot_control_demo p_controller.
 ``ros2 run robot_control_demo random_mover``). With posekit the same lines work with
 ``posekit`` in place of ``ros2``:
 
-* **World launches** (``rosbot_gazebo``): the simulated ROSbot with all its simulated sensors
+* **World launches** (``rosbot_gazebo``): the simulated ROSbot with its simulated sensors
   (wheel odometry, IMU, EKF, joint states, the OAK camera, which renders only while someone
-  subscribes) in a world, owning the simulation and ``/clock``: ``empty_world``,
-  ``aruco_box_world``, ``aruco_box_camera_world`` (plus the overhead camera and its static
-  frames), ``aruco_markers_world`` (the lecture's name for the listener demo's world: the
-  boxes of ``aruco_box_world``) and ``husarion_world``. posekit has no model of Husarion's
-  office world, so ``husarion_world`` runs the empty world (same robot and sensors, no
-  walls) and says so when it starts.
+  subscribes) in a world, owning the simulation and ``/clock``: ``empty_world`` (here),
+  ``aruco_box_world`` and ``aruco_box_camera_world`` (plus the overhead camera and its
+  static frames; both from :mod:`posekit.vision.scenarios`), ``aruco_markers_world`` (the
+  lecture's name for the listener demo's world: the boxes of ``aruco_box_world``) and
+  ``husarion_world`` (Husarion's logo as 1.8 m walls, which the LiDAR sees and the robot
+  stops at; the OAK camera does not draw walls).
 * **Demo launches** (``robot_control_demo``, ``frame_demo``): only the demo's nodes, on sim
   time that the running world owns (they follow its ``/clock`` and start no simulation), on
   the network transport. They are registered as scenarios named ``PACKAGE/NAME``.
@@ -30,7 +30,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from posekit.launch import LaunchDescription, Node
+from posekit.launch import LaunchDescription
 from posekit.robot.headless import sub_seeds
 from posekit.robot.nodes import PControllerNode, RandomMoverNode
 from posekit.robot.scenarios import (
@@ -44,15 +44,16 @@ from posekit.robot.scenarios import (
 )
 from posekit.runtime.logging import get_logger
 
+try:  # the ArUco worlds (OpenCV), registered first so that the aliases below find them
+    import posekit.vision.scenarios  # noqa: F401
+except ModuleNotFoundError as _exc:
+    if _exc.name != "cv2":
+        raise
+
 __all__ = ["EXECUTABLES", "LAUNCH_FILES", "WORLD_ALIASES", "resolve_launch", "resolve_run"]
 
 #: Worlds the lecture names that posekit runs as another world: name -> (world, note).
 WORLD_ALIASES: dict[str, tuple[str, str]] = {
-    "husarion_world": (
-        "empty_world",
-        "posekit has no model of Husarion's office world (husarion_world.sdf): running the "
-        "empty world with the same robot and sensors",
-    ),
     "aruco_markers_world": (
         "aruco_box_world",
         "aruco_markers_world is the lecture's name for the boxes of aruco_box_world",
@@ -71,49 +72,51 @@ def _vision() -> Any:
     return nodes
 
 
-def _world_nodes(params: Mapping[str, Any], seed: int, world: str) -> list[Node]:
-    vision = _vision()
-    robot_params = dict(params)
-    overhead = world == "aruco_box_camera_world" and vision is not None
-    if overhead:
-        # The overhead camera node latches its own frames, as the course's launch file does.
-        robot_params.setdefault("world_simulation.publish_world_static_transforms", False)
-    nodes = robot_nodes(robot_params, seed, world=world)
-    if vision is None:
-        return nodes
-    nodes.append(scenario_node(vision.OakCameraNode, "oak_camera",
-                               {"world": world, "seed": seed}, params))
-    if overhead:
-        nodes.append(scenario_node(vision.OverheadCameraNode, "overhead_camera",
-                                   {"world": world, "seed": seed}, params))
-    return nodes
-
-
-def _world(world: str, launched_as: str) -> Any:
-    note = WORLD_ALIASES.get(launched_as, ("", ""))[1]
+def _robot_world(world: str) -> Any:
+    """The ROSbot in ``world`` with its OAK camera (when OpenCV is there)."""
 
     def factory(params: Mapping[str, Any], seed: int) -> LaunchDescription:
-        if note and launched_as == "husarion_world":
-            get_logger("posekit.launch").warning(note)
-        return LaunchDescription(_world_nodes(params, seed, world))
+        nodes = robot_nodes(params, seed, world=world)
+        vision = _vision()
+        if vision is not None:
+            nodes.append(scenario_node(vision.OakCameraNode, "oak_camera",
+                                       {"world": world, "seed": seed}, params))
+        return LaunchDescription(nodes)
 
     return factory
 
 
-_WORLDS = {
-    "empty_world": "empty_world",
-    "husarion_world": "empty_world",
-    "aruco_box_world": "aruco_box_world",
-    "aruco_box_camera_world": "aruco_box_camera_world",
-    "aruco_markers_world": "aruco_box_world",
-}
-for _name, _world_name in _WORLDS.items():
-    _what = "with all its sensors" if _vision() is not None else "(no cameras: needs OpenCV)"
-    register_scenario(
-        _name, _world(_world_name, _name), replace=True,
-        description=(f"world only: the ROSbot {_what} in {_world_name}"
-                     + (" (no office model)" if _name == "husarion_world" else "")),
-    )
+def _alias(name: str) -> Any:
+    """The world ``WORLD_ALIASES[name]`` stands for, saying so when it starts."""
+    target, note = WORLD_ALIASES[name]
+
+    def factory(params: Mapping[str, Any], seed: int) -> LaunchDescription:
+        logger = get_logger("posekit.launch")
+        logger.info(f"{name}: {note}")
+        description: LaunchDescription = get_scenario(target).factory(params, seed)
+        return description
+
+    return factory
+
+
+#: The lecture's world launch names -> the scenario that runs them (the ArUco worlds are
+#: registered by posekit.vision.scenarios when OpenCV is installed).
+_WORLDS = ("empty_world", "husarion_world", "aruco_box_world", "aruco_box_camera_world",
+           "aruco_markers_world")
+register_scenario(
+    "empty_world", _robot_world("empty_world"), replace=True,
+    description="world only: the ROSbot with its sensors (OAK camera: with OpenCV) in "
+                "empty_world",
+)
+register_scenario(
+    "husarion_world", _robot_world("husarion_world"), replace=True,
+    description="world only: the ROSbot with its sensors in husarion_world (Husarion's logo "
+                "as walls; the cameras do not draw them)",
+)
+for _name, (_target, _note) in WORLD_ALIASES.items():
+    if _target in scenario_names():
+        register_scenario(_name, _alias(_name), replace=True,
+                          description=f"world only: runs {_target} ({_note.split(':')[0]})")
 
 
 # -- demos against a running world ----------------------------------------------------------
@@ -183,7 +186,8 @@ for _name, (_factory, _text) in _DEMOS.items():
 
 #: ``(package, launch file)`` of the lecture -> scenario name.
 LAUNCH_FILES: dict[tuple[str, str], str] = {
-    **{("rosbot_gazebo", f"{name}.launch.py"): name for name in _WORLDS},
+    **{("rosbot_gazebo", f"{name}.launch.py"): name for name in _WORLDS
+       if name in scenario_names()},
     ("robot_control_demo", "p_controller.launch.py"): "robot_control_demo/p_controller",
     ("robot_control_demo", "random_mover.launch.py"): "robot_control_demo/random_mover",
     **{("frame_demo", f"{name}.launch.py"): f"frame_demo/{name}" for name in (

@@ -10,21 +10,7 @@ from typing import Any
 from posekit.launch import Node
 from posekit.robot.scenarios import get_scenario, run_scenario, scenario_names
 
-__all__ = [
-    "SCENARIO_EXTRAS",
-    "get_scenario",
-    "include_scenario",
-    "run_scenario",
-    "scenario_names",
-]
-
-#: Scenarios that need an optional extra (registered only when it is installed), so that a
-#: missing one is named before anything runs.
-SCENARIO_EXTRAS: dict[str, str] = dict.fromkeys(
-    ("aruco_box_camera_world", "aruco_box_world", "static_aruco_detector", "kdl_chain_demo",
-     "dynamic_detector", "dynamic_detector_listener"),
-    "vision",
-)
+__all__ = ["get_scenario", "include_scenario", "run_scenario", "scenario_names"]
 
 
 def include_scenario(name: str, params: Mapping[str, Any] | None = None,

@@ -34,7 +34,9 @@ from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.parameters import parse_parameter_value
 from posekit.runtime.time_source import CLOCK_TOPIC
 
-__all__ = ["LaunchRun", "launch", "load_launch_file", "main", "run_launch_file", "start"]
+__all__ = [
+    "LaunchRun", "launch", "load_launch_file", "main", "run_launch_file", "run_until", "start",
+]
 
 
 @dataclass
@@ -97,7 +99,7 @@ def start(
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
     ctx = context or Context()
     if not ctx.ok():
-        # A launch's nodes get their arguments from the description, not sys.argv.
+        # A launch's nodes get their arguments from the description.
         ctx.init(args=[], transport=transport)
     owns_clock = sim_time and own_clock
     if owns_clock:

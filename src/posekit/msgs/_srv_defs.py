@@ -12,7 +12,12 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["SERVICE_DEFINITIONS", "service_message_definitions", "service_typedefs"]
+__all__ = [
+    "SERVICE_DEFINITIONS",
+    "service_message_definitions",
+    "service_typedefs",
+    "typedefs_from_texts",
+]
 
 _EMPTY = "uint8 structure_needs_at_least_one_member\n"
 
@@ -42,12 +47,25 @@ SERVICE_DEFINITIONS: dict[str, tuple[str, str]] = {
         "rcl_interfaces/msg/ParameterDescriptor[] descriptors\n",
     ),
     "rcl_interfaces/srv/GetParameterTypes": ("string[] names\n", "uint8[] types\n"),
+    "action_msgs/srv/CancelGoal": (
+        "action_msgs/msg/GoalInfo goal_info\n",
+        "int8 ERROR_NONE=0\nint8 ERROR_REJECTED=1\nint8 ERROR_UNKNOWN_GOAL_ID=2\n"
+        "int8 ERROR_GOAL_TERMINATED=3\nint8 return_code\n"
+        "action_msgs/msg/GoalInfo[] goals_canceling\n",
+    ),
 }
 
 
-def service_message_definitions(srv: str) -> dict[str, str]:
-    """Message texts rosidl derives from service ``srv`` (``pkg/srv/Name``), by type name."""
-    request, response = SERVICE_DEFINITIONS[srv]
+def service_message_definitions(
+    srv: str, request: str | None = None, response: str | None = None
+) -> dict[str, str]:
+    """Message texts rosidl derives from service ``srv`` (``pkg/srv/Name``), by type name.
+
+    ``request``/``response`` default to the texts in :data:`SERVICE_DEFINITIONS` (an
+    action's services pass theirs, under ``pkg/action/...`` names).
+    """
+    if request is None or response is None:
+        request, response = SERVICE_DEFINITIONS[srv]
     request, response = request or _EMPTY, response or _EMPTY
     return {
         f"{srv}_Request": request,
@@ -66,16 +84,23 @@ def service_message_definitions(srv: str) -> dict[str, str]:
 
 
 def service_typedefs(srv: str) -> dict[str, Any]:
-    """rosbags type definitions (for ``Typestore.register``) of ``srv``'s four types.
+    """rosbags type definitions (for ``Typestore.register``) of ``srv``'s four types."""
+    return typedefs_from_texts(service_message_definitions(srv))
+
+
+def typedefs_from_texts(texts: dict[str, str]) -> dict[str, Any]:
+    """rosbags type definitions of message texts named ``pkg/{msg,srv,action}/Name``.
 
     rosbags' parser files every name under ``pkg/msg/``, so the texts are parsed under
-    ``msg`` names and the service-derived names are moved to ``srv`` afterwards.
+    ``msg`` names and the service/action-derived names are moved back afterwards.
     """
     from rosbags.interfaces import Nodetype
     from rosbags.typesys import get_types_from_msg
 
-    texts = service_message_definitions(srv)
-    renamed = {name.replace("/srv/", "/msg/", 1): name for name in texts}
+    def as_msg(text: str) -> str:
+        return text.replace("/srv/", "/msg/").replace("/action/", "/msg/")
+
+    renamed = {as_msg(name): name for name in texts}
 
     def fix(desc: Any) -> Any:
         kind, info = desc
@@ -89,8 +114,8 @@ def service_typedefs(srv: str) -> dict[str, Any]:
 
     out: dict[str, Any] = {}
     for name, text in texts.items():
-        msg_name = name.replace("/srv/", "/msg/", 1)
-        parsed = get_types_from_msg(text.replace("/srv/", "/msg/"), msg_name)
+        msg_name = as_msg(name)
+        parsed = get_types_from_msg(as_msg(text), msg_name)
         consts, fields = parsed[msg_name]
         out[name] = (consts, [(fname, fix(desc)) for fname, desc in fields])
     return out

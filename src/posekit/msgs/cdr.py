@@ -116,11 +116,15 @@ def serializable_type(type_name: str) -> tuple[str, type]:
     """``(normalized name, posekit class)`` of a type that has both a posekit message class
     and a ROS 2 definition (so it can be serialized, recorded or advertised with a schema).
 
-    Raises LookupError (or ValueError for a malformed name) otherwise.
+    Raises LookupError (or ValueError for a malformed name) otherwise. Types derived from
+    services and actions (``pkg/srv/...``, ``pkg/action/...``, e.g. an action's feedback
+    topic) are refused too: rosbags writes message-definition text for ``pkg/msg/`` names only.
     """
     from posekit.msgs.registry import get_message_class, normalize_type_name
 
     name = normalize_type_name(type_name)
+    if name.split("/")[1] != "msg":
+        raise LookupError(f"{name}: no message-definition text for service or action types")
     msg_class = get_message_class(name)
     if name not in get_typestore().fielddefs:
         raise LookupError(name)
@@ -131,11 +135,14 @@ def _build_store() -> Any:
     from rosbags.typesys import get_typestore as rosbags_typestore
     from rosbags.typesys.base import normalize_fieldname
 
+    from posekit.msgs._action_defs import ACTION_DEFINITIONS, action_typedefs
     from posekit.msgs._srv_defs import SERVICE_DEFINITIONS, service_typedefs
 
     store = rosbags_typestore(Stores.ROS2_JAZZY)  # a fresh instance: ours to modify
     for srv in SERVICE_DEFINITIONS:  # services: rosbags' store has messages only
         store.register(service_typedefs(srv))
+    for action in ACTION_DEFINITIONS:
+        store.register(action_typedefs(action))
     _char_as_uint8(store)
     for name, cls in MESSAGE_CLASSES.items():
         ros_fields = [normalize_fieldname(f) for f, _ in store.fielddefs[name][1]]

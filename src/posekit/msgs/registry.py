@@ -12,24 +12,29 @@ from types import MappingProxyType
 from typing import Any
 
 from posekit.msgs import (
+    action_msgs,
     builtin_interfaces,
     geometry_msgs,
     nav_msgs,
+    posekit_interfaces,
     rcl_interfaces,
     rosgraph_msgs,
     sensor_msgs,
     std_msgs,
     std_srvs,
     tf2_msgs,
+    unique_identifier_msgs,
 )
 from posekit.msgs._service import is_service_type
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.introspection import install_introspection
 
 __all__ = [
+    "ACTION_CLASSES",
     "MESSAGE_CLASSES",
     "SERVICE_CLASSES",
     "find_message_class",
+    "get_action_class",
     "get_message_class",
     "get_service_class",
     "message_type_name",
@@ -46,7 +51,14 @@ _MODULES = (
     rosgraph_msgs,
     rcl_interfaces,
     std_srvs,
+    unique_identifier_msgs,
+    action_msgs,
+    posekit_interfaces,
 )
+
+
+def _is_action_type(cls: object) -> bool:
+    return isinstance(getattr(cls, "__actiontype__", None), str)
 
 
 def _collect() -> tuple[dict[str, type[Any]], dict[str, type[Any]]]:
@@ -55,6 +67,8 @@ def _collect() -> tuple[dict[str, type[Any]], dict[str, type[Any]]]:
     for module in _MODULES:
         for name in module.__all__:
             cls = getattr(module, name)
+            if _is_action_type(cls):
+                continue  # ACTION_CLASSES
             if is_service_type(cls):
                 services[cls.__srvtype__] = cls
             else:
@@ -107,7 +121,7 @@ def get_service_class(name: str) -> type[Any]:
     if len(parts) == 2 and all(parts):
         parts = [parts[0], "srv", parts[1]]
     full = "/".join(parts)
-    if len(parts) != 3 or parts[1] != "srv" or not all(parts):
+    if len(parts) != 3 or parts[1] not in ("srv", "action") or not all(parts):
         raise UnknownMessageTypeError(
             f"malformed service type name {name!r} (expected 'pkg/srv/Type')"
         )
@@ -149,3 +163,25 @@ def find_message_class(name: str) -> type[Any]:
             f"The passed message type '{name}' is invalid (no definition known)"
         ) from None
     return cls
+
+
+#: Every posekit action class keyed by its full ROS 2 type name
+#: (``"posekit_interfaces/action/NavigateToPose"``).
+ACTION_CLASSES: MappingProxyType[str, type[Any]] = MappingProxyType({
+    cls.__actiontype__: cls
+    for module in _MODULES for name in module.__all__
+    if _is_action_type(cls := getattr(module, name))
+})
+
+
+def get_action_class(name: str) -> type[Any]:
+    """Return posekit's action class for ``name`` (``"pkg/action/Name"`` or ``"pkg/Name"``)."""
+    parts = name.strip("/").split("/")
+    full = "/".join(parts) if len(parts) == 3 else (
+        f"{parts[0]}/action/{parts[1]}" if len(parts) == 2 else name)
+    try:
+        return ACTION_CLASSES[full]
+    except KeyError:
+        raise UnknownMessageTypeError(
+            f"posekit has no action class for {full!r}; known: {sorted(ACTION_CLASSES)}"
+        ) from None

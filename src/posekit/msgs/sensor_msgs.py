@@ -1,7 +1,8 @@
-"""sensor_msgs: Image, CameraInfo, Imu, JointState, RegionOfInterest.
+"""sensor_msgs: Image, CameraInfo, Imu, JointState, LaserScan, RegionOfInterest.
 
 Bulk fields are numpy arrays, never per-element Python lists: ``Image.data`` is a 1-D uint8
-array (or bytes), covariances and the camera matrices are float64 arrays of the ROS length.
+array (or bytes), covariances and the camera matrices are float64 arrays of the ROS length,
+``LaserScan.ranges`` and ``intensities`` are float32 arrays.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from posekit.msgs._base import array_aware_eq
 from posekit.msgs.geometry_msgs import Quaternion, Vector3
 from posekit.msgs.std_msgs import Header
 
-__all__ = ["CameraInfo", "Image", "Imu", "JointState", "RegionOfInterest"]
+__all__ = ["CameraInfo", "Image", "Imu", "JointState", "LaserScan", "RegionOfInterest"]
 
 
 def _f64(n: int) -> npt.NDArray[np.float64]:
@@ -25,6 +26,10 @@ def _f64(n: int) -> npt.NDArray[np.float64]:
 
 def _empty_f64() -> npt.NDArray[np.float64]:
     return np.zeros(0, dtype=np.float64)
+
+
+def _empty_f32() -> npt.NDArray[np.float32]:
+    return np.zeros(0, dtype=np.float32)
 
 
 def _empty_u8() -> npt.NDArray[np.uint8]:
@@ -104,4 +109,28 @@ class JointState:
     velocity: npt.NDArray[np.float64] = field(default_factory=_empty_f64)
     effort: npt.NDArray[np.float64] = field(default_factory=_empty_f64)
     __msgtype__: ClassVar[str] = "sensor_msgs/msg/JointState"
+    __eq__ = array_aware_eq
+
+
+@dataclass(slots=True, eq=False)
+class LaserScan:
+    """sensor_msgs/msg/LaserScan: one sweep of a planar range finder in ``header.frame_id``.
+
+    Angles (rad) are about the frame's +z axis, counter-clockwise, 0 along +x; ``ranges[i]``
+    (m) is at ``angle_min + i * angle_increment``. ``time_increment`` is the time between
+    two beams and ``scan_time`` the time between scans (s). Per REP 117 a beam with no
+    return is ``+inf``, one closer than ``range_min`` is ``-inf`` and an erroneous one NaN.
+    """
+
+    header: Header = field(default_factory=Header)
+    angle_min: float = 0.0
+    angle_max: float = 0.0
+    angle_increment: float = 0.0
+    time_increment: float = 0.0
+    scan_time: float = 0.0
+    range_min: float = 0.0
+    range_max: float = 0.0
+    ranges: npt.NDArray[np.float32] = field(default_factory=_empty_f32)
+    intensities: npt.NDArray[np.float32] = field(default_factory=_empty_f32)
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/LaserScan"
     __eq__ = array_aware_eq

@@ -19,19 +19,24 @@ Command handling follows ros2_controllers' diff_drive_controller (Jazzy):
 The plant replaces Gazebo's contacts with the slip model of
 :class:`~posekit.robot.params.SlipParams`
 (yaw efficiency ``eta`` and longitudinal slip ``s``, seeded per-run offset plus an
-Ornstein-Uhlenbeck wander). The ground-truth pose is integrated with the exact arc.
+Ornstein-Uhlenbeck wander). The ground-truth pose is integrated with the exact arc. With a
+:class:`~posekit.robot.contact.Contact`, a step that would drive the body into a solid box
+is cut short at its surface while the wheels turn on (see :mod:`posekit.robot.contact`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from posekit.robot.kinematics import integrate_exact_arc, wrap_angle
 from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, DriveParams, SlipParams
+
+if TYPE_CHECKING:
+    from posekit.robot.contact import Contact
 
 __all__ = ["FUTURE_TOLERANCE", "BaseState", "CommandResult", "RosbotBase", "stamp_to_seconds"]
 
@@ -100,6 +105,7 @@ class RosbotBase:
             true motion equals the command).
         seed: seeds the per-run slip offsets and their wander (same seed, same run).
         x, y, yaw: spawn pose in odom (m, m, rad).
+        contact: the world's solid boxes (None: nothing stops the body).
     """
 
     def __init__(
@@ -111,8 +117,11 @@ class RosbotBase:
         x: float = 0.0,
         y: float = 0.0,
         yaw: float = 0.0,
+        contact: Contact | None = None,
     ) -> None:
         self.params = params
+        #: Contact with the world's solid boxes, or None.
+        self.contact = contact
         self.slip = slip
         self._rng = np.random.default_rng(seed)
         self._normals: list[float] = []
@@ -249,6 +258,15 @@ class RosbotBase:
         u_r = p.wheel_radius * wr
         v_true = (1.0 - s) * 0.5 * (u_l + u_r)
         w_true = eta * (u_r - u_l) / p.track_width
+        contact = self.contact
+        if contact is not None and (v_true != 0.0 or w_true != 0.0):
+            # The body stops at a solid surface; the wheels (below) turn on regardless.
+            fraction = contact.free_fraction(
+                self._x, self._y, self._yaw, v_true * dt, w_true * dt
+            )
+            if fraction < 1.0:
+                v_true *= fraction
+                w_true *= fraction
         self._x, self._y, self._yaw = integrate_exact_arc(
             self._x, self._y, self._yaw, v_true * dt, w_true * dt
         )

@@ -365,8 +365,8 @@ def run_scenario(
     extra_nodes: Sequence[Node] = (),
     step: float = 0.1,
     on_start: Sequence[Callable[[LaunchRun], Any]] = (),
-    max_log_records: int = 10_000,
     transport: str | None = None,
+    max_log_records: int = 10_000,
 ) -> ScenarioResult:
     """Run scenario ``name`` and return a :class:`ScenarioResult`.
 
@@ -383,10 +383,10 @@ def run_scenario(
         publish_clock, extra_nodes: see :func:`start_scenario`.
         on_start: callables given the started run before any time passes (attach a bag
             recorder or a viewer; whatever they start must end when the run's context does).
+        transport: see :func:`start_scenario`.
         max_log_records: log records kept for :attr:`ScenarioResult.logs` (the newest; a
             long run keeps memory flat). ``record=True`` keeps every odometry sample, so
             leave it off for long runs that need no plot.
-        transport: see :func:`start_scenario`.
     """
     if until_sim_time is not None and not until_sim_time >= 0.0:
         raise ScenarioError(f"until_sim_time must be >= 0 s, got {until_sim_time}")

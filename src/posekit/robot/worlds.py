@@ -7,7 +7,11 @@ A world is a mapping (Python, JSON, or YAML when PyYAML is installed)::
     physics_step: 0.001                    # s, optional (> 0)
     spawn: [0.0, 0.0, 0.0]                 # robot spawn (x, y, yaw) in odom, optional
     boxes:                                 # optional list
-      - {name: box_1, model: aruco_box, pose: [2.25, 0.0, 0.25, 0.0, 0.0, 0.0]}
+      - {name: box_1, model: aruco_box, pose: [2.25, 0.0, 0.25, 0.0, 0.0, 0.0],
+         collision: true}                  # optional: solid for the robot (default true)
+    walls:                                 # optional list of vertical walls (prisms)
+      - {name: room, height: 1.0, loops: [[[-5, -5], [5, -5], [5, 5], [-5, 5]]],
+         collision: true}
     cameras:                               # optional list of fixed cameras
       - {name: overhead_camera, pose: [2, 2, 2, 0, 1.5708, 0], width: 640, height: 480,
          horizontal_fov: 1.047, rate_hz: 30, clip: [0.1, 100],
@@ -19,10 +23,15 @@ A world is a mapping (Python, JSON, or YAML when PyYAML is installed)::
 ``pose`` is ``(x, y, z, roll, pitch, yaw)`` in the world frame (= odom: the robot spawns at
 the origin), metres and radians, rpy on fixed axes (R = Rz(yaw) Ry(pitch) Rx(roll)) as in
 SDF; a mapping with those six keys is accepted too. A box pose is T_world_box (its origin is
-the cube centre). A camera pose is the SDF *model* pose: the camera looks along its +x axis
-(the optical frame is the static transform the launch adds). Validation rejects unknown
-keys, wrong types, non-finite numbers, duplicate names and unknown models, with a
-:class:`WorldError` naming the world and the field.
+the cube centre). Every box is seen by the simulated LiDAR; ``collision`` (default true)
+marks a box as solid for the robot (:mod:`posekit.robot.contact`). A wall is the vertical
+extrusion, from the ground to ``height`` (m), of closed outline ``loops`` of (x, y) points
+(m, world frame; the last point joins the first): each loop edge is a wall face the LiDAR
+sees and the robot stops at (a ring is two loops). A camera pose is the SDF
+*model* pose: the camera looks along its +x axis (the optical frame is the static transform
+the launch adds). Validation rejects unknown keys, wrong types, non-finite numbers,
+duplicate names and unknown models, with a :class:`WorldError` naming the world and the
+field.
 
 Limits (a world file is input like any other; these keep a typo or a hostile file from
 exhausting memory or CPU): a camera side is at most :data:`MAX_CAMERA_SIDE` pixels and a
@@ -59,8 +68,10 @@ __all__ = [
     "CameraSpec",
     "MarkerPose",
     "StaticTransformSpec",
+    "WallSpec",
     "World",
     "WorldError",
+    "box_half_extents",
     "load_world",
     "marker_poses",
     "pose_matrix",
@@ -139,11 +150,13 @@ _MODELS: dict[str, ArucoBoxModel] = {ARUCO_BOX.name: ARUCO_BOX}
 
 @dataclass(frozen=True, slots=True)
 class BoxSpec:
-    """A static box: ``name``, ``model`` (``"aruco_box"``), ``pose`` (x, y, z, roll, pitch, yaw)."""
+    """A static box: ``name``, ``model`` (``"aruco_box"``), ``pose`` (x, y, z, roll, pitch,
+    yaw), ``collision`` (the robot cannot drive through it)."""
 
     name: str
     model: str
     pose: tuple[float, float, float, float, float, float]
+    collision: bool = True
 
     @property
     def T_world_box(self) -> _FloatArray:
@@ -152,7 +165,45 @@ class BoxSpec:
 
     def to_dict(self) -> dict[str, Any]:
         """As the plain mapping the loader accepts."""
-        return {"name": self.name, "model": self.model, "pose": list(self.pose)}
+        return {
+            "name": self.name,
+            "model": self.model,
+            "pose": list(self.pose),
+            "collision": self.collision,
+        }
+
+
+def box_half_extents(box: BoxSpec) -> tuple[float, float, float]:
+    """Half side lengths (m) of ``box`` along its own x, y, z axes."""
+    half = 0.5 * _MODELS[box.model].size
+    return half, half, half
+
+
+@dataclass(frozen=True, slots=True)
+class WallSpec:
+    """Vertical walls: ``loops`` of (x, y) points (m, closed) extruded from 0 to ``height``."""
+
+    name: str
+    height: float
+    loops: tuple[tuple[tuple[float, float], ...], ...]
+    collision: bool = True
+
+    def segments(self) -> _FloatArray:
+        """``(S, 2, 2)`` wall faces as (start, end) points, every loop closed."""
+        out = []
+        for loop in self.loops:
+            pts = np.asarray(loop, dtype=np.float64)
+            out.append(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
+        return np.concatenate(out) if out else np.zeros((0, 2, 2))
+
+    def to_dict(self) -> dict[str, Any]:
+        """As the plain mapping the loader accepts."""
+        return {
+            "name": self.name,
+            "height": self.height,
+            "loops": [[list(p) for p in loop] for loop in self.loops],
+            "collision": self.collision,
+        }
 
 
 @dataclass(frozen=True, slots=True)
@@ -236,6 +287,7 @@ class World:
     boxes: tuple[BoxSpec, ...] = ()
     cameras: tuple[CameraSpec, ...] = ()
     static_transforms: tuple[StaticTransformSpec, ...] = ()
+    walls: tuple[WallSpec, ...] = ()
     source: str = field(default="<builtin>", compare=False)
 
     def to_dict(self) -> dict[str, Any]:
@@ -248,6 +300,7 @@ class World:
             "boxes": [b.to_dict() for b in self.boxes],
             "cameras": [c.to_dict() for c in self.cameras],
             "static_transforms": [s.to_dict() for s in self.static_transforms],
+            "walls": [w.to_dict() for w in self.walls],
         }
 
     @classmethod
@@ -318,6 +371,12 @@ def _string(ctx: _Ctx, where: str, value: Any, *, allow_empty: bool = False) -> 
     return value
 
 
+def _flag(ctx: _Ctx, where: str, value: Any) -> bool:
+    if not isinstance(value, bool):
+        raise ctx.fail(where, f"expected true or false, got {value!r}")
+    return value
+
+
 def _vector(ctx: _Ctx, where: str, value: Any, n: int, meaning: str) -> tuple[float, ...]:
     if isinstance(value, str) or not isinstance(value, Sequence):
         raise ctx.fail(where, f"expected {n} numbers ({meaning}), got {value!r}")
@@ -365,14 +424,16 @@ def _unique(ctx: _Ctx, where: str, names: list[str]) -> None:
 
 
 def _parse_box(ctx: _Ctx, where: str, data: Any) -> BoxSpec:
-    _check_keys(ctx, where, data, required=("name", "model", "pose"), optional=())
+    _check_keys(ctx, where, data, required=("name", "model", "pose"), optional=("collision",))
     model = _string(ctx, f"{where}.model", data["model"])
     if model not in _MODELS:
         raise ctx.fail(f"{where}.model", f"unknown model {model!r}; known: {sorted(_MODELS)}")
+    collision = _flag(ctx, f"{where}.collision", data.get("collision", True))
     return BoxSpec(
         _string(ctx, f"{where}.name", data["name"]),
         model,
         _pose(ctx, f"{where}.pose", data["pose"]),
+        collision,
     )
 
 
@@ -437,6 +498,32 @@ def _parse_static(ctx: _Ctx, where: str, data: Any) -> StaticTransformSpec:
     return StaticTransformSpec(parent, child, (x, y, z), (r, p, yw))
 
 
+def _parse_wall(ctx: _Ctx, where: str, data: Any) -> WallSpec:
+    _check_keys(ctx, where, data, required=("name", "height", "loops"), optional=("collision",))
+    loops = []
+    points = 0
+    for i, loop in enumerate(_list(ctx, f"{where}.loops", data["loops"])):
+        pts = tuple(
+            _vector(ctx, f"{where}.loops[{i}][{j}]", p, 2, "x, y")
+            for j, p in enumerate(_list(ctx, f"{where}.loops[{i}]", loop))
+        )
+        if len(pts) < 3:
+            raise ctx.fail(f"{where}.loops[{i}]", f"a loop needs >= 3 points, got {len(pts)}")
+        points += len(pts)
+        loops.append(tuple((p[0], p[1]) for p in pts))
+    if not loops:
+        raise ctx.fail(f"{where}.loops", "needs at least one loop")
+    if points > MAX_LIST_ITEMS:
+        raise ctx.fail(f"{where}.loops", f"{points} points is over the limit of {MAX_LIST_ITEMS}")
+    collision = _flag(ctx, f"{where}.collision", data.get("collision", True))
+    return WallSpec(
+        _string(ctx, f"{where}.name", data["name"]),
+        _positive(ctx, f"{where}.height", data["height"]),
+        tuple(loops),
+        collision,
+    )
+
+
 def _parse_world(data: Any, source: str) -> World:
     name = data.get("name") if isinstance(data, Mapping) else None
     ctx = _Ctx(name if isinstance(name, str) and name else "?", source)
@@ -445,7 +532,10 @@ def _parse_world(data: Any, source: str) -> World:
         "top level",
         data,
         required=("name",),
-        optional=("description", "physics_step", "spawn", "boxes", "cameras", "static_transforms"),
+        optional=(
+            "description", "physics_step", "spawn", "boxes", "cameras", "static_transforms",
+            "walls",
+        ),
     )
     name = _string(ctx, "name", data["name"])
     boxes = tuple(
@@ -460,7 +550,15 @@ def _parse_world(data: Any, source: str) -> World:
         _parse_static(ctx, f"static_transforms[{i}]", s)
         for i, s in enumerate(_list(ctx, "static_transforms", data.get("static_transforms", [])))
     )
-    _unique(ctx, "boxes/cameras", [b.name for b in boxes] + [c.name for c in cameras])
+    walls = tuple(
+        _parse_wall(ctx, f"walls[{i}]", w)
+        for i, w in enumerate(_list(ctx, "walls", data.get("walls", [])))
+    )
+    _unique(
+        ctx,
+        "boxes/cameras/walls",
+        [b.name for b in boxes] + [c.name for c in cameras] + [w.name for w in walls],
+    )
     _unique(ctx, "static_transforms", [s.child for s in statics])
     sx, sy, syaw = _vector(ctx, "spawn", data.get("spawn", (0.0, 0.0, 0.0)), 3, "x, y, yaw")
     return World(
@@ -471,6 +569,7 @@ def _parse_world(data: Any, source: str) -> World:
         boxes=boxes,
         cameras=cameras,
         static_transforms=statics,
+        walls=walls,
         source=source,
     )
 
@@ -529,6 +628,23 @@ _BUILTIN: dict[str, dict[str, Any]] = {
         ],
     },
 }
+
+def _husarion_world() -> dict[str, Any]:
+    from posekit.robot._husarion_world import WALLS
+
+    return {
+        "name": "husarion_world",
+        "description": "Husarion's logo extruded into 1.8 m walls: a ring around six feathers "
+        "and an H (husarion_gz_worlds); the ROSbot starts where Husarion's map does.",
+        "spawn": [0.0, -1.9, 0.0],
+        "walls": [
+            {"name": name, "height": height, "loops": [list(loop) for loop in loops]}
+            for name, height, loops in WALLS
+        ],
+    }
+
+
+_BUILTIN["husarion_world"] = _husarion_world()
 
 #: Other names the course uses for the same worlds.
 _ALIASES = {"aruco_markers_world": "aruco_box_world"}

@@ -429,8 +429,7 @@ class _BusClient(ServiceClientEndpoint):
 
     @property
     def server_count(self) -> int:
-        entry = self._bus._services.get(self.info.service)
-        return len(entry.servers) if entry is not None else 0
+        return self._bus.count_services(self.info.service)
 
     def destroy(self) -> None:
         if self.alive:
@@ -507,6 +506,14 @@ class InProcessBus(Transport):
                 entry.servers.remove(endpoint)
             elif isinstance(endpoint, _BusClient) and endpoint in entry.clients:
                 entry.clients.remove(endpoint)
+
+    def count_services(self, service: str) -> int:
+        entry = self._services.get(service)
+        return len(entry.servers) if entry is not None else 0
+
+    def count_clients(self, service: str) -> int:
+        entry = self._services.get(service)
+        return len(entry.clients) if entry is not None else 0
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
         with self._lock:

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import inspect
+import time
 from collections import deque
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 from posekit.runtime.callback_groups import CallbackGroup
 from posekit.runtime.clock import Clock
@@ -70,8 +72,35 @@ class Publisher:
         return f"Publisher({self.msg_type.__name__}, '{self._topic}')"
 
 
+class MessageInfo(TypedDict):
+    """rclpy's ``MessageInfo``: what a subscription callback ``callback(msg, info)`` gets.
+
+    Times are ns since the epoch. The Zenoh transport fills the source timestamp and the
+    publication sequence number from rmw_zenoh's sample attachment; the in-process bus has
+    neither (0). ``reception_sequence_number`` is 0 (not provided, as rmw_zenoh).
+    """
+
+    source_timestamp: int
+    received_timestamp: int
+    publication_sequence_number: int
+    reception_sequence_number: int
+
+
+def _takes_message_info(callback: Callable[..., Any]) -> bool:
+    """True for ``callback(msg, info)`` (two required positional parameters), as rclpy."""
+    try:
+        params = inspect.signature(callback).parameters.values()
+    except (TypeError, ValueError):
+        return False
+    positional = [p for p in params
+                  if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)
+                  and p.default is p.empty]
+    return len(positional) == 2
+
+
 class Subscription:
-    """Receives messages of one type on one topic; the executor calls ``callback(msg)``.
+    """Receives messages of one type on one topic; the executor calls ``callback(msg)``, or
+    ``callback(msg, info)`` (a :class:`MessageInfo`) for a callback taking two arguments.
 
     Undelivered messages wait in a queue bounded by the QoS depth (KEEP_LAST drops the
     oldest); each queued entry carries the context-wide sequence number of its arrival.
@@ -82,14 +111,24 @@ class Subscription:
         node: Node,
         msg_type: type,
         topic: str,
-        callback: Callable[[Any], Any],
+        callback: Callable[..., Any],
         qos: QoSProfile,
         callback_group: CallbackGroup,
     ) -> None:
         self._node = node
         self.msg_type = msg_type
         self._topic = topic
-        self.callback = callback
+        #: True when the callback takes ``(msg, info)``; transports that know the sample's
+        #: metadata then pass it to :meth:`_enqueue`.
+        self.wants_message_info = _takes_message_info(callback)
+        self.callback: Callable[[Any], Any] = callback
+        if self.wants_message_info:
+            with_info: Callable[[Any, Any], Any] = callback
+
+            def unpack(payload: tuple[Any, MessageInfo]) -> Any:
+                return with_info(payload[0], payload[1])
+
+            self.callback = unpack
         self.qos_profile = qos
         self.callback_group = callback_group
         self.queue: deque[tuple[int, Any]] = deque(maxlen=qos.queue_limit)
@@ -100,10 +139,14 @@ class Subscription:
     def _attach(self, endpoint: SubscriptionEndpoint) -> None:
         self._endpoint = endpoint
 
-    def _enqueue(self, msg: Any) -> None:
+    def _enqueue(self, msg: Any, info: MessageInfo | None = None) -> None:
         """Transport sink: queue ``msg`` and tell the node's executor."""
         if self.destroyed:
             return
+        if self.wants_message_info:
+            msg = (msg, info if info is not None else MessageInfo(
+                source_timestamp=0, received_timestamp=time.time_ns(),
+                publication_sequence_number=0, reception_sequence_number=0))
         seq = next(self._seq)
         self.queue.append((seq, msg))
         executor = self._node._executor

@@ -53,7 +53,7 @@ from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
 from posekit.runtime.qos import QoSProfile
-from posekit.runtime.services import set_current_executor
+from posekit.runtime.services import current_executor, set_current_executor
 from posekit.runtime.task import Future, Task
 from posekit.runtime.time_source import TimeSource
 from posekit.time import ClockType, Duration, Time
@@ -87,6 +87,8 @@ def _runs_callbacks(method: _F) -> _F:
 
     @functools.wraps(method)
     def wrapper(self: Executor, *args: Any, **kwargs: Any) -> Any:
+        if current_executor() is self:  # nested (spin -> spin_once): already marked
+            return method(self, *args, **kwargs)
         previous = set_current_executor(self)
         try:
             return method(self, *args, **kwargs)
@@ -433,6 +435,7 @@ class Executor:
         if work is not None:
             self._execute(work)
 
+    @_runs_callbacks
     def spin(self) -> None:
         """Run callbacks until the context shuts down or shutdown() is called."""
         while self._context.ok() and not self._is_shutdown:

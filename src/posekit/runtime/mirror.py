@@ -15,10 +15,11 @@ Delivery rules:
 * Out: a message published here is also sent on the network when some *other* process
   subscribes to its topic (demand is polled every :data:`DEMAND_POLL_S`), and always for
   TRANSIENT_LOCAL publishers (``/tf_static``: late remote subscribers get the latched
-  samples from the network transport's cache). Sending is done by one forwarder thread
-  from a bounded queue per publisher: the publishing thread (the simulator) never
-  serializes large messages or waits on the network, and a slow or vanished remote
-  subscriber can only make the forwarder drop (counted in :attr:`MirroredTransport.dropped`;
+  samples from the network transport's cache). Sending is done by a forwarding thread per
+  publisher from its bounded queue: the publishing thread (the simulator) never serializes
+  large messages or waits on the network, one topic's slow send (a large image to a
+  stalled subscriber) does not hold up another's (``/clock``), and a slow or vanished remote
+  subscriber can only make the queue drop (counted in :attr:`MirroredTransport.dropped`;
   a KEEP_LAST queue keeps its newest ``depth`` messages as that QoS promises, a KEEP_ALL
   queue holds :data:`FORWARD_QUEUE_LIMIT` and logs once when it must drop), never stall
   the run.
@@ -26,12 +27,12 @@ Delivery rules:
   except on topics this process *owns* (:meth:`MirroredTransport.own_topic`; a simulation
   owns ``/clock``): those are never taken from the network.
 
-Services: a server is created on both (requests from this process arrive through the local
-bus, from others through the network); a client calls a server of this process on the local
-bus when there is one, else over the network.
+Graph questions (topic names, node names, endpoint counts, services) are answered by the
+network transport, which knows this process's endpoints and every other process's.
 
-Graph questions (topic names, node names, endpoint counts) are answered by the network
-transport, which knows this process's endpoints and every other process's.
+Services: a server is created on both (this process's clients reach it on the bus, other
+processes' over the network: ``posekit param set`` on a launch's node); a client calls a
+server of this process on the bus when there is one, else over the network.
 ``get_subscription_count()`` of a publisher counts local subscriptions plus remote ones
 (known within one demand poll), so nodes that publish only while someone listens (lazy
 cameras, ``/tf`` when nobody subscribes) work for remote subscribers too.
@@ -57,6 +58,7 @@ from posekit.runtime.transport import (
     ServiceClientEndpoint,
     ServiceInfo,
     ServiceServerEndpoint,
+    SourcedMessageSink,
     SubscriptionEndpoint,
     Transport,
 )
@@ -73,7 +75,8 @@ FORWARD_QUEUE_LIMIT = 1000
 
 
 class _MirrorPublisher(PublisherEndpoint):
-    __slots__ = ("_mirror", "always", "info", "local", "pending", "remote", "remote_count")
+    __slots__ = ("_mirror", "always", "busy", "cond", "info", "lane", "local", "pending",
+                 "remote", "remote_count")
 
     def __init__(self, mirror: MirroredTransport, info: EndpointInfo,
                  local: PublisherEndpoint, remote: PublisherEndpoint) -> None:
@@ -87,6 +90,11 @@ class _MirrorPublisher(PublisherEndpoint):
         self.pending: deque[Any] = deque(maxlen=limit)
         #: Remote subscriptions seen at the last demand poll.
         self.remote_count = 0
+        # This publisher's forwarding lane: its queue's lock and the thread sending from it
+        # (started on the first message for the network); ``busy`` while a send is under way.
+        self.cond = threading.Condition()
+        self.lane: threading.Thread | None = None
+        self.busy = False
 
     def publish(self, msg: Any) -> None:
         self.local.publish(msg)
@@ -128,72 +136,60 @@ class _MirrorSubscription(SubscriptionEndpoint):
 
 
 class _MirrorServer(ServiceServerEndpoint):
-    """A service server on the local bus and, where it carries services, the network."""
+    __slots__ = ("local", "remote")
 
-    def __init__(self, local: ServiceServerEndpoint,
-                 remote: ServiceServerEndpoint | None) -> None:
+    def __init__(self, local: ServiceServerEndpoint, remote: ServiceServerEndpoint) -> None:
         self.local = local
         self.remote = remote
 
     def destroy(self) -> None:
         self.local.destroy()
-        if self.remote is not None:
-            self.remote.destroy()
+        self.remote.destroy()
 
 
 class _MirrorClient(ServiceClientEndpoint):
-    """Calls a server of this process on the local bus (deterministic, no serialization),
-    else one in another process over the network."""
+    __slots__ = ("local", "remote")
 
-    def __init__(self, local: ServiceClientEndpoint,
-                 remote: ServiceClientEndpoint | None) -> None:
+    def __init__(self, local: ServiceClientEndpoint, remote: ServiceClientEndpoint) -> None:
         self.local = local
         self.remote = remote
 
     def send_request(self, request: Any, on_response: ResponseSink) -> None:
-        if self.local.server_count or self.remote is None:
-            self.local.send_request(request, on_response)
-        else:
-            self.remote.send_request(request, on_response)
+        target = self.local if self.local.server_count else self.remote
+        target.send_request(request, on_response)
 
     @property
     def server_count(self) -> int:
-        # The network also sees this process's own servers: count each server once.
-        local = self.local.server_count
-        return local if local or self.remote is None else self.remote.server_count
+        # The network also counts this process's servers (created on both).
+        return max(self.local.server_count, self.remote.server_count)
 
     def destroy(self) -> None:
         self.local.destroy()
-        if self.remote is not None:
-            self.remote.destroy()
+        self.remote.destroy()
 
 
 class MirroredTransport(Transport):
     """Local delivery on ``local``, visibility and remote traffic on ``network``."""
 
     crosses_processes = True
-    supports_services = True
 
     def __init__(self, local: Transport, network: Transport) -> None:
         self.local = local
         self.network = network
         self.name = f"{local.name}+{network.name}"
+        self.supports_services = local.supports_services and network.supports_services
         self._owned: set[str] = set()
         self._publishers: list[_MirrorPublisher] = []
-        self._cond = threading.Condition()
-        self._ready: deque[_MirrorPublisher] = deque()
+        self._lock = threading.Lock()  # the publisher list
         self._closed = False
-        self._stop = threading.Event()  # the demand poll's own wake-up, apart from _cond
+        self._stop = threading.Event()  # ends the demand poll
         #: Messages not sent to the network because a forward queue was full, per topic.
         self.dropped: dict[str, int] = {}
         #: Messages sent to the network, per topic.
         self.forwarded: dict[str, int] = {}
-        self._threads = [
-            threading.Thread(target=self._forward_loop, name="posekit-mirror-out", daemon=True),
-            threading.Thread(target=self._demand_loop, name="posekit-mirror-demand", daemon=True),
-        ]
-        for thread in self._threads:
-            thread.start()
+        self._demand = threading.Thread(target=self._demand_loop, name="posekit-mirror-demand",
+                                        daemon=True)
+        self._demand.start()
 
     # -- ownership ------------------------------------------------------------------------
     def own_topic(self, topic: str) -> None:
@@ -217,58 +213,60 @@ class MirroredTransport(Transport):
             raise
         pub = _MirrorPublisher(self, info, local, remote)
         pub.remote_count = remote.subscription_count
-        with self._cond:
+        with self._lock:
             self._publishers.append(pub)
         return pub
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
-        local = self.local.subscribe(info, sink)
+        return self.subscribe_with_source(info, lambda msg, _source: sink(msg))
+
+    def subscribe_with_source(
+        self, info: EndpointInfo, sink: SourcedMessageSink
+    ) -> SubscriptionEndpoint:
+        """Local messages with the local transport's source ids, remote ones with the
+        network's (a GID)."""
+        local = self.local.subscribe_with_source(info, sink)
         remote: SubscriptionEndpoint | None = None
         try:
             if info.topic not in self._owned:
-                remote = self.network.subscribe(dataclasses.replace(info, remote_only=True), sink)
+                remote = self.network.subscribe_with_source(
+                    dataclasses.replace(info, remote_only=True), sink)
         except BaseException:
             local.destroy()
             raise
         return _MirrorSubscription(local, remote)
 
+    # -- services -------------------------------------------------------------------------
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
         local = self.local.create_service_server(info, sink)
-        remote = None
-        if self.network.supports_services:
-            try:
-                remote = self.network.create_service_server(info, sink)
-            except BaseException:
-                local.destroy()
-                raise
+        try:
+            remote = self.network.create_service_server(info, sink)
+        except BaseException:
+            local.destroy()
+            raise
         return _MirrorServer(local, remote)
 
     def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
         local = self.local.create_service_client(info)
-        remote = None
-        if self.network.supports_services:
-            try:
-                remote = self.network.create_service_client(info)
-            except BaseException:
-                local.destroy()
-                raise
+        try:
+            remote = self.network.create_service_client(info)
+        except BaseException:
+            local.destroy()
+            raise
         return _MirrorClient(local, remote)
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
-        return (self.network if self.network.supports_services else self.local
-                ).get_service_names_and_types()
+        return self.network.get_service_names_and_types()
 
     def get_service_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
-        return (self.network if self.network.supports_services else self.local
-                ).get_service_names_and_types_by_node(node_name, node_namespace)
+        return self.network.get_service_names_and_types_by_node(node_name, node_namespace)
 
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
-        return (self.network if self.network.supports_services else self.local
-                ).get_client_names_and_types_by_node(node_name, node_namespace)
+        return self.network.get_client_names_and_types_by_node(node_name, node_namespace)
 
     def declare_node(self, name: str, namespace: str = "/") -> Any:
         self.local.declare_node(name, namespace)
@@ -302,7 +300,9 @@ class MirroredTransport(Transport):
 
     # -- forwarding -----------------------------------------------------------------------
     def _forward(self, pub: _MirrorPublisher, msg: Any) -> None:
-        with self._cond:
+        with pub.cond:
+            if self._closed:
+                return
             if len(pub.pending) == pub.pending.maxlen:
                 topic = pub.info.topic
                 count = self.dropped.get(topic, 0)
@@ -313,38 +313,41 @@ class MirroredTransport(Transport):
                         "network is slower than the publisher): dropping the oldest messages "
                         "for the network; local delivery is unaffected"
                     )
-            was_idle = not pub.pending
             pub.pending.append(msg)
-            if was_idle:
-                self._ready.append(pub)
-                self._cond.notify()
+            if pub.lane is None:
+                pub.lane = threading.Thread(
+                    target=self._lane, args=(pub,), daemon=True,
+                    name=f"posekit-mirror-out {pub.info.topic}",
+                )
+                pub.lane.start()
+            pub.cond.notify()
 
-    def _forward_loop(self) -> None:
+    def _lane(self, pub: _MirrorPublisher) -> None:
+        topic = pub.info.topic
         while True:
-            with self._cond:
-                while not self._ready and not self._closed:
-                    self._cond.wait()
+            with pub.cond:
+                while not pub.pending and not self._closed:
+                    pub.cond.wait()
                 if self._closed:
                     return
-                pub = self._ready.popleft()
-                if not pub.pending:
-                    continue
                 msg = pub.pending.popleft()
-                if pub.pending:
-                    self._ready.append(pub)  # round robin between publishers
+                pub.busy = True
             try:
                 pub.remote.publish(msg)
             except Exception as exc:  # a destroyed endpoint or an unserializable message
-                topic = pub.info.topic
                 if topic not in self.dropped:
                     pub.info.logger.warning(f"cannot send '{topic}' to the network: {exc}")
                 self.dropped[topic] = self.dropped.get(topic, 0) + 1
             else:
-                self.forwarded[pub.info.topic] = self.forwarded.get(pub.info.topic, 0) + 1
+                self.forwarded[topic] = self.forwarded.get(topic, 0) + 1
+            finally:
+                with pub.cond:
+                    pub.busy = False
+                    pub.cond.notify_all()
 
     def _demand_loop(self) -> None:
         while not self._stop.wait(DEMAND_POLL_S):
-            with self._cond:
+            with self._lock:
                 publishers = [p for p in self._publishers if not p.always]
             for pub in publishers:
                 try:
@@ -353,9 +356,10 @@ class MirroredTransport(Transport):
                     _log.debug("demand poll failed: %s", exc)
 
     def _drop_publisher(self, pub: _MirrorPublisher) -> None:
-        with self._cond:
+        with self._lock:
             if pub in self._publishers:
                 self._publishers.remove(pub)
+        with pub.cond:
             pub.pending.clear()
             pub.remote_count = 0
             pub.always = False
@@ -363,20 +367,29 @@ class MirroredTransport(Transport):
     def flush(self, timeout: float = 2.0) -> bool:
         """Wait until every queued message was handed to the network (False on timeout)."""
         deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            with self._cond:
-                if not self._ready:
-                    return True
-            time.sleep(0.005)
-        return False
+        with self._lock:
+            publishers = list(self._publishers)
+        for pub in publishers:
+            with pub.cond:
+                while pub.pending or pub.busy:
+                    remaining = deadline - time.monotonic()
+                    if remaining <= 0:
+                        return False
+                    pub.cond.wait(remaining)
+        return True
 
     def close(self) -> None:
         self.flush(0.5)
         self._stop.set()
-        with self._cond:
-            self._closed = True
-            self._cond.notify_all()
-        for thread in self._threads:
-            thread.join(timeout=1.0)
+        with self._lock:
+            publishers = list(self._publishers)
+        self._closed = True
+        for pub in publishers:
+            with pub.cond:
+                pub.cond.notify_all()
+        self._demand.join(timeout=1.0)
+        for pub in publishers:
+            if pub.lane is not None:
+                pub.lane.join(timeout=1.0)
         self.network.close()
         self.local.close()

@@ -21,7 +21,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent
+from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent, ParameterValue
 from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from posekit.runtime.clock import Clock, ROSClock
 from posekit.runtime.context import Context, NotInitializedException, get_default_context
@@ -36,6 +36,7 @@ from posekit.runtime.names import (
     validate_node_name,
 )
 from posekit.runtime.parameters import (
+    PARAM_REL_TOL,
     OnSetCallback,
     Parameter,
     ParameterDescriptor,
@@ -122,6 +123,9 @@ def _no_callback() -> None:
 
 class Node:
     """A ROS 2 node (rclpy.node.Node API)."""
+
+    #: Relative tolerance of floating point range checks (rclpy's ``Node.PARAM_REL_TOL``).
+    PARAM_REL_TOL = PARAM_REL_TOL
 
     def __init__(
         self,
@@ -316,7 +320,7 @@ class Node:
         self,
         msg_type: type,
         topic: str,
-        callback: Callable[[Any], Any],
+        callback: Callable[..., Any],
         qos_profile: QoSProfile | int,
         *,
         callback_group: CallbackGroup | None = None,
@@ -324,7 +328,8 @@ class Node:
         qos_overriding_options: object = None,
         raw: bool = False,
     ) -> Subscription:
-        """Subscription calling ``callback(msg)`` from the executor for each message."""
+        """Subscription calling ``callback(msg)`` from the executor for each message, or
+        ``callback(msg, info)`` with rclpy's MessageInfo for a two-argument callback."""
         del event_callbacks, qos_overriding_options
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
@@ -458,7 +463,7 @@ class Node:
         qos = to_qos_profile(qos_profile)
         info = self._service_info(srv_type, full, qos)
         group = callback_group or self.default_callback_group
-        service = Service(self, srv_type, full, callback, qos, group)
+        service = Service(self, srv_type, full, callback, qos, group, srv_name)
         service._attach(self._transport.create_service_server(info, service._receive))
         self._services.append(service)
         return service
@@ -478,7 +483,7 @@ class Node:
         info = self._service_info(srv_type, full, qos)
         group = callback_group or self.default_callback_group
         endpoint = self._transport.create_service_client(info)
-        client = Client(self, srv_type, full, qos, group, endpoint)
+        client = Client(self, srv_type, full, qos, group, endpoint, srv_name)
         self._clients.append(client)
         return client
 
@@ -606,6 +611,18 @@ class Node:
         """The services node ``node_name`` in ``node_namespace`` has clients for."""
         return self._transport.get_client_names_and_types_by_node(node_name, node_namespace)
 
+    def count_services(self, service_name: str) -> int:
+        """Servers of ``service_name`` (expanded in the node's namespace, not remapped)."""
+        return self._transport.count_services(
+            self.resolve_service_name(service_name, only_expand=True)
+        )
+
+    def count_clients(self, service_name: str) -> int:
+        """Clients of ``service_name`` (expanded in the node's namespace, not remapped)."""
+        return self._transport.count_clients(
+            self.resolve_service_name(service_name, only_expand=True)
+        )
+
     def count_publishers(self, topic_name: str) -> int:
         """Publishers on ``topic_name`` (expanded and remapped like the node's own topics)."""
         return self._transport.count_publishers(self.resolve_topic_name(topic_name))
@@ -679,11 +696,12 @@ class Node:
         """The parameter if declared and set, else ``alternative_value`` (or a NOT_SET one)."""
         return self._parameters.get_or(name, alternative_value)
 
-    def get_parameter_type(self, name: str) -> int:
-        """The ParameterType constant of a declared parameter."""
+    def get_parameter_type(self, name: str) -> Any:
+        """The ParameterType constant (an int) of a declared parameter; ``Type.NOT_SET``
+        for an undeclared one when undeclared parameters are allowed (as rclpy)."""
         return self._parameters.get_type(name)
 
-    def get_parameter_types(self, names: Sequence[str]) -> list[int]:
+    def get_parameter_types(self, names: Sequence[str]) -> list[Any]:
         """ParameterType constants of several declared parameters."""
         if not all(isinstance(n, str) for n in names):
             raise TypeError("All names must be instances of type str")
@@ -709,6 +727,17 @@ class Node:
     def describe_parameter(self, name: str) -> ParameterDescriptor:
         """The descriptor of a declared parameter."""
         return self._parameters.descriptor(name)
+
+    def set_descriptor(
+        self,
+        name: str,
+        descriptor: ParameterDescriptor,
+        alternative_value: ParameterValue | None = None,
+    ) -> ParameterValue:
+        """Give a declared parameter a new descriptor; if its value does not fit it, use
+        ``alternative_value`` (InvalidParameterValueException if that does not fit either).
+        Returns the value afterwards."""
+        return self._parameters.set_descriptor(name, descriptor, alternative_value)
 
     def describe_parameters(self, names: Sequence[str]) -> list[ParameterDescriptor]:
         """Descriptors of several declared parameters."""

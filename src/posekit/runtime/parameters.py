@@ -280,14 +280,10 @@ class Parameter:
 
     __slots__ = ("_name", "_type_", "_value")
 
-    def __init__(
-        self, name: str, type_: _TypeEnum | int | None = None, value: Any = None
-    ) -> None:
+    def __init__(self, name: str, type_: _TypeEnum | None = None, value: Any = None) -> None:
         value = _plain(value)
         if type_ is None:
             type_ = Type.from_parameter_value(value)
-        elif isinstance(type_, int) and not isinstance(type_, bool):
-            type_ = Type(type_)  # posekit: the ParameterType constant works too
         if not isinstance(type_, Type):
             raise TypeError(f"type must be an instance of '{Type!r}'")
         if not type_.check(value):
@@ -614,12 +610,13 @@ class ParameterStore:
             return alternative
         return param
 
-    def get_type(self, name: str) -> int:
-        """The ParameterType constant of ``name`` (NOT_SET if undeclared and allowed)."""
+    def get_type(self, name: str) -> int | _TypeEnum:
+        """The ParameterType constant of ``name``; ``Type.NOT_SET`` (the enum, as rclpy
+        returns it) for an undeclared name when undeclared parameters are allowed."""
         if name in self._params:
             return int(self._params[name].type_.value)
         if self.allow_undeclared:
-            return ParameterType.PARAMETER_NOT_SET
+            return Type.NOT_SET
         raise ParameterNotDeclaredException(name)
 
     def names(self) -> list[str]:
@@ -695,7 +692,9 @@ class ParameterStore:
             raise TypeError(f"parameter must be instance of type '{Parameter!r}'")
         undeclared = [p.name for p in plist if p.name not in self._params]
         if undeclared and not self.allow_undeclared:
-            raise ParameterNotDeclaredException(undeclared)
+            # rclpy names the undeclared parameters *after* the first one (its generator is
+            # consumed by the check): the same text here
+            raise ParameterNotDeclaredException(undeclared[1:])
         return self._set_common(plist, None, allow_not_set=False)
 
     def _apply_descriptor(
@@ -773,6 +772,29 @@ class ParameterStore:
         for post in list(self._post_set):
             post(plist)
         return SetParametersResult(successful=True)
+
+    def set_descriptor(
+        self, name: str, descriptor: ParameterDescriptor,
+        alternative_value: ParameterValue | None = None,
+    ) -> ParameterValue:
+        """rclpy's ``set_descriptor`` (see :meth:`posekit.runtime.node.Node.set_descriptor`)."""
+        if name not in self._params:
+            if not self.allow_undeclared:
+                raise ParameterNotDeclaredException(name)
+            return self.get(name).get_parameter_value()
+        if self._descriptors[name].read_only:
+            raise ParameterImmutableException(name)
+        current = self.get(name)
+        alternative = current if alternative_value is None else Parameter.from_parameter_msg(
+            ParameterMsg(name=name, value=alternative_value)
+        )
+        if not self._apply_descriptor(current, descriptor, False).successful:
+            result = self._apply_descriptor(alternative, descriptor, False)
+            if not result.successful:
+                raise InvalidParameterValueException(name, alternative.value, result.reason)
+            self._params[name] = alternative
+        self._descriptors[name] = descriptor
+        return self.get(name).get_parameter_value()
 
     # -- callbacks --------------------------------------------------------------------
     def add_pre_set(self, callback: PreSetCallback) -> None:

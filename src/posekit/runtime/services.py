@@ -15,9 +15,9 @@ its handling and its response happen in a reproducible order. ``call(request)`` 
 * in a thread that is not spinning the node's executor, it waits for another thread (or
   the transport) to complete the future; when the node has no executor at all, the
   response completes the future directly, so a plain script never hangs;
-* inside a callback of the executor (where rclpy's single-threaded executor deadlocks),
-  it keeps running that executor's other ready callbacks until the response arrives,
-  so a server on another node of the same executor is served. A server in the caller's own
+* inside a callback of an executor (where rclpy's single-threaded executor deadlocks), it
+  keeps running that executor's other ready callbacks until the response arrives, so a
+  server on another node of the same executor is served. A server in the caller's own
   mutually exclusive callback group cannot run meanwhile: pass ``timeout_sec``.
 """
 
@@ -67,13 +67,13 @@ class _Queued:
     in the node's callback group, like a Subscription's."""
 
     def __init__(self, node: Node, name: str, callback_group: CallbackGroup,
-                 run: Callable[[Any], None], what: str) -> None:
+                 run: Callable[[Any], None], what: str, limit: int | None = None) -> None:
         self._node = node
         self.topic_name = name
         self.callback_group = callback_group
         self.callback = run
         self.callback_description = what
-        self.queue: deque[tuple[int, Any]] = deque()
+        self.queue: deque[tuple[int, Any]] = deque(maxlen=limit)
         self.destroyed = False
         self._seq = node.context.seq
 
@@ -98,16 +98,22 @@ class Service:
         callback: Callable[[Any, Any], Any],
         qos: QoSProfile,
         callback_group: CallbackGroup,
+        given_name: str | None = None,
     ) -> None:
         self._node = node
         self.srv_type: Any = srv_type
         self._srv_name = srv_name
+        #: The name as given to ``create_service`` (rclpy's attribute; ``service_name`` is
+        #: the expanded one).
+        self.srv_name = srv_name if given_name is None else given_name
         self.callback = callback
         self.qos_profile = qos
         self.callback_group = callback_group
+        # Requests waiting for the executor: at most the QoS depth (KEEP_LAST drops the
+        # oldest, which then never gets an answer, as with rmw's request queue).
         self._queued = _Queued(
             node, srv_name, callback_group, self._handle,
-            f"service callback of '{srv_name}'",
+            f"service callback of '{srv_name}'", qos.queue_limit,
         )
         self._endpoint: ServiceServerEndpoint | None = None
 
@@ -155,11 +161,6 @@ class Service:
         """Fully qualified (expanded, remapped) service name."""
         return self._srv_name
 
-    @property
-    def srv_name(self) -> str:
-        """Same as service_name."""
-        return self._srv_name
-
     def destroy(self) -> bool:
         """Same as ``node.destroy_service(self)``."""
         return self._node.destroy_service(self)
@@ -185,10 +186,14 @@ class Client:
         qos: QoSProfile,
         callback_group: CallbackGroup,
         endpoint: ServiceClientEndpoint,
+        given_name: str | None = None,
     ) -> None:
         self._node = node
         self.srv_type: Any = srv_type
         self._srv_name = srv_name
+        #: The name as given to ``create_client`` (rclpy's attribute; ``service_name`` is
+        #: the expanded one).
+        self.srv_name = srv_name if given_name is None else given_name
         self.qos_profile = qos
         self.callback_group = callback_group
         self._endpoint = endpoint
@@ -204,11 +209,6 @@ class Client:
     @property
     def service_name(self) -> str:
         """Fully qualified (expanded, remapped) service name."""
-        return self._srv_name
-
-    @property
-    def srv_name(self) -> str:
-        """Same as service_name."""
         return self._srv_name
 
     def _send(self, request: Any, direct: bool) -> Future:
@@ -251,13 +251,11 @@ class Client:
         Returns the response, or None after ``timeout_sec`` seconds without one (the request
         is then forgotten, as rclpy's ``remove_pending_request``).
         """
+        future = self._send(request, direct=True)
         executor = current_executor()
-        node_executor = self._node._executor
-        if executor is not None and executor is node_executor:
-            future = self._send(request, direct=True)
+        if executor is not None:  # inside a callback: keep that executor's work going
             executor._serve_until(future, timeout_sec)
         else:
-            future = self._send(request, direct=True)
             future.wait(timeout_sec)
         if not future.done():
             self.remove_pending_request(future)

@@ -84,6 +84,15 @@ class Future:
                 return
         callback(self)
 
+    def remove_done_callback(self, callback: Callable[[Future], None]) -> bool:
+        """Forget a done callback; False if it was not registered (or already called)."""
+        with self._lock:
+            try:
+                self._callbacks.remove(callback)
+            except ValueError:
+                return False
+            return True
+
     def wait(self, timeout: float | None = None) -> bool:
         """Block the calling thread until done (only useful with another thread spinning)."""
         return self._event.wait(timeout)

@@ -18,6 +18,12 @@ Contract for implementations:
   Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
+* ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*
+  processes/sessions only. A remote-only publisher is not delivered to this process's
+  subscriptions, a remote-only subscription does not receive this process's publications,
+  and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
+  in-process bus ignores it (everything on it is local). This is what
+  :class:`posekit.runtime.mirror.MirroredTransport` builds on.
 * ``crosses_processes`` says whether the endpoints are visible to other processes (a network
   transport). A :class:`~posekit.runtime.executors.SimulatedTimeExecutor` publishes
   ``/clock`` exactly when one of its nodes sits on such a transport.
@@ -29,19 +35,16 @@ Contract for implementations:
   respond)`` once per request (an object the server owns), and the runtime calls
   ``respond(response)`` exactly once, from any thread, possibly later. A client's
   ``send_request(request, on_response)`` (:class:`ServiceClientEndpoint`) delivers the
-  request to one server and calls ``on_response(response)`` at most once. The base class
-  raises :class:`ServicesNotSupportedError` so a transport without services says so.
-* ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*
-  processes/sessions only. A remote-only publisher is not delivered to this process's
-  subscriptions, a remote-only subscription does not receive this process's publications,
-  and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
-  in-process bus ignores it (everything on it is local). This is what
-  :class:`posekit.runtime.mirror.MirroredTransport` builds on.
+  request to one server and calls ``on_response(response)`` at most once; its
+  ``server_count`` is what ``wait_for_service`` polls. ``get_service_names_and_types``,
+  ``..._by_node``, ``count_services`` and ``count_clients`` answer graph questions. The base
+  class raises :class:`ServicesNotSupportedError` from the two factories (and reports an empty
+  service graph), so a transport without services says so.
 
 Selection: ``Node(..., transport="zenoh")`` (or ``"dds"``), else ``init(transport=...)`` of
 the context, else the ``POSEKIT_TRANSPORT`` environment variable, else ``"inprocess"``. Names
-map to factories in a registry (:func:`register_transport`); each context creates one instance
-per name and shares it among its nodes. ``"inprocess+NET"`` (e.g. ``inprocess+zenoh``) is the
+map to factories in a registry (:func:`register_transport`); each context creates one instance per
+name and shares it among its nodes. ``"inprocess+NET"`` (e.g. ``inprocess+zenoh``) is the
 in-process bus mirrored onto the network transport ``NET``
 (:class:`~posekit.runtime.mirror.MirroredTransport`).
 """
@@ -271,6 +274,14 @@ class Transport(ABC):
     ) -> list[tuple[str, list[str]]]:
         """The services a node serves (its servers, as rcl reports them)."""
         return []
+
+    def count_services(self, service: str) -> int:
+        """Servers of a fully qualified service name."""
+        return 0
+
+    def count_clients(self, service: str) -> int:
+        """Clients of a fully qualified service name."""
+        return 0
 
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str

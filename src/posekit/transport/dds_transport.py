@@ -17,8 +17,9 @@ blocks at most 100 ms when its readers fall behind (rmw waits forever) and then 
 sample with one logged warning, so a stalled peer never blocks a posekit node.
 
 Rejections are logged once with the reason and never stop the node: a sample that does not
-decode, a QoS incompatibility (DDS refuses the pair, like ROS 2's "incompatible QoS"
-warning) and another endpoint on the same topic with a different type.
+decode, a QoS incompatibility in either direction (DDS refuses the pair; the subscription or
+the publisher logs ROS 2's "incompatible QoS" warning) and another endpoint on the same topic
+with a different type.
 
 Environment: ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE`` (default ``LOCALHOST``),
 ``ROS_STATIC_PEERS``, ``CYCLONEDDS_URI`` (appended to posekit's configuration).
@@ -58,6 +59,7 @@ from cyclonedds.util import duration
 from posekit.msgs.cdr import from_cdr, to_cdr
 from posekit.msgs.errors import CdrError
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
@@ -107,6 +109,8 @@ _POLICY_NAMES = {
 # Cyclone holds one configuration per domain id and process; posekit creates each once.
 _domains_lock = threading.Lock()
 _domains: dict[int, tuple[str, Domain]] = {}
+#: Type-mismatch warnings remembered (each printed once) before the table starts over.
+_MAX_WARNED_TYPES = 1024
 
 
 def configure_domain(options: DiscoveryOptions) -> None:
@@ -134,8 +138,11 @@ def _ros_type(info: EndpointInfo) -> str:
     return name
 
 
-def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool) -> Qos:
-    """Cyclone QoS for a ROS profile, policy by policy as rmw_cyclonedds maps it."""
+def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool,
+                 remote_only: bool = False) -> Qos:
+    """Cyclone QoS for a ROS profile, policy by policy as rmw_cyclonedds maps it;
+    ``remote_only`` adds IGNORE_LOCAL (participant): no matching within this participant
+    (:attr:`EndpointInfo.remote_only`)."""
     keep_all = qos.history == HistoryPolicy.KEEP_ALL
     depth = max(1, qos.depth)
     history = Policy.History.KeepAll if keep_all else Policy.History.KeepLast(depth)
@@ -159,6 +166,10 @@ def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool) -> Qos:
         policies.append(Policy.Durability.Volatile)
     if writer:
         policies.append(Policy.WriterDataLifecycle(autodispose=False))
+        if qos.lifespan_ns is not None:  # /rosout's 10 s, as rcl asks for it
+            policies.append(Policy.Lifespan(lifespan=qos.lifespan_ns))
+    if remote_only:
+        policies.append(Policy.IgnoreLocal.Participant)
     return Qos(*policies)
 
 
@@ -171,18 +182,15 @@ def wire_qos_of(qos: Qos) -> WireQoS:
         except (KeyError, TypeError):
             return None
 
-    rel = get(Policy.Reliability)
-    dur = get(Policy.Durability)
     live = get(Policy.Liveliness)
-    lease = getattr(live, "lease_duration", None)
     # RTPS discovery does not carry HISTORY: rmw reports it UNKNOWN (3), depth 0.
     return WireQoS(
-        reliability=2 if rel is not None and "BestEffort" in repr(rel) else 1,
-        durability=1 if dur is not None and "TransientLocal" in repr(dur) else 2,
+        reliability=2 if get(Policy.Reliability) == Policy.Reliability.BestEffort else 1,
+        durability=1 if get(Policy.Durability) == Policy.Durability.TransientLocal else 2,
         history=3,
         depth=0,
-        liveliness=3 if live is not None and "ManualByTopic" in repr(live) else 1,
-        liveliness_lease=_duration_pair(lease),
+        liveliness=3 if isinstance(live, Policy.Liveliness.ManualByTopic) else 1,
+        liveliness_lease=_duration_pair(getattr(live, "lease_duration", None)),
         deadline=_duration_pair(getattr(get(Policy.Deadline), "deadline", None)),
         lifespan=_duration_pair(getattr(get(Policy.Lifespan), "lifespan", None)),
     )
@@ -209,6 +217,7 @@ class _Publisher(PublisherEndpoint):
         self._ref = writer._ref
         self._type = info.msg_type
         self._warned_timeout = False
+        self._warned_qos: set[str] = set()
         self.alive = True
 
     def publish(self, msg: Any) -> None:
@@ -233,6 +242,19 @@ class _Publisher(PublisherEndpoint):
                 )
             elif ret != -10:
                 raise RuntimeError(f"DDS write on '{self.info.topic}' failed (code {ret})")
+
+    def report_incompatible(self) -> None:
+        """Log (once per policy) that a subscription requests QoS this writer cannot offer."""
+        status = self.writer.get_offered_incompatible_qos_status()  # type: ignore[no-untyped-call]
+        policy = _POLICY_NAMES.get(int(getattr(status, "last_policy_id", 0)), "UNKNOWN")
+        if policy in self._warned_qos:
+            return
+        self._warned_qos.add(policy)
+        self.info.logger.warning(
+            f"New subscription discovered on topic '{self.info.topic}', requesting "
+            f"incompatible QoS. No messages will be sent to it. Last incompatible policy: "
+            f"{policy}"
+        )
 
     def destroy(self) -> None:
         if self.alive:
@@ -276,10 +298,12 @@ class _Subscription(SubscriptionEndpoint):
         Python on Cyclone's threads, which deadlocks against a write holding the GIL)."""
         self.reader = reader
         self.gid = reader.guid.bytes
-        reader.set_status_mask(DDSStatus.DataAvailable | DDSStatus.RequestedIncompatibleQos)
+        # data wakes this thread; QoS reports go to the transport's graph thread
+        reader.set_status_mask(DDSStatus.RequestedIncompatibleQos)
         self._waitset = WaitSet(participant)
         self._stop = GuardCondition(participant)
-        self._waitset.attach(reader)
+        self._data = ReadCondition(reader, _ANY)
+        self._waitset.attach(self._data)
         self._waitset.attach(self._stop)
         self._thread = threading.Thread(
             target=self._run, name=f"posekit-dds {self.info.topic}", daemon=True)
@@ -288,14 +312,12 @@ class _Subscription(SubscriptionEndpoint):
     def _run(self) -> None:
         reader = self.reader
         assert reader is not None
-        ref = reader._ref
+        ref, wait, timeout = reader._ref, self._waitset.wait, duration(seconds=1)
         while self.alive:
             try:
-                self._waitset.wait(duration(seconds=1))
+                wait(timeout)
                 if not self.alive:
                     return
-                if reader.take_status(DDSStatus.RequestedIncompatibleQos):
-                    self._report_incompatible(reader)
                 self._drain(ref)
             except Exception as exc:  # keep delivering whatever arrives
                 if not self.alive:
@@ -333,7 +355,8 @@ class _Subscription(SubscriptionEndpoint):
         else:
             self._sink(msg)
 
-    def _report_incompatible(self, reader: DataReader[Any]) -> None:
+    def report_incompatible(self, reader: DataReader[Any]) -> None:
+        """Log (once per policy) that a publisher offers less than this subscription wants."""
         status = reader.get_requested_incompatible_qos_status()  # type: ignore[no-untyped-call]
         policy = _POLICY_NAMES.get(int(getattr(status, "last_policy_id", 0)), "UNKNOWN")
         self.warn_once(
@@ -398,6 +421,8 @@ class DdsTransport(Transport):
         self._publishers: list[_Publisher] = []
         self._subscriptions: list[_Subscription] = []
         self._warned_types: set[tuple[str, str, str]] = set()
+        # Peers choose what they announce: graph warnings are rate-limited per reason.
+        self._warn_graph = RateLimitedLog(_log.warning)
         # graph state
         self._changed = threading.Condition(self._lock)
         self._generation = 0
@@ -501,11 +526,15 @@ class DdsTransport(Transport):
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
             writer = DataWriter(self.participant, topic, endpoint_qos(
-                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=True))
+                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=True,
+                remote_only=info.remote_only))
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)
             raise
         pub = _Publisher(self, info, ros_type, writer)
+        # the graph thread reports subscriptions that want more than this writer offers
+        writer.set_status_mask(DDSStatus.OfferedIncompatibleQos)
+        self._waitset.attach(writer)
         with self._lock:
             node.writer_gids.append(pub.gid)
             self._publishers.append(pub)
@@ -531,8 +560,10 @@ class DdsTransport(Transport):
         sub = _Subscription(self, info, ros_type, sink, sourced)
         try:
             reader = DataReader(self.participant, topic, endpoint_qos(
-                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=False))
+                info.qos, user_data_type_hash(ros_type, type_hash(ros_type)), writer=False,
+                remote_only=info.remote_only))
             sub.start(self.participant, reader)
+            self._waitset.attach(reader)  # incompatible-QoS reports (graph thread)
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)
             raise
@@ -558,6 +589,10 @@ class DdsTransport(Transport):
                 self._subscriptions.remove(endpoint)
             closed = self._closed
         if not closed:
+            try:
+                self._waitset.detach(entity)
+            except Exception as exc:  # not attached (or already gone)
+                _log.debug("detaching %r: %s", entity, exc)
             _delete(entity)
         self._release_node(info.node_namespace, info.node_name)
         self._publish_graph()
@@ -569,12 +604,26 @@ class DdsTransport(Transport):
                 self._waitset.wait(duration(seconds=1))
                 if self._closed:
                     return
+                self._check_incompatible_qos()
                 self._refresh()
             except Exception as exc:  # keep the graph alive whatever a peer announces
                 if self._closed:
                     return
-                _log.warning("DDS graph update failed: %s: %s", type(exc).__name__, exc)
+                self._warn_graph("DDS graph update failed", f"{type(exc).__name__}: {exc}")
                 time.sleep(0.1)
+
+    def _check_incompatible_qos(self) -> None:
+        with self._lock:
+            publishers = list(self._publishers)
+            subscriptions = list(self._subscriptions)
+        for pub in publishers:
+            if pub.alive and pub.writer.take_status(DDSStatus.OfferedIncompatibleQos):
+                pub.report_incompatible()
+        for sub in subscriptions:
+            reader = sub.reader
+            if sub.alive and reader is not None and reader.take_status(
+                    DDSStatus.RequestedIncompatibleQos):
+                sub.report_incompatible(reader)
 
     def _refresh(self) -> None:
         changed = False
@@ -596,7 +645,7 @@ class DdsTransport(Transport):
             try:
                 announced.append(decode_participant_entities(data))
             except CdrError as exc:
-                _log.warning("ignoring an undecodable ros_discovery_info sample: %s", exc)
+                self._warn_graph("ignoring an undecodable ros_discovery_info sample", str(exc))
         with self._lock:
             for part in announced:
                 if self._remote.get(part.gid) != part:
@@ -629,6 +678,8 @@ class DdsTransport(Transport):
             tag = (dds_topic, wanted, other)
             if tag in self._warned_types:
                 continue
+            if len(self._warned_types) >= _MAX_WARNED_TYPES:  # peers pick the type names
+                self._warned_types.clear()
             self._warned_types.add(tag)
             try:
                 shown = ros_type_name(other)

@@ -877,6 +877,7 @@ class WireServiceClient:
         self.service = service
         self.srv_type = srv_type
         self.srv_name: str = srv_type.__srvtype__
+        self.type_hash = type_hash(self.srv_name)
         self.qos = qos
         self.key = data_key(owner.domain_id, service, self.srv_name)
         self.entity_id = owner.next_entity_id()
@@ -1017,6 +1018,11 @@ class ZenohGraph:
         """Servers announced for ``service``."""
         with self._cond:
             return self.cache.endpoints(service, EntityKind.SERVICE)
+
+    def clients(self, service: str) -> list[TokenInfo]:
+        """Clients announced for ``service``."""
+        with self._cond:
+            return self.cache.endpoints(service, EntityKind.CLIENT)
 
     def service_names_and_types(self) -> list[tuple[str, list[str]]]:
         """Services (with a server or a client) and their types, sorted."""

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import os
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -168,6 +169,7 @@ class _Client(ServiceClientEndpoint):
         self._owner = owner
         self.info = info
         self.wire: WireServiceClient | None = wire
+        self._warned = False
 
     def send_request(self, request: Any, on_response: ResponseSink) -> None:
         if self.wire is None:
@@ -176,7 +178,23 @@ class _Client(ServiceClientEndpoint):
 
     @property
     def server_count(self) -> int:
-        return len(self._owner._graph.services(self.info.service))
+        """Servers of this service *with this client's type and type hash* (a request only
+        reaches those: the hash is part of the key); others are reported once."""
+        wire = self.wire
+        if wire is None:
+            return 0
+        servers = self._owner._graph.services(self.info.service)
+        matching = [t for t in servers if t.ros_type == wire.srv_name and (
+            t.type_hash == wire.type_hash)]
+        if len(matching) < len(servers) and not self._warned:
+            self._warned = True
+            other = next(t for t in servers if t not in matching)
+            self.info.logger.warning(
+                f"a server of '{self.info.service}' on node '{other.node_fqn}' offers "
+                f"{other.ros_type} ({other.type_hash}), not {wire.srv_name} ({wire.type_hash}): "
+                "requests do not reach it"
+            )
+        return len(matching)
 
     def destroy(self) -> None:
         if self.wire is not None:
@@ -264,9 +282,18 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        with_info = bool(getattr(getattr(sink, "__self__", None), "wants_message_info", False))
+
         def deliverer(endpoint: _Subscription) -> Callable[[Any, Attachment], None]:
-            def deliver(msg: Any, _att: Attachment) -> None:
-                if endpoint.alive:
+            def deliver(msg: Any, att: Attachment) -> None:
+                if not endpoint.alive:
+                    return
+                if with_info:  # rclpy's MessageInfo from rmw_zenoh's attachment
+                    sink(msg, {"source_timestamp": att.source_timestamp,  # type: ignore[call-arg]
+                               "received_timestamp": time.time_ns(),
+                               "publication_sequence_number": att.sequence_number,
+                               "reception_sequence_number": 0})
+                else:
                     sink(msg)
 
             return deliver
@@ -373,6 +400,12 @@ class ZenohTransport(Transport):
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
         return self._graph.service_names_and_types()
+
+    def count_services(self, service: str) -> int:
+        return len(self._graph.services(service))
+
+    def count_clients(self, service: str) -> int:
+        return len(self._graph.clients(service))
 
     def get_service_names_and_types_by_node(
         self, node_name: str, node_namespace: str

@@ -69,7 +69,7 @@ from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
 from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.access import host_allowed, own_hosts
-from posekit.viewer.errors import ViewerError
+from posekit.viewer.errors import ViewerError, ViewerOptionError
 from posekit.viewer.images import encode_jpeg
 from posekit.viewer.taps import GOAL_TOPIC, ViewerTap
 from posekit.viewer.world import world_payload
@@ -190,15 +190,15 @@ class ViewerServer:
         discover_world: bool | None = None,
     ) -> None:
         if not 0 < tf_rate <= _MAX_TF_RATE:
-            raise ValueError(f"tf_rate must be in (0, {_MAX_TF_RATE:g}] Hz, got {tf_rate}")
+            raise ViewerOptionError(f"tf_rate must be in (0, {_MAX_TF_RATE:g}] Hz, got {tf_rate}")
         if not image_rate > 0:
-            raise ValueError(f"image_rate must be > 0 Hz, got {image_rate}")
+            raise ViewerOptionError(f"image_rate must be > 0 Hz, got {image_rate}")
         if not 0 <= jpeg_quality <= 100:
-            raise ValueError(f"jpeg_quality must be in [0, 100], got {jpeg_quality}")
+            raise ViewerOptionError(f"jpeg_quality must be in [0, 100], got {jpeg_quality}")
         if not 0 <= port <= 65535:
-            raise ValueError(f"port must be in [0, 65535], got {port}")
+            raise ViewerOptionError(f"port must be in [0, 65535], got {port}")
         if not fps > 0:
-            raise ValueError(f"fps must be > 0, got {fps}")
+            raise ViewerOptionError(f"fps must be > 0, got {fps}")
         self.tap = tap
         self.host = host
         self.port = port

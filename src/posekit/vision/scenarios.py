@@ -3,8 +3,9 @@
 =============================  ==============================================================
 name                           nodes
 =============================  ==============================================================
-``aruco_box_camera_world``     ROSbot in aruco_box_camera_world and ``overhead_camera`` (image,
-                               CameraInfo, its static frames): the world alone, for your
+``aruco_box_camera_world``     ROSbot (with ``oak_camera``) in aruco_box_camera_world and
+                               ``overhead_camera`` (image, CameraInfo, its static frames):
+                               the world alone, for your
                                own detector (``rosbot_gazebo aruco_box_camera_world.launch.py``)
 ``aruco_box_world``            ROSbot standing in aruco_box_world and ``oak_camera``: the
                                world alone (``rosbot_gazebo aruco_box_world.launch.py``)
@@ -117,6 +118,9 @@ def _overhead_world(params: Mapping[str, Any], seed: int) -> list[Node]:
     return [
         *_robot(params, seed, "aruco_box_camera_world", world_statics=False),
         scenario_node(OverheadCameraNode, "overhead_camera",
+                      {"world": "aruco_box_camera_world", "seed": seed}, params),
+        # The robot's own camera too (it renders only while someone subscribes).
+        scenario_node(OakCameraNode, "oak_camera",
                       {"world": "aruco_box_camera_world", "seed": seed}, params),
     ]
 

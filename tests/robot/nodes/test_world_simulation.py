@@ -282,3 +282,129 @@ def test_future_stamped_commands_are_rejected_with_one_warning_and_the_robot_sto
             if m.header.stamp.sec + m.header.stamp.nanosec / 1e9 >= 1.0 + 0.5 + 0.5 + 0.05]
     assert late
     assert all(m.twist.twist.linear.x == 0.0 for m in late)
+
+
+def _tf_listener_beside(world, ctx, executor) -> tuple[Node, Buffer]:
+    """A node with a tf2 Buffer and TransformListener, added with ``world`` to ``executor``."""
+    listener_node = Node("listener", context=ctx, parameter_overrides=SIM)
+    buffer = Buffer()
+    TransformListener(buffer, listener_node)
+    for n in (world, listener_node):
+        executor.add_node(n)
+    return listener_node, buffer
+
+
+def test_scan_on_the_bus_is_lazy_framed_in_tf_and_sees_the_box_ahead(ctx, executor) -> None:
+    """/scan: nothing is cast while nobody subscribes (counted calls); with a subscriber,
+    10 Hz scans in frame ``laser``, whose static transform the TF tree carries, and the beam
+    looking forward reads the closed-form distance to the box face at x = 2.0 (laser at
+    x = 0.02) within 5 sigma of the S2's noise."""
+    from posekit.msgs.sensor_msgs import LaserScan
+    from posekit.robot.description import T_base_frame
+
+    world = WorldSimulation(
+        context=ctx, parameter_overrides={**SIM, "world": "aruco_box_world", "seed": 2}
+    )
+    calls = []
+    real_scan = world.lidar.scan
+    world.lidar.scan = lambda *a: calls.append(a) or real_scan(*a)  # type: ignore[method-assign]
+    listener_node, buffer = _tf_listener_beside(world, ctx, executor)
+    executor.run_until(1.0)
+    assert calls == []
+    scans: list[LaserScan] = []
+    listener_node.create_subscription(LaserScan, "scan", scans.append, 10)
+    executor.run_until(2.0)
+    assert 9 <= len(scans) <= 11
+    assert len(calls) == len(scans)
+    assert [_t(s) for s in scans] == pytest.approx([1.1 + 0.1 * k for k in range(len(scans))])
+    msg = scans[-1]
+    assert msg.header.frame_id == "laser"
+    assert msg.ranges.shape == (3000,)
+    forward = int(np.argmin(np.abs(np.abs(np.asarray(msg.angle_min + msg.angle_increment
+                                                        * np.arange(3000))) - math.pi)))
+    assert msg.ranges[forward] == pytest.approx(2.0 - 0.02, abs=5 * 0.015)
+    t = buffer.lookup_transform("base_link", "laser", Time())
+    tr, q = t.transform.translation, t.transform.rotation
+    expected = T_base_frame("laser")
+    assert (tr.x, tr.y, tr.z) == pytest.approx(tuple(expected.translation), abs=1e-12)
+    assert abs(q.z) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_robot_description_is_latched_and_matches_the_tf_tree(ctx, executor) -> None:
+    """/robot_description reaches a subscriber that joins late (TRANSIENT_LOCAL depth 1); its
+    URDF, parsed with xml.etree and each joint's origin turned into a matrix with scipy,
+    gives the same transform as posekit's tf2 Buffer fed from /tf_static and /tf, for every
+    joint, and names exactly the frames the TF tree has."""
+    import xml.etree.ElementTree as ET
+
+    from scipy.spatial.transform import Rotation as ScipyRotation
+
+    from posekit.msgs.std_msgs import String
+    from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
+
+    world = WorldSimulation(context=ctx, parameter_overrides=SIM)
+    listener_node, buffer = _tf_listener_beside(world, ctx, executor)
+    executor.run_until(0.5)
+    got: list[String] = []
+    latched = QoSProfile(
+        depth=1, history=HistoryPolicy.KEEP_LAST, durability=DurabilityPolicy.TRANSIENT_LOCAL
+    )
+    listener_node.create_subscription(String, "/robot_description", got.append, latched)
+    executor.run_until(1.0)
+    assert len(got) == 1
+    robot = ET.fromstring(got[0].data)
+    assert robot.tag == "robot"
+    joints = robot.findall("joint")
+    links = {link.get("name") for link in robot.findall("link")}
+    assert links == set(buffer.get_all_frame_names()) - {"odom"} | {"base_link"}
+    assert len(joints) == len(links) - 1  # a tree rooted at base_link
+    for joint in joints:
+        parent = joint.find("parent").get("link")
+        child = joint.find("child").get("link")
+        origin = joint.find("origin")
+        xyz = [float(v) for v in origin.get("xyz").split()]
+        rpy = [float(v) for v in origin.get("rpy").split()]
+        T = buffer.lookup_transform(parent, child, Time())
+        tr, q = T.transform.translation, T.transform.rotation
+        assert (tr.x, tr.y, tr.z) == pytest.approx(xyz, abs=1e-12), joint.get("name")
+        expected = ScipyRotation.from_euler("xyz", rpy)
+        actual = ScipyRotation.from_quat([q.x, q.y, q.z, q.w])
+        if joint.get("type") == "fixed":
+            assert (expected.inv() * actual).magnitude() < 1e-9, joint.get("name")
+        else:
+            assert joint.get("type") == "continuous"
+            axis = [float(v) for v in joint.find("axis").get("xyz").split()]
+            assert axis == [0.0, 1.0, 0.0]
+            # Only the spin about the joint axis may differ from the origin's rotation.
+            rotvec = (expected.inv() * actual).as_rotvec()
+            assert abs(rotvec[0]) < 1e-9
+            assert abs(rotvec[2]) < 1e-9
+
+
+def test_contact_through_the_node_truth_stops_wheels_turn(ctx, executor, tmp_path) -> None:
+    """Driving at a solid box: ground truth stops at the face minus the robot's half length
+    (closed form, docs/robot.md "Contact"); /joint_states keep advancing at the commanded
+    wheel speed, so wheel odometry (integrated from them here) runs on past the box."""
+    from posekit.robot.contact import ROBOT_HALF_EXTENTS
+    from posekit.robot.odometry import WheelOdometry
+
+    path = tmp_path / "wall.json"
+    path.write_text(json.dumps({"name": "wall", "boxes": [
+        {"name": "b", "model": "aruco_box", "pose": [1.25, 0.0, 0.25, 0.0, 0.0, 0.0]}]}))
+    world = WorldSimulation(
+        context=ctx,
+        parameter_overrides={**SIM, "world": str(path), "slip_enabled": False},
+    )
+    commander = _Commander(ctx, lambda t: (0.5, 0.0))
+    sink = _Sink(ctx)
+    for n in (world, commander, sink):
+        executor.add_node(n)
+    executor.run_until(6.0)
+    truth_x = [m.pose.pose.position.x for m in sink.truth]
+    assert truth_x[-1] == pytest.approx(1.0 - ROBOT_HALF_EXTENTS[0], abs=1e-6)
+    assert truth_x[-1] == truth_x[-20]  # at rest for the last second
+    odom = WheelOdometry()
+    for js in sink.joints:
+        odom.update(js.position[0], js.position[1], _t(js))
+    assert odom.x > 2.0  # the wheels never stopped
+    assert sink.joints[-1].velocity[0] > 10.0  # rad/s, still commanded

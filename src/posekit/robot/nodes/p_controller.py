@@ -14,6 +14,15 @@ Parameters (course names and node defaults): ``k_rho`` (0.4), ``k_alpha`` (0.8),
 ``goal_yaw`` (0.0; the course's launch file sets 5.0, 5.0, pi/2). Velocity clamps are the
 course's fixed ±0.5 m/s and ±1.0 rad/s.
 
+Action ``navigate_to_pose`` (``posekit_interfaces/action/NavigateToPose``; on transports with
+services, i.e. not DDS): a goal pose in
+``odom`` (or with an empty frame) becomes the controller's goal; every tick publishes feedback
+with the remaining distance ``rho`` (m); the goal succeeds when both tolerances are met, with
+the final distance as result. A cancel request stops the robot (one zero twist, then the
+controller idles) and ends the goal as canceled; a newer goal (action, ``goal_pose`` or goal
+parameters) aborts the running one. Goals in other frames or with non-finite values are
+rejected.
+
 Every parameter is live, as the lecture's tip needs ("increase ``k_rho`` to 1.0 ..."):
 ``posekit param set /p_controller k_rho 1.0`` (or ``ros2 param set``) changes the gains and
 tolerances from the next tick on; a new ``goal_x``/``goal_y``/``goal_yaw`` replaces the goal as
@@ -28,12 +37,15 @@ from typing import Any
 
 from posekit.msgs.geometry_msgs import PoseStamped, Twist, TwistStamped, Vector3
 from posekit.msgs.nav_msgs import Odometry
+from posekit.msgs.posekit_interfaces import NavigateToPose
 from posekit.msgs.std_msgs import Bool, Header
-from posekit.robot.kinematics import yaw_from_quaternion_xyzw
+from posekit.robot.kinematics import wrap_angle, yaw_from_quaternion_xyzw
 from posekit.robot.nodes._util import declare, stamp_msg
 from posekit.robot.p_controller import PController, PControllerParams, Phase
+from posekit.runtime.action import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter, SetParametersResult
+from posekit.runtime.task import Future
 
 __all__ = ["PControllerNode"]
 
@@ -79,6 +91,16 @@ class PControllerNode(Node):
         self.create_subscription(PoseStamped, "goal_pose", self._on_goal, 10)
         self._now_ns = self.get_clock().now_ns
         self.create_timer(1.0 / params.rate_hz, self._on_tick)
+        # The running navigate_to_pose goal and the future its execute callback awaits
+        # ("reached", "canceled" or "preempted"), completed by the control tick.
+        self._action_goal: tuple[ServerGoalHandle, Future] | None = None
+        self._last_rho = 0.0
+        #: The navigate_to_pose server (None on a transport without services, e.g. DDS).
+        self.navigate_action = ActionServer(
+            self, NavigateToPose, "navigate_to_pose", self._execute_goal,
+            goal_callback=self._check_goal,
+            cancel_callback=lambda _handle: CancelResponse.ACCEPT,
+        ) if self.transport.supports_services else None
         self.add_on_set_parameters_callback(self._check_params)
         self.add_post_set_parameters_callback(self._apply_params)
         goal = self.controller.goal
@@ -110,9 +132,66 @@ class PControllerNode(Node):
             self.controller.set_goal(new.goal_x, new.goal_y, new.goal_yaw)
             self.goal_reached_ns = None
             self._phase = Phase.IDLE
+            self._end_action_goal("preempted")
         self.get_logger().info(
             "Parameters updated: " + ", ".join(f"{k}={v:g}" for k, v in sorted(changes.items()))
         )
+
+    # -- navigate_to_pose action -----------------------------------------------------------
+    def _check_goal(self, goal: Any) -> GoalResponse:
+        frame = goal.pose.header.frame_id
+        x, y, yaw = _pose_of(goal.pose.pose)
+        if frame not in ("", "odom") or not all(math.isfinite(v) for v in (x, y, yaw)):
+            self.get_logger().warning(
+                f"Rejecting navigate_to_pose goal ({x}, {y}, {yaw}) in frame '{frame}': "
+                "goals must be finite and in 'odom'"
+            )
+            return GoalResponse.REJECT
+        return GoalResponse.ACCEPT
+
+    def _end_action_goal(self, outcome: str) -> None:
+        if self._action_goal is not None:
+            _, done = self._action_goal
+            self._action_goal = None
+            done.set_result(outcome)
+
+    async def _execute_goal(self, goal_handle: ServerGoalHandle) -> Any:
+        x, y, yaw = _pose_of(goal_handle.request.pose.pose)
+        self._end_action_goal("preempted")
+        # set directly: (0, 0, 0) is a real place here, not set_goal's "no goal"
+        self.controller.goal = (x, y, wrap_angle(yaw))
+        self.controller.goal_reached = False
+        self.goal_reached_ns = None
+        self._phase = Phase.IDLE
+        self.get_logger().info(f"navigate_to_pose goal: x={x:.2f}, y={y:.2f}, yaw={yaw:.2f}")
+        done = Future()
+        self._action_goal = (goal_handle, done)
+        outcome = await done
+        if outcome == "reached":
+            goal_handle.succeed()
+        elif outcome == "canceled":
+            goal_handle.canceled()
+        else:
+            goal_handle.abort()
+        return NavigateToPose.Result(distance_remaining=self._last_rho)
+
+    def _action_tick(self, rho: float, just_reached: bool) -> bool:
+        """Feedback, cancel and success of the running goal; True when it was cancelled
+        (the tick then stops the robot instead of commanding)."""
+        if self._action_goal is None:
+            return False
+        handle, _ = self._action_goal
+        self._last_rho = rho
+        if handle.is_cancel_requested:
+            self.controller.goal = None
+            self._phase = Phase.IDLE
+            self._end_action_goal("canceled")
+            self.get_logger().info(f"navigate_to_pose canceled {rho:.2f} m from the goal")
+            return True
+        handle.publish_feedback(NavigateToPose.Feedback(distance_remaining=rho))
+        if just_reached:
+            self._end_action_goal("reached")
+        return False
 
     def _on_odom(self, msg: Odometry) -> None:
         self._pose = _pose_of(msg.pose.pose)
@@ -131,6 +210,7 @@ class PControllerNode(Node):
         self.controller.set_goal(x, y, yaw)
         self.goal_reached_ns = None
         self._phase = Phase.IDLE
+        self._end_action_goal("preempted")
         self.get_logger().info(f"New goal: x={x:.2f}, y={y:.2f}, yaw={yaw:.2f}")
 
     def _on_tick(self) -> None:
@@ -138,7 +218,9 @@ class PControllerNode(Node):
             return
         x, y, yaw = self._pose
         out = self.controller.compute(x, y, yaw)
-        if not out.publish:
+        if self._action_tick(out.rho, out.just_reached):
+            out = dataclasses.replace(out, v=0.0, omega=0.0, just_reached=False)  # stop
+        elif not out.publish:
             return
         now_ns = self._now_ns()
         # Positional fields in ROS order (header, twist = (linear, angular)): fastest.

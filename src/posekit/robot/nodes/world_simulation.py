@@ -12,6 +12,11 @@ topic                      type                        content
 ``imu/data``               sensor_msgs/Imu             frame ``imu_link``, 25 Hz, course noise
 ``ground_truth/odom``      nav_msgs/Odometry           true pose of base_link in ``odom`` (tests,
                                                        viewer; never used by the controllers)
+``scan``                   sensor_msgs/LaserScan       frame ``laser``, 10 Hz, 3000 beams, the
+                                                       world's boxes and walls (only while
+                                                       subscribed)
+``/robot_description``     std_msgs/String             the URDF, once, KEEP_LAST 1 TRANSIENT_LOCAL
+                                                       (latched, as robot_state_publisher)
 ``/tf_static``             tf2_msgs/TFMessage          robot's fixed frames + the world's statics
 ``/tf``                    tf2_msgs/TFMessage          ``body_link -> *_wheel_link`` (wheel spin)
 =========================  ==========================  ==========================================
@@ -44,7 +49,10 @@ Parameters (controller names as the course's ``controllers.yaml``; *posekit* one
 ``imu_rate`` (25.0), ``joint_states_rate`` (20.0; Gazebo's joint_state_broadcaster runs at
 100 Hz, see docs/robot.md), ``ground_truth_rate`` (20.0), ``ground_truth_frame_id``
 (``odom``), ``slip_enabled`` (true), ``encoder_quantize`` (false),
-``publish_world_static_transforms`` (true).
+``publish_world_static_transforms`` (true), ``lidar_rate`` (10.0), ``contact`` (true: the
+world's boxes with ``collision`` stop the robot's body, see :mod:`posekit.robot.contact`).
+The LiDAR model and its sources are in :mod:`posekit.robot.lidar`; a scan is computed only
+when ``scan`` has a subscriber, and its noise depends on the seed and the scan time only.
 """
 
 from __future__ import annotations
@@ -52,17 +60,29 @@ from __future__ import annotations
 from collections import deque
 from typing import Any
 
+import numpy as np
+
+from posekit.geometry import Rotation, Transform
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
-from posekit.msgs.sensor_msgs import Imu, JointState
+from posekit.msgs.sensor_msgs import Imu, JointState, LaserScan
+from posekit.msgs.std_msgs import String
 from posekit.robot._msgutil import covariance_from_diagonal, yaw_quaternion
-from posekit.robot.description import static_transforms, wheel_transforms
+from posekit.robot.contact import Contact
+from posekit.robot.description import (
+    T_base_frame,
+    robot_description_urdf,
+    static_transforms,
+    wheel_transforms,
+)
 from posekit.robot.drive import CommandResult, RosbotBase
 from posekit.robot.encoders import WheelEncoders
 from posekit.robot.headless import sub_seeds
 from posekit.robot.imu import ImuModel
 from posekit.robot.kinematics import wrap_angle
+from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
 from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns, stamp_msg
+from posekit.robot.obstacles import BoxObstacles, WallSegments
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -73,10 +93,14 @@ from posekit.robot.params import (
 )
 from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 
 __all__ = ["MAX_KEPT_REJECTIONS", "WorldSimulation"]
+
+#: Mixed with the run seed to give the LiDAR its own noise stream.
+_LIDAR_STREAM = 0x5CA2
 
 #: Rejected /cmd_vel messages kept in :attr:`WorldSimulation.rejected` (the newest ones).
 MAX_KEPT_REJECTIONS = 100
@@ -131,6 +155,8 @@ class WorldSimulation(Node):
         slip = SlipParams(enabled=bool(declare(self, "slip_enabled", True)))
         encoders = EncoderParams(quantize=bool(declare(self, "encoder_quantize", False)))
         publish_world_statics = bool(declare(self, "publish_world_static_transforms", True))
+        lidar_rate = float(declare(self, "lidar_rate", DEFAULT_LIDAR.rate_hz))
+        contact_enabled = bool(declare(self, "contact", True))
 
         #: The loaded world (WorldError from the loader names the problem).
         self.world: World = load_world(world_name)
@@ -139,13 +165,34 @@ class WorldSimulation(Node):
         self._n_imu = _ticks(imu_rate, self._period_ns, "imu_rate")
         self._n_joints = _ticks(joint_states_rate, self._period_ns, "joint_states_rate")
         self._n_truth = _ticks(ground_truth_rate, self._period_ns, "ground_truth_rate")
+        self._n_lidar = _ticks(lidar_rate, self._period_ns, "lidar_rate")
 
         slip_seed, imu_seed, _ = sub_seeds(seed)
         sx, sy, syaw = self.world.spawn
         #: The simulated base (ground truth and wheel joints).
-        self.base = RosbotBase(drive, slip, seed=slip_seed, x=sx, y=sy, yaw=syaw)
+        solid = [b.collision for b in self.world.boxes] + [w.collision for w in self.world.walls]
+        contact = (
+            Contact(
+                BoxObstacles.from_world(self.world, collision_only=True),
+                WallSegments.from_world(self.world, collision_only=True),
+            )
+            if contact_enabled and any(solid)
+            else None
+        )
+        self.base = RosbotBase(
+            drive, slip, seed=slip_seed, x=sx, y=sy, yaw=syaw, contact=contact
+        )
         self._encoders = WheelEncoders(encoders)
         self._imu = ImuModel(ImuParams(rate_hz=imu_rate), seed=imu_seed)
+        lidar_seed = int(np.random.SeedSequence([seed, _LIDAR_STREAM]).generate_state(1)[0])
+        #: The simulated LiDAR (its obstacles are every box of the world).
+        self.lidar = Lidar(
+            BoxObstacles.from_world(self.world),
+            LidarParams(rate_hz=lidar_rate),
+            seed=lidar_seed,
+            walls=WallSegments.from_world(self.world),
+        )
+        self._T_base_laser = T_base_frame(self.lidar.params.frame_id)
         #: ``(t_ns, reason)`` of the last :data:`MAX_KEPT_REJECTIONS` rejected /cmd_vel
         #: messages (a peer can send any number); :attr:`rejected_count` counts them all.
         self.rejected: deque[tuple[int, str]] = deque(maxlen=MAX_KEPT_REJECTIONS)
@@ -160,6 +207,7 @@ class WorldSimulation(Node):
         self._joint_pub = self.create_publisher(JointState, "joint_states", 10)
         self._imu_pub = self.create_publisher(Imu, "imu/data", 10)
         self._truth_pub = self.create_publisher(Odometry, "ground_truth/odom", 10)
+        self._scan_pub = self.create_publisher(LaserScan, "scan", 10)
         self._tf = TransformBroadcaster(self)
         self._tf_static = StaticTransformBroadcaster(self)
 
@@ -171,6 +219,12 @@ class WorldSimulation(Node):
         if publish_world_statics:
             statics += self._world_static_transforms(self._sim_ns)
         self._tf_static.sendTransform(statics)
+        # robot_state_publisher's /robot_description: latched for late joiners.
+        latched = QoSProfile(
+            depth=1, history=HistoryPolicy.KEEP_LAST, durability=DurabilityPolicy.TRANSIENT_LOCAL
+        )
+        self._description_pub = self.create_publisher(String, "/robot_description", latched)
+        self._description_pub.publish(String(data=robot_description_urdf()))
 
         # Reused message objects: the bus copies on publish, so editing them later is safe.
         self._truth_msg = Odometry()
@@ -184,6 +238,7 @@ class WorldSimulation(Node):
             (self._n_imu, self._publish_imu),
             (self._n_joints, self._publish_joints),
             (self._n_truth, self._publish_truth),
+            (self._n_lidar, self._publish_scan),
         ):
             outputs.setdefault(n * self._period_ns, []).append(publish)
         for out_period_ns, publishers in sorted(outputs.items()):
@@ -286,6 +341,22 @@ class WorldSimulation(Node):
         msg.twist.twist.linear.x = v
         msg.twist.twist.angular.z = w
         self._truth_pub.publish(msg)
+
+    def _publish_scan(self, now_ns: int) -> None:
+        if not self._scan_pub.get_subscription_count():
+            return  # lazy: no subscriber, no ray casting
+        msg = self.laser_scan(now_ns)
+        self._scan_pub.publish_transfer(msg)  # fresh: no copy
+
+    def laser_scan(self, t_ns: int) -> LaserScan:
+        """The LaserScan of the robot's current true pose, stamped ``t_ns``."""
+        x, y, yaw = self.base.pose
+        T_world_base = Transform(Rotation.from_rpy(0.0, 0.0, yaw), (x, y, 0.0))
+        scan_index = round(t_ns / (self._n_lidar * self._period_ns))
+        ranges = self.lidar.scan(T_world_base * self._T_base_laser, scan_index)
+        msg = self.lidar.to_msg(ranges)
+        msg.header.stamp = stamp_msg(t_ns)
+        return msg
 
     @property
     def true_pose(self) -> tuple[float, float, float]:

@@ -1,0 +1,207 @@
+"""Service round trips (std_srvs/SetBool): posekit vs the real rclpy in the same run.
+
+Run: ``.venv/bin/python benchmarks/services.py`` (``--quick`` for a short run; needs the
+reference venv from ``make ros2-ref`` for the rclpy rows). Figures are in
+docs/performance.md.
+
+Every mode makes ``N`` sequential calls (the next request after the previous response) and
+reports the median and p90 round-trip time per call:
+
+* ``posekit inprocess``: server and client nodes in one ``SingleThreadedExecutor``;
+  ``call_async`` + ``spin_until_future_complete`` (bus snapshots, executor queues).
+* ``rclpy inprocess``: the same script under the real ROS 2 Jazzy rclpy (Fast DDS, one
+  process, loopback discovery): the reference for the in-process row.
+* ``posekit zenoh``: the same nodes on two Zenoh sessions (two contexts) in one process,
+  server executor in its own thread, the client calling ``Client.call`` (CDR, queryable,
+  attachments, executor hand-offs).
+* ``raw zenoh``: a plain zenoh queryable answering fixed CDR bytes and a plain ``get``: the
+  floor for Python + zenoh on this machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+ROS2_PYTHON = REPO / ".venv-ros2" / "bin" / "python"
+
+INPROCESS = """
+import json, time
+{imports}
+rclpy.init()
+server = Node("bench_server")
+server.create_service(SetBool, "flip", lambda q, r: SetBool.Response(success=not q.data))
+client_node = Node("bench_client")
+client = client_node.create_client(SetBool, "flip")
+ex = SingleThreadedExecutor()
+ex.add_node(server)
+ex.add_node(client_node)
+assert client.wait_for_service(timeout_sec=10.0)
+times = []
+for i in range({n} + 50):
+    t0 = time.perf_counter()
+    f = client.call_async(SetBool.Request(data=bool(i % 2)))
+    ex.spin_until_future_complete(f, timeout_sec=10.0)
+    assert f.result().success == (not bool(i % 2))
+    times.append(time.perf_counter() - t0)
+print(json.dumps(times[50:]))
+rclpy.shutdown()
+"""
+
+ROS_IMPORTS = """import rclpy
+from rclpy.node import Node
+from rclpy.executors import SingleThreadedExecutor
+from std_srvs.srv import SetBool"""
+
+POSEKIT_IMPORTS = """from posekit import rclpy
+from posekit.rclpy.node import Node
+from posekit.rclpy.executors import SingleThreadedExecutor
+from posekit.msgs.std_srvs import SetBool"""
+
+
+def _stats(times: list[float]) -> dict[str, float]:
+    ordered = sorted(times)
+    return {
+        "n": len(times),
+        "median_us": statistics.median(ordered) * 1e6,
+        "p90_us": ordered[int(0.9 * (len(ordered) - 1))] * 1e6,
+    }
+
+
+def _run_script(python: str, source: str, env: dict[str, str]) -> list[float]:
+    proc = subprocess.run([python, "-c", textwrap.dedent(source)], capture_output=True,
+                          text=True, env=env, timeout=300)
+    if proc.returncode != 0:
+        raise RuntimeError(proc.stderr[-2000:])
+    times: list[float] = json.loads(proc.stdout.strip().splitlines()[-1])
+    return times
+
+
+def posekit_inprocess(n: int) -> list[float]:
+    env = dict(os.environ, POSEKIT_TRANSPORT="inprocess")
+    return _run_script(sys.executable, INPROCESS.format(imports=POSEKIT_IMPORTS, n=n), env)
+
+
+def rclpy_inprocess(n: int) -> list[float] | None:
+    if not ROS2_PYTHON.exists():
+        return None
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(("ROS_", "RMW_", "POSEKIT_", "PYTHON"))}
+    env.update(ROS_DOMAIN_ID="177", ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+               RMW_IMPLEMENTATION="rmw_fastrtps_cpp")
+    return _run_script(str(ROS2_PYTHON), INPROCESS.format(imports=ROS_IMPORTS, n=n), env)
+
+
+def _free_endpoint() -> str:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return f"tcp/127.0.0.1:{s.getsockname()[1]}"
+
+
+def posekit_zenoh(n: int) -> list[float]:
+    from posekit.msgs.std_srvs import SetBool
+    from posekit.runtime.context import Context
+    from posekit.runtime.executors import SingleThreadedExecutor
+    from posekit.runtime.node import Node
+    from posekit.transport.zenoh_session import SessionOptions
+    from posekit.transport.zenoh_transport import ZenohTransport
+
+    options = SessionOptions(router_endpoint=_free_endpoint())
+    server_ctx, client_ctx = Context(), Context()
+    server_ctx.init()
+    client_ctx.init()
+    try:
+        server = Node("bench_server", context=server_ctx, transport=ZenohTransport(options))
+        server.create_service(SetBool, "flip", lambda q, r: SetBool.Response(success=not q.data))
+        ex = SingleThreadedExecutor(context=server_ctx)
+        ex.add_node(server)
+        spinner = threading.Thread(target=ex.spin, daemon=True)
+        spinner.start()
+        client_node = Node("bench_client", context=client_ctx, transport=ZenohTransport(options))
+        client = client_node.create_client(SetBool, "flip")
+        if not client.wait_for_service(timeout_sec=10.0):
+            raise RuntimeError("the server did not appear")
+        times = []
+        for i in range(n + 50):
+            t0 = time.perf_counter()
+            response = client.call(SetBool.Request(data=bool(i % 2)), timeout_sec=10.0)
+            if response is None or response.success == bool(i % 2):
+                raise RuntimeError(f"bad response {response!r}")
+            times.append(time.perf_counter() - t0)
+        return times[50:]
+    finally:
+        client_ctx.shutdown()
+        server_ctx.shutdown()
+
+
+def raw_zenoh(n: int) -> list[float]:
+    import zenoh
+
+    from posekit.transport.zenoh_session import SessionOptions, open_session
+
+    options = SessionOptions(router_endpoint=_free_endpoint())
+    a, b = open_session(options), open_session(options)
+    key = "0/flip/std_srvs::srv::dds_::SetBool_/RIHS01_bench"
+    reply = b"\x00\x01\x00\x00\x01\x00\x00\x00\x01\x00\x00\x00\x00"
+    attachment = bytes(33)
+    queryable = a.session.declare_queryable(
+        key, lambda q: q.reply(key, reply, attachment=attachment), complete=True
+    )
+    try:
+        times = []
+        for _ in range(n + 50):
+            t0 = time.perf_counter()
+            got = [r for r in b.session.get(key, payload=b"\x00\x01\x00\x00\x01",
+                                            attachment=attachment,
+                                            target=zenoh.QueryTarget.ALL_COMPLETE,
+                                            timeout=10.0) if r.ok is not None]
+            if not got:
+                raise RuntimeError("no reply")
+            times.append(time.perf_counter() - t0)
+        return times[50:]
+    finally:
+        queryable.undeclare()
+        b.close()
+        a.close()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("-n", type=int, default=None)
+    ns = parser.parse_args()
+    n = ns.n or (200 if ns.quick else 2000)
+    rows: dict[str, dict[str, float] | None] = {}
+    for name, fn in (("posekit inprocess", posekit_inprocess),
+                     ("rclpy inprocess", rclpy_inprocess),
+                     ("posekit zenoh", posekit_zenoh), ("raw zenoh", raw_zenoh)):
+        times = fn(n)
+        rows[name] = _stats(times) if times else None
+    for name, row in rows.items():
+        if row is None:
+            print(f"{name:<18} (skipped: no .venv-ros2)")
+        else:
+            print(f"{name:<18} n={row['n']:<5} median {row['median_us']:8.1f} us  "
+                  f"p90 {row['p90_us']:8.1f} us")
+    pk, ros = rows["posekit inprocess"], rows["rclpy inprocess"]
+    if pk and ros:
+        print(f"ratio posekit/rclpy in-process median: {pk['median_us'] / ros['median_us']:.4f} "
+              f"(rclpy {ros['median_us'] / pk['median_us']:.0f}x slower)")
+    pz, rz = rows["posekit zenoh"], rows["raw zenoh"]
+    if pz and rz:
+        print(f"ratio posekit/raw zenoh median: {pz['median_us'] / rz['median_us']:.2f}")
+
+
+if __name__ == "__main__":
+    main()
