@@ -200,6 +200,106 @@ def test_stale_frame_is_greyed_in_the_tree(page: Any, support: SimpleNamespace) 
                                  "r => r.classList.contains('stale')") is False
 
 
+def _label_rects(page: Any) -> dict[str, dict[str, float]]:
+    return dict(page.evaluate("""() => Object.fromEntries(
+        [...document.querySelectorAll('#tf-labels .tf-label:not([hidden])')].map(e => {
+          const r = e.getBoundingClientRect();
+          return [e.dataset.frame, {x: r.x, y: r.y, w: r.width, h: r.height}];
+        }))"""))
+
+
+def test_frame_names_do_not_overlap_though_the_frames_do(page: Any) -> None:
+    """Around the robot many frame origins project within a label's height of each other
+    (three.js's projection of the frames' poses); the names shown never overlap (the
+    labels' own rectangles in the page) and every robot frame keeps its name."""
+    def all_named() -> dict[str, dict[str, float]]:
+        rects = _label_rects(page)
+        return rects if set(rects) >= ROBOT_FRAMES else {}
+
+    rects = wait_for(all_named, what="a name for every robot frame")
+    assert debug(page, "labels().hidden") == 0
+    names = list(rects)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            ra, rb = rects[a], rects[b]
+            apart = (ra["x"] + ra["w"] <= rb["x"] or rb["x"] + rb["w"] <= ra["x"]
+                     or ra["y"] + ra["h"] <= rb["y"] or rb["y"] + rb["h"] <= ra["y"])
+            assert apart, f"labels {a} and {b} overlap: {ra} {rb}"
+    rows = {f[0]: f for f in debug(page, "tf.frames") if f[11]}
+    anchors = [page.evaluate(f"window.posekitViewer.project({r[2]}, {r[3]}, {r[4]})")
+               for name, r in rows.items() if name in ROBOT_FRAMES]
+    height = max(r["h"] for r in rects.values())
+    crowded = sum(
+        1 for i, a in enumerate(anchors) for b in anchors[i + 1:]
+        if abs(a["y"] - b["y"]) < height and abs(a["x"] - b["x"]) < 60
+    )
+    assert crowded > 0, "the robot's frames do not crowd: this test would prove nothing"
+
+
+def test_tf_display_per_frame_axes_names_and_marker_scale(page: Any,
+                                                          support: SimpleNamespace) -> None:
+    """RViz2's TF display: a frame's 'show' box hides its axes and name, its 'name' box only
+    the name; the marker scale grows the axes (more drawn pixels); stale names are grey."""
+    wait_for(lambda: "imu_link" in debug(page, "labels().frames"), what="imu_link drawn")
+    page.uncheck("#tf-tree input[data-kind='show'][data-frame='imu_link']")
+    page.uncheck("#tf-tree input[data-kind='name'][data-frame='body_link']")
+    time.sleep(0.3)
+    state = debug(page, "labels()")
+    assert "imu_link" not in state["frames"]
+    assert "imu_link" not in state["shown"]
+    assert "body_link" in state["frames"]
+    assert "body_link" not in state["shown"]
+    assert debug(page, "tfOptions") == {"hidden": ["imu_link"], "noName": ["body_link"],
+                                        "scale": 1}
+    # The boxes survive the tree's periodic rebuild.
+    time.sleep(0.7)
+    assert page.is_checked("#tf-tree input[data-kind='show'][data-frame='imu_link']") is False
+    page.click("#tf-show-all")
+    wait_for(lambda: {"imu_link", "body_link"} <= set(debug(page, "labels().shown")),
+             what="names back after 'show all'")
+
+    page.uncheck("#show-grid")
+    page.click("#pause")  # a still scene: only the marker scale changes between the pictures
+    time.sleep(0.3)
+    small = drawn_fraction(canvas_pixels(page, "#scene"))
+    page.fill("#marker-scale", "4")
+    time.sleep(0.3)
+    large = drawn_fraction(canvas_pixels(page, "#scene"))
+    page.fill("#marker-scale", "1")
+    page.click("#pause")
+    page.check("#show-grid")
+    assert large > small + 0.002, (small, large)
+
+    stale = support.STALE_FRAME
+    label = page.wait_for_selector(f"#tf-labels .tf-label.stale[data-frame='{stale}']",
+                                   state="attached", timeout=10000)
+    assert label is not None
+
+
+def test_clock_shows_sim_time_wall_time_and_the_real_time_factor(page: Any) -> None:
+    """The toolbar's clock: the run's sim time (the executor's), the wall time, and an RTF that
+    matches the sim/wall progress the page itself saw between two readings (the run is
+    paced to the wall clock, so close to 1)."""
+    first = wait_for(lambda: debug(page, "clock"), what="the clock state")
+    assert first["source"] == "executor"
+    assert first["rate_clock"] == "sim"
+    assert abs(first["wall"] - time.time()) < 5.0
+    assert page.is_visible("#clock")
+    wait_for(lambda: debug(page, "clock.wall") >= first["wall"] + 1.5, what="1.5 s of clock")
+    second = debug(page, "clock")
+    progress = (second["sim"] - first["sim"]) / (second["wall"] - first["wall"])
+    assert second["rtf"] is not None
+    assert second["rtf"] == pytest.approx(progress, abs=0.25)
+    assert 0.2 < second["rtf"] < 1.3
+    text = page.inner_text("#clock")
+    assert text.startswith("sim ")
+    assert " s · wall " in text
+    assert "RTF" in text
+    sim_shown = float(text.split()[1])
+    assert sim_shown == pytest.approx(second["sim"], abs=1.0)
+    assert page.inner_text("#topics-hz") == "Hz (sim)"
+
+
 def test_pause_stops_updates(page: Any) -> None:
     page.click("#pause")
     time.sleep(0.3)
@@ -208,6 +308,167 @@ def test_pause_stops_updates(page: Any) -> None:
     assert debug(page, "tfMessages") == count
     page.click("#pause")
     wait_for(lambda: debug(page, "tfMessages") > count, what="updates after resuming")
+
+
+def _magenta_pixels(image: np.ndarray) -> int:
+    """Pixels of the goal arrow's colour (#ff40ff; BGR 255, 64, 255), shading included."""
+    b, g, r = (image[..., i].astype(int) for i in range(3))
+    return int(((r > 150) & (b > 150) & (g < 0.6 * r) & (g < 0.6 * b)).sum())
+
+
+def test_goal_tool_publishes_a_goal_the_p_controller_drives_to(page: Any, viewer: Any) -> None:
+    """Press on the ground and drag with the 2D Goal Pose tool: a PoseStamped arrives on
+    goal_pose (an independent subscription on the run's bus) at the pressed point, heading
+    along the drag; the goal is drawn; and the simulated robot's true pose (the simulator's
+    ground truth) closes in on it, so the P controller acts on it."""
+    from posekit.msgs.geometry_msgs import PoseStamped
+    from posekit.msgs.nav_msgs import Odometry
+    from posekit.runtime.qos import QoSProfile
+    from posekit.runtime.transport import EndpointInfo
+
+    transport = viewer.tap.transport
+    goals: list[Any] = []
+    truth: list[Any] = []
+    logger = viewer.tap.logger
+    subs = [
+        transport.subscribe(EndpointInfo("/goal_pose", PoseStamped, QoSProfile(depth=10),
+                                         "test_goal_listener", "/", logger), goals.append),
+        transport.subscribe(EndpointInfo("/ground_truth/odom", Odometry, QoSProfile(depth=10),
+                                         "test_truth_listener", "/", logger), truth.append),
+    ]
+    try:
+        wait_for(lambda: truth, what="ground truth odometry")
+        pose = truth[-1].pose.pose
+        q = pose.orientation
+        heading = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y ** 2 + q.z ** 2))
+        # One metre behind the robot: where its current goal does not take it.
+        gx = pose.position.x - math.cos(heading)
+        gy = pose.position.y - math.sin(heading)
+        start = page.evaluate(f"window.posekitViewer.project({gx}, {gy})")
+        end = page.evaluate(f"window.posekitViewer.project({gx + 0.5}, {gy})")
+        assert 0 < start["x"] < 1280, start  # on screen
+        assert 0 < start["y"] < 800, start
+        page.click("#goal-tool")
+        assert debug(page, "goalTool") is True
+        page.mouse.move(start["x"], start["y"])
+        page.mouse.down()
+        page.mouse.move(end["x"], end["y"], steps=5)
+        page.mouse.up()
+        sent = wait_for(lambda: debug(page, "goalSent"), what="the goal_sent answer")
+        assert debug(page, "goalTool") is False  # one goal per activation, as in RViz2
+        assert (sent["x"], sent["y"]) == pytest.approx((gx, gy), abs=0.05)
+        assert sent["yaw"] == pytest.approx(0.0, abs=0.1)
+        wait_for(lambda: goals, what="a PoseStamped on goal_pose")
+        msg = goals[-1]
+        assert msg.header.frame_id == "odom"
+        assert (msg.pose.position.x, msg.pose.position.y) == pytest.approx((sent["x"], sent["y"]))
+        o = msg.pose.orientation
+        assert 2 * math.atan2(o.z, o.w) == pytest.approx(sent["yaw"], abs=1e-9)
+
+        drawn = wait_for(lambda: debug(page, "goal"), what="the goal drawn from goal_pose")
+        assert drawn["frame"] == "odom"
+        assert drawn["pose"][:2] == pytest.approx([sent["x"], sent["y"]])
+        time.sleep(0.2)  # next render: the goal arrow is in the scene
+        shown = _magenta_pixels(canvas_pixels(page, "#scene"))
+        page.uncheck("#show-goal")
+        time.sleep(0.3)
+        hidden = _magenta_pixels(canvas_pixels(page, "#scene"))
+        page.check("#show-goal")
+        assert shown > hidden + 30, (shown, hidden)
+
+        def distance() -> float:
+            p = truth[-1].pose.pose.position
+            return math.hypot(p.x - sent["x"], p.y - sent["y"])
+
+        before = distance()
+        wait_for(lambda: distance() < before - 0.4, timeout=30.0,
+                 what="the robot closing in on the clicked goal")
+    finally:
+        for sub in subs:
+            sub.destroy()
+
+
+def test_a_saved_view_restores_the_same_view_from_a_file_and_from_the_url(
+    browser: Any, viewer: Any, tmp_path: Any
+) -> None:
+    """Orbit with the mouse, change displays and TF options, save the view to a file; a new
+    page that loads the file, and one opened with the Link URL, end with the same state and
+    (only static displays on) the same pixels as the page the view was saved from."""
+    import json
+
+    def open_page(url: str) -> Any:
+        p = browser.new_page(viewport={"width": 1100, "height": 700})
+        p.goto(url)
+        wait_for(lambda: debug(p, "connected"), what="the WebSocket connection")
+        wait_for(lambda: debug(p, "renders") > 2, what="renders")
+        return p
+
+    def still(p: Any) -> np.ndarray:
+        p.wait_for_timeout(400)  # the next capped-rate render has drawn the new view
+        return canvas_pixels(p, "#scene")
+
+    def settled(p: Any) -> Any:
+        """The configuration without the panels, camera rounded to 1 µm (three.js's orbit
+        update recomputes the position in floating point)."""
+        cfg = p.evaluate("window.posekitViewer.viewConfig()")
+        cfg["view"] = {k: [round(v, 6) for v in vec] for k, vec in cfg["view"].items()}
+        return {k: v for k, v in cfg.items() if k != "panels"}
+
+    first = open_page(viewer.url)
+    second = third = None
+    try:
+        box = first.locator("#scene").bounding_box()
+        cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        first.mouse.move(cx, cy)
+        first.mouse.down()
+        first.mouse.move(cx + 140, cy + 30, steps=8)  # orbit (three.js OrbitControls)
+        first.mouse.up()
+        for toggle in ("#show-tf", "#show-names", "#show-robot", "#show-odom-filtered",
+                       "#show-odom-wheels", "#show-truth", "#show-goal"):
+            first.uncheck(toggle)
+        first.fill("#marker-scale", "2.5")
+        first.uncheck("#tf-tree input[data-kind='show'][data-frame='imu_link']")
+        saved_state = settled(first)
+        assert saved_state["tf"]["hidden"] == ["imu_link"]
+        assert saved_state["view"]["camera"] != pytest.approx([-1.5, -2.5, 4.0])  # orbited
+        assert saved_state["tf"]["marker_scale"] == 2.5
+        with first.expect_download() as download:
+            first.click("#config-save")
+        path = tmp_path / "view.json"
+        download.value.save_as(path)
+        saved = json.loads(path.read_text())
+        assert saved["posekit_view"] == 1
+        saved_view = {k: [round(v, 6) for v in vec] for k, vec in saved["view"].items()}
+        assert {**{k: v for k, v in saved.items() if k != "panels"},
+                "view": saved_view} == saved_state
+        first.click("#config-link")
+        link = debug(first, "viewUrl")
+        assert "view=" in link
+        pixels = still(first)
+
+        second = open_page(viewer.url)
+        assert settled(second) != saved_state
+        second.set_input_files("#config-load", str(path))
+        wait_for(lambda: debug(second, "configLoaded"), what="the file loaded")
+        assert debug(second, "configProblems") == []
+        assert settled(second) == saved_state
+        assert np.abs(still(second).astype(int) - pixels.astype(int)).max() <= 2
+
+        third = open_page(link)
+        assert settled(third) == saved_state
+        assert np.abs(still(third).astype(int) - pixels.astype(int)).max() <= 2
+
+        # A file that is not a view configuration is named and changes nothing.
+        bad = tmp_path / "bad.json"
+        bad.write_text(json.dumps({"hello": 1}))
+        third.set_input_files("#config-load", str(bad))
+        wait_for(lambda: debug(third, "configError"), what="the refusal")
+        assert "not a posekit view configuration" in debug(third, "configError")
+        assert settled(third) == saved_state
+    finally:
+        for p in (first, second, third):
+            if p is not None:
+                p.close()
 
 
 def test_2d_fallback_draws(browser: Any, viewer: Any) -> None:

@@ -1,11 +1,14 @@
 """FoxgloveBridge over a real socket, spoken to by a plain aiohttp WebSocket client: the
-``foxglove.sdk.v1`` handshake, advertised channels with ros2msg schemas, CDR payloads decoded
+``foxglove.sdk.v1`` and ``foxglove.websocket.v1`` handshakes, the ``time`` capability
+following /clock, ``clientPublish`` of a PoseStamped serialized by rosbags and received by a
+posekit subscriber, advertised channels with ros2msg schemas, CDR payloads decoded
 by rosbags' own typestore (independent of posekit's serializer), /tf_static re-sent to late
 subscribers, the missing-package error, a busy port, and a clean stop."""
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import socket
 import struct
@@ -23,6 +26,7 @@ from rosbags.typesys import Stores, get_typestore  # noqa: E402
 from posekit.msgs.geometry_msgs import TransformStamped  # noqa: E402
 from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
+from posekit.runtime.executors import SingleThreadedExecutor  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
 from posekit.runtime.tf2_ros import (  # noqa: E402
     StaticTransformBroadcaster,
@@ -98,6 +102,8 @@ async def _advertised(
     server_info = False
     while not wanted <= channels.keys():
         msg = await asyncio.wait_for(ws.receive(), 5.0)
+        if msg.type == aiohttp.WSMsgType.BINARY:
+            continue  # time (opcode 2) may come at any moment
         assert msg.type == aiohttp.WSMsgType.TEXT, msg
         data = json.loads(msg.data)
         if data["op"] == "serverInfo":
@@ -112,10 +118,10 @@ async def _message(ws: Any, sub_id: int) -> tuple[int, bytes]:
     """The next messageData frame of subscription ``sub_id``: (log_time ns, payload)."""
     while True:
         msg = await asyncio.wait_for(ws.receive(), 5.0)
-        if msg.type != aiohttp.WSMsgType.BINARY:
-            continue
-        opcode, sid, log_time = struct.unpack_from("<BIQ", msg.data)
-        if opcode == 1 and sid == sub_id:
+        if msg.type != aiohttp.WSMsgType.BINARY or msg.data[0] != 1:
+            continue  # not messageData (e.g. opcode 2: time)
+        sid, log_time = struct.unpack_from("<IQ", msg.data, 1)
+        if sid == sub_id:
             return log_time, bytes(msg.data[13:])
 
 
@@ -125,12 +131,13 @@ async def _subscribe(ws: Any, channel_id: int, sub_id: int) -> None:
     ))
 
 
-def test_plain_client_gets_channels_and_cdr_messages(system: System) -> None:
+@pytest.mark.parametrize("subprotocol", ["foxglove.sdk.v1", "foxglove.websocket.v1"])
+def test_plain_client_gets_channels_and_cdr_messages(system: System, subprotocol: str) -> None:
     async def go() -> None:
         async with aiohttp.ClientSession() as session, session.ws_connect(
-            system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+            system.url, protocols=(subprotocol,)
         ) as ws:
-            assert ws.protocol == FOXGLOVE_SUBPROTOCOL
+            assert ws.protocol == subprotocol
             system.publish(1.0)  # /tf and /odometry/filtered get publishers' first message
             channels = await _advertised(ws, WANTED)
             for topic in WANTED:
@@ -161,7 +168,7 @@ def test_plain_client_gets_channels_and_cdr_messages(system: System) -> None:
             assert odom.twist.twist.linear.x == pytest.approx(0.25)
 
             # A second, later client also gets the latched static transform.
-            async with session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)) as ws2:
+            async with session.ws_connect(system.url, protocols=(subprotocol,)) as ws2:
                 channels2 = await _advertised(ws2, WANTED)
                 await _subscribe(ws2, channels2["/tf_static"]["id"], 7)
                 _, payload = await _message(ws2, 7)
@@ -272,3 +279,104 @@ def test_cli_bridge_serves_the_p_controller_scenario_on_sim_time() -> None:
         if bridge is not None:
             bridge.stop()
         run.shutdown()
+
+
+async def _server_info(ws: Any) -> dict[str, Any]:
+    while True:
+        msg = await asyncio.wait_for(ws.receive(), 5.0)
+        if msg.type == aiohttp.WSMsgType.TEXT and json.loads(msg.data)["op"] == "serverInfo":
+            return dict(json.loads(msg.data))
+
+
+async def _time_at_least(ws: Any, ns: int) -> int:
+    """The first ``time`` frame (opcode 2, u64 ns) at or after ``ns``."""
+    while True:
+        msg = await asyncio.wait_for(ws.receive(), 5.0)
+        if msg.type == aiohttp.WSMsgType.BINARY and msg.data[0] == 2:
+            (stamp,) = struct.unpack_from("<Q", msg.data, 1)
+            if stamp >= ns:
+                return int(stamp)
+
+
+@pytest.mark.parametrize("subprotocol", ["foxglove.sdk.v1", "foxglove.websocket.v1"])
+def test_time_follows_clock_and_a_client_publishes_a_goal(system: System,
+                                                           subprotocol: str) -> None:
+    from posekit.msgs.geometry_msgs import PoseStamped
+    from posekit.msgs.rosgraph_msgs import Clock
+
+    clock_pub = system.node.create_publisher(Clock, "/clock", 10)
+    goals: list[Any] = []
+    system.node.create_subscription(PoseStamped, "goal_pose", goals.append, 10)
+    executor = SingleThreadedExecutor(context=system.ctx)
+    executor.add_node(system.node)
+    sim_ns = 42 * 1_000_000_000 + 5  # far from the wall clock: only /clock can say it
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(subprotocol,)
+        ) as ws:
+            info = await _server_info(ws)
+            assert {"time", "clientPublish"} <= set(info["capabilities"])
+            assert "cdr" in info["supportedEncodings"]
+            clock = Clock()
+            clock.clock.sec, clock.clock.nanosec = divmod(sim_ns, 1_000_000_000)
+            deadline = asyncio.get_running_loop().time() + 5.0
+            stamp = None
+            while stamp is None and asyncio.get_running_loop().time() < deadline:
+                clock_pub.publish(clock)  # the bridge subscribes to /clock on its next refresh
+                with contextlib.suppress(TimeoutError, asyncio.TimeoutError):
+                    stamp = await asyncio.wait_for(_exact_time(ws, sim_ns), 0.3)
+            assert stamp == sim_ns
+
+            # clientPublish: advertise goal_pose, send a PoseStamped serialized by rosbags.
+            await ws.send_str(json.dumps({"op": "advertise", "channels": [{
+                "id": 3, "topic": "goal_pose", "encoding": "cdr",
+                "schemaName": "geometry_msgs/msg/PoseStamped"}]}))
+            Pose, Header = ROS.types["geometry_msgs/msg/PoseStamped"], ROS.types[
+                "std_msgs/msg/Header"]
+            R = ROS.types
+            ros_goal = Pose(
+                header=Header(stamp=R["builtin_interfaces/msg/Time"](sec=42, nanosec=0),
+                              frame_id="odom"),
+                pose=R["geometry_msgs/msg/Pose"](
+                    position=R["geometry_msgs/msg/Point"](x=1.5, y=-0.5, z=0.0),
+                    orientation=R["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)),
+            )
+            payload = bytes(ROS.serialize_cdr(ros_goal, "geometry_msgs/msg/PoseStamped"))
+            loop = asyncio.get_running_loop()
+            deadline = loop.time() + 5.0
+            while not goals and loop.time() < deadline:
+                await ws.send_bytes(struct.pack("<BI", 1, 3) + payload)  # opcode 1: data
+                await asyncio.sleep(0.05)
+                executor.spin_once(timeout_sec=0.0)
+
+    asyncio.run(go())
+    assert goals, "the published goal never reached a posekit subscriber"
+    goal = goals[0]
+    assert goal.header.frame_id == "odom"
+    assert (goal.pose.position.x, goal.pose.position.y) == pytest.approx((1.5, -0.5))
+    assert goal.pose.orientation.w == pytest.approx(1.0)
+
+
+async def _exact_time(ws: Any, ns: int) -> int:
+    while True:
+        stamp = await _time_at_least(ws, 0)
+        if stamp == ns:
+            return stamp
+
+
+def test_other_subprotocols_and_foreign_hosts_are_refused(system: System) -> None:
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session:
+            with pytest.raises(aiohttp.WSServerHandshakeError) as no_proto:
+                await session.ws_connect(system.url)
+            assert no_proto.value.status == 400
+            with pytest.raises(aiohttp.WSServerHandshakeError) as other:
+                await session.ws_connect(system.url, protocols=("chat.v2",))
+            assert other.value.status == 400
+            with pytest.raises(aiohttp.WSServerHandshakeError) as rebound:
+                await session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
+                                         headers={"Host": f"evil.example:{system.bridge.port}"})
+            assert rebound.value.status == 403
+
+    asyncio.run(go())

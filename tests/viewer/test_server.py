@@ -230,3 +230,52 @@ def test_options_are_validated() -> None:
         with pytest.raises(ValueError, match=next(iter(bad))):
             ViewerServer(tap, **bad)
     ctx.shutdown()
+
+
+def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: System) -> None:
+    """``op: goal`` publishes geometry_msgs/PoseStamped on /goal_pose (received by a plain
+    subscriber; the quaternion checked against the closed form (0, 0, sin(yaw/2),
+    cos(yaw/2))); non-finite, non-numeric, huge or frameless goals get one error each and
+    publish nothing; the goal comes back in ``graph`` for drawing."""
+    import math
+
+    from posekit.msgs.geometry_msgs import PoseStamped
+    from posekit.runtime.executors import SingleThreadedExecutor
+
+    got: list[Any] = []
+    system.node.create_subscription(PoseStamped, "goal_pose", got.append, 10)
+    executor = SingleThreadedExecutor(context=system.ctx)
+    executor.add_node(system.node)
+
+    async def scenario() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(system.ws_url) as ws:
+            await receive_until(ws, is_type("hello"))
+            good = {"op": "goal", "frame": "odom", "x": 1.25, "y": -2.0, "yaw": 2.0}
+            for bad in ('{"op": "goal", "frame": "odom", "x": NaN, "y": 0, "yaw": 0}',
+                        '{"op": "goal", "frame": "odom", "x": 1e999, "y": 0, "yaw": 0}',
+                        json.dumps({**good, "yaw": "north"}),
+                        json.dumps({**good, "x": True}),
+                        json.dumps({**good, "y": 1e9}),
+                        json.dumps({**good, "frame": ""}),
+                        json.dumps({**good, "frame": "f" * 300})):
+                await ws.send_str(bad)
+                err = await receive_until(ws, is_type("error"))
+                assert err["message"].startswith("bad request"), err
+            await ws.send_json(good)
+            sent = await receive_until(ws, is_type("goal_sent"))
+            assert (sent["frame"], sent["x"], sent["y"], sent["yaw"]) == ("odom", 1.25, -2.0, 2.0)
+            graph = await receive_until(ws, lambda d: is_type("graph")(d) and d.get("goal"))
+            assert graph["goal"]["frame"] == "odom"
+            assert graph["goal"]["pose"][:3] == pytest.approx([1.25, -2.0, 0.0])
+
+    asyncio.run(scenario())
+    deadline = time.monotonic() + 5.0
+    while not got and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.05)
+    assert len(got) == 1, "exactly the one valid goal is published"
+    msg = got[0]
+    assert msg.header.frame_id == "odom"
+    assert (msg.pose.position.x, msg.pose.position.y, msg.pose.position.z) == (1.25, -2.0, 0.0)
+    q = msg.pose.orientation
+    assert (q.x, q.y, q.z, q.w) == pytest.approx((0.0, 0.0, math.sin(1.0), math.cos(1.0)))
+    assert system.server.stats["goals"] == 1

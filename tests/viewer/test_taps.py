@@ -270,3 +270,51 @@ def test_close_stops_listening(ctx: Context, node: Node) -> None:
 def test_trail_length_must_be_positive(ctx: Context) -> None:
     with pytest.raises(ValueError, match="trail_length"):
         ViewerTap(ctx.transport(), trail_length=0)
+
+
+def test_rates_are_measured_on_the_sim_clock(ctx: Context, node: Node) -> None:
+    """A 10 Hz-of-sim-time publisher reads 10 Hz however fast the wall clock goes (here it
+    publishes as fast as possible); the oracle is the closed-form 1 / 0.1 s."""
+    sim = {"ns": 100 * NS}
+    pub = node.create_publisher(Image, "camera/image", 5)
+    tap = ViewerTap(ctx.transport(), clock_ns=lambda: sim["ns"])
+    tap.refresh()
+    for i in range(15):
+        pub.publish(Image(height=1, width=1, encoding="mono8", step=1,
+                          data=np.array([i], np.uint8)))
+        sim["ns"] += NS // 10
+    row = {t["name"]: t for t in tap.topics()}["/camera/image"]
+    # receipts at 100.0 .. 101.4 s, now 101.5 s: 2 s window holds all 15, 14 intervals / 1.4 s
+    assert row["rate"] == pytest.approx(10.0)
+    state = tap.time_state()
+    assert state["source"] == "executor"
+    assert state["rate_clock"] == "sim"
+    assert state["sim"] == pytest.approx(101.5)
+    assert abs(state["wall"] - time.time()) < 5.0
+
+
+def test_real_time_factor_is_sim_seconds_per_wall_second(ctx: Context) -> None:
+    """A clock running at half the wall clock's speed measures RTF 0.5 (closed form)."""
+    t0 = time.monotonic()
+    tap = ViewerTap(ctx.transport(), clock_ns=lambda: int((time.monotonic() - t0) * 0.5 * NS))
+    assert tap.time_state()["rtf"] is None  # one sample: not measured yet
+    deadline = time.monotonic() + 5.0
+    rtf = None
+    while rtf is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+        rtf = tap.time_state()["rtf"]
+    assert rtf == pytest.approx(0.5, abs=0.02)
+
+
+def test_time_state_follows_clock_else_the_wall(ctx: Context, node: Node) -> None:
+    tap = ViewerTap(ctx.transport())
+    wall = tap.time_state()
+    assert (wall["source"], wall["sim"], wall["rtf"], wall["rate_clock"]) == (
+        "wall", None, 1.0, "wall")
+    pub = node.create_publisher(Clock, "/clock", 1)
+    tap.refresh()
+    msg = Clock()
+    msg.clock.sec, msg.clock.nanosec = 42, 500_000_000
+    pub.publish(msg)
+    state = tap.time_state()
+    assert (state["source"], state["sim"], state["rate_clock"]) == ("/clock", 42.5, "sim")

@@ -60,3 +60,59 @@ def test_tap_over_zenoh_sees_another_context() -> None:
     finally:
         publisher_ctx.try_shutdown()
         viewer_ctx.try_shutdown()
+
+
+def test_viewer_over_zenoh_learns_the_world_from_the_simulator_parameter() -> None:
+    """No world given: the viewer asks the other process's nodes for their ``world``
+    parameter (the parameter service, as ``ros2 param get``) and sends the pages a new
+    ``hello`` with that world's boxes and markers."""
+    import asyncio
+    import json
+
+    aiohttp = pytest.importorskip("aiohttp")
+    import threading
+
+    from posekit.robot.worlds import load_world
+    from posekit.runtime.executors import SingleThreadedExecutor
+    from posekit.viewer import attach_viewer
+
+    sim_ctx, viewer_ctx = Context(), Context()
+    sim_ctx.init(transport="zenoh")
+    viewer_ctx.init(transport="zenoh")
+    server = None
+    executor = SingleThreadedExecutor(context=sim_ctx)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    try:
+        sim = Node("world_simulation", context=sim_ctx)
+        sim.declare_parameter("world", "aruco_box_world")
+        other = Node("other_node", context=sim_ctx)
+        other.declare_parameter("world", "")
+        executor.add_node(sim)
+        executor.add_node(other)
+        spinner.start()  # the nodes answer their parameter services
+        server = attach_viewer(viewer_ctx, port=0)
+        ws_url = server.url.replace("http://", "ws://") + "ws"
+
+        async def hello_with_world() -> dict[str, object]:
+            async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:
+                end = time.monotonic() + 15.0
+                while time.monotonic() < end:
+                    msg = await ws.receive(timeout=end - time.monotonic())
+                    if msg.type != aiohttp.WSMsgType.TEXT:
+                        continue
+                    data = json.loads(msg.data)
+                    if data["type"] == "hello" and data["world"]:
+                        return dict(data["world"])
+                raise AssertionError("no hello with a world within 15 s")
+
+        world = asyncio.run(hello_with_world())
+        expected = load_world("aruco_box_world")
+        assert world["name"] == "aruco_box_world"
+        assert len(world["boxes"]) == len(expected.boxes) > 0
+    finally:
+        if server is not None:
+            server.stop()
+        executor.shutdown()
+        sim_ctx.try_shutdown()
+        viewer_ctx.try_shutdown()
+        spinner.join(timeout=5.0)

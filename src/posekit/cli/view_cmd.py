@@ -190,7 +190,8 @@ def _start_foxglove(
         return None
     from posekit.viewer.foxglove_bridge import FoxgloveBridge
 
-    bridge = FoxgloveBridge(transport, host=ns.host, port=ns.foxglove_port, clock_ns=clock)
+    bridge = FoxgloveBridge(transport, host=ns.host, port=ns.foxglove_port, clock_ns=clock,
+                            allow_hosts=ns.allow_host)
     bridge.start()
     print(f"posekit view: Foxglove WebSocket on {bridge.url}", flush=True)
     return bridge

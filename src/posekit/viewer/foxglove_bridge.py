@@ -2,7 +2,8 @@
 
     from posekit.viewer.foxglove_bridge import FoxgloveBridge
     bridge = FoxgloveBridge(run.context.transport(), port=8766)
-    bridge.start()        # ws://127.0.0.1:8766, subprotocol foxglove.sdk.v1
+    bridge.start()        # ws://127.0.0.1:8766, subprotocols foxglove.sdk.v1 and
+    ...                   # foxglove.websocket.v1
     ...
     bridge.stop()
 
@@ -15,8 +16,20 @@ executor, and subscribes only to topics that have a publisher. Every topic whose
 ROS 2 definition becomes one Foxglove channel with schema encoding ``ros2msg`` (the
 definition text with its dependencies, the format ROS 2's MCAP writer uses) and message
 encoding ``cdr``, so Foxglove decodes posekit's messages natively. Messages are logged with
-``log_time`` from ``clock_ns`` (the run's simulated time in process; default the wall clock,
-ns).
+``log_time`` from the same clock as ``time``.
+
+Both WebSocket subprotocols are accepted: ``foxglove.sdk.v1`` (the Foxglove app, foxglove-sdk)
+and ``foxglove.websocket.v1`` (older clients and the open-source Lichtblick fork; the protocol
+is the same, only its name changed). foxglove-sdk's server answers the first only, so it
+listens on a free loopback port and a small aiohttp front on ``host:port`` accepts either
+name and relays the frames both ways unchanged. The front answers only requests whose
+``Host`` names this server (as the browser viewer does, :mod:`posekit.viewer.access`).
+
+Capabilities: ``time`` (the server's clock: ``/clock`` when the system publishes it, else
+``clock_ns``, else the wall clock; so Foxglove's timeline runs on simulated time in a
+simulated run) and ``clientPublish`` with message encoding ``cdr``: a client advertises a
+topic with a ROS 2 type (e.g. ``geometry_msgs/msg/PoseStamped`` on ``goal_pose``) and the
+bridge publishes what it sends on the transport (at most 32 client channels at a time).
 
 ``/tf_static`` is latched: the bridge keeps the newest transform per child frame and
 re-sends them as one TFMessage whenever a client subscribes to ``/tf_static`` (the SDK logs
@@ -26,6 +39,8 @@ again, which is harmless).
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import threading
 import time
 from collections.abc import Callable
@@ -35,20 +50,32 @@ from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.logging import RcutilsLogger, get_logger
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
+    PublisherEndpoint,
     SubscriptionEndpoint,
     TopicTypeMismatchError,
     Transport,
 )
+from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.errors import ViewerError
 
-__all__ = ["DEFAULT_PORT", "FOXGLOVE_SUBPROTOCOL", "FoxgloveBridge"]
+__all__ = ["DEFAULT_PORT", "FOXGLOVE_SUBPROTOCOL", "FOXGLOVE_SUBPROTOCOLS", "FoxgloveBridge"]
 
 #: Default TCP port (the browser viewer uses 8765).
 DEFAULT_PORT = 8766
 #: WebSocket subprotocol of foxglove-sdk's server.
 FOXGLOVE_SUBPROTOCOL = "foxglove.sdk.v1"
+#: Every subprotocol name the bridge accepts (the same protocol under its old name too).
+FOXGLOVE_SUBPROTOCOLS = (FOXGLOVE_SUBPROTOCOL, "foxglove.websocket.v1")
+_CLOCK_TOPIC = "/clock"
+_CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
+#: Without /clock messages for this long (wall s), ``time`` comes from the fallback clock.
+_CLOCK_SILENT_S = 1.0
+_TIME_PERIOD_S = 0.1
+_MAX_CLIENT_CHANNELS = 32
+_PUBLISH_QOS = QoSProfile(depth=10)
 _STATIC_TOPIC = "/tf_static"
 _NODE_NAME = "posekit_foxglove_bridge"
 # Best effort + volatile matches every publisher; /tf_static needs transient local.
@@ -74,10 +101,13 @@ class FoxgloveBridge:
         transport: the transport of the system to serve (``context.transport()``).
         host: bind address (default loopback: this machine only).
         port: TCP port (0: any free port; see :attr:`port` after :meth:`start`).
-        clock_ns: ``log_time`` source in ns (default the wall clock).
+        clock_ns: the server's clock in ns when the system publishes no ``/clock`` (default
+            the wall clock); it stamps ``log_time`` and the ``time`` messages.
         refresh_period: seconds between topic discoveries in the background (0: only when
             :meth:`refresh` is called).
         name: the server name shown by Foxglove.
+        allow_hosts: more ``Host`` header values accepted (``name`` or ``name:port``;
+            ``"*"``: any), as ``posekit view --allow-host``.
     """
 
     def __init__(
@@ -90,6 +120,7 @@ class FoxgloveBridge:
         refresh_period: float = 1.0,
         name: str = "posekit",
         logger: RcutilsLogger | None = None,
+        allow_hosts: tuple[str, ...] | list[str] = (),
     ) -> None:
         if not 0 <= port <= 65535:
             raise ValueError(f"port must be in 0..65535, got {port}")
@@ -101,7 +132,13 @@ class FoxgloveBridge:
         self.name = name
         self.refresh_period = float(refresh_period)
         self.logger = logger or get_logger(_NODE_NAME)
-        self._clock_ns = clock_ns or time.time_ns
+        self._clock_fn = clock_ns or time.time_ns
+        self.allow_hosts = frozenset(h.strip().lower() for h in allow_hosts if h.strip())
+        self._sim_clock_ns: int | None = None  # newest /clock (ns)
+        self._sim_clock_seen = 0.0  # monotonic s of the newest /clock
+        self._warn = RateLimitedLog(self.logger.warning)
+        self._publishers: dict[tuple[int, int], tuple[PublisherEndpoint, type]] = {}
+        self._front: _SubprotocolFront | None = None
         self._lock = threading.Lock()
         self._channels: dict[str, Any] = {}
         self._endpoints: dict[str, SubscriptionEndpoint] = {}
@@ -131,36 +168,58 @@ class FoxgloveBridge:
         self._context = fox.Context()
         bridge = self
 
-        class _Listener:
+        listener_base: Any = fox.websocket.ServerListener  # its methods default to no-ops
+
+        class _Listener(listener_base):  # type: ignore[misc]
             def on_subscribe(self, client: Any, channel: Any) -> None:
                 if channel.topic == _STATIC_TOPIC:
                     bridge._resend_static()
 
+            def on_client_advertise(self, client: Any, channel: Any) -> None:
+                bridge._client_advertise(int(client.id), channel)
+
+            def on_client_unadvertise(self, client: Any, client_channel_id: int) -> None:
+                bridge._client_unadvertise(int(client.id), int(client_channel_id))
+
+            def on_message_data(self, client: Any, client_channel_id: int, data: bytes) -> None:
+                bridge._client_message(int(client.id), int(client_channel_id), data)
+
+        capability = fox.websocket.Capability
         try:
+            # The SDK's server speaks foxglove.sdk.v1 only: on loopback, behind the front.
             self._server = fox.start_server(
                 name=self.name,
-                host=self.host,
-                port=self.requested_port,
+                host="127.0.0.1",
+                port=0,
+                capabilities=[capability.Time, capability.ClientPublish],
+                supported_encodings=["cdr"],
                 server_listener=_Listener(),
                 context=self._context,
             )
-        except Exception as exc:  # the SDK raises its own error types (address in use...)
+        except Exception as exc:  # the SDK raises its own error types
+            raise ViewerError(f"cannot start foxglove-sdk's server: {exc}") from exc
+        self._front = _SubprotocolFront(self, int(self._server.port))
+        try:
+            self._front.start()
+        except OSError as exc:
+            self._server.stop()
+            self._server = None
+            self._front = None
             raise ViewerError(
                 f"cannot serve Foxglove on {self.host}:{self.requested_port}: {exc}"
             ) from exc
         self.refresh()
-        if self.refresh_period > 0:
-            self._thread = threading.Thread(
-                target=self._refresh_loop, name="posekit-foxglove-refresh", daemon=True
-            )
-            self._thread.start()
+        self._thread = threading.Thread(
+            target=self._background, name="posekit-foxglove", daemon=True
+        )
+        self._thread.start()
 
     @property
     def port(self) -> int:
         """The port the server listens on (after :meth:`start`)."""
-        if self._server is None:
+        if self._front is None:
             raise ViewerError("the Foxglove bridge is not started")
-        return int(self._server.port)
+        return self._front.port
 
     @property
     def url(self) -> str:
@@ -179,10 +238,16 @@ class FoxgloveBridge:
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=5.0)
         with self._lock:
-            endpoints = list(self._endpoints.values())
+            endpoints: list[SubscriptionEndpoint | PublisherEndpoint] = [
+                *self._endpoints.values(), *(p for p, _ in self._publishers.values())
+            ]
             channels = list(self._channels.values())
             self._endpoints.clear()
             self._channels.clear()
+            self._publishers.clear()
+        if self._front is not None:
+            self._front.stop()
+            self._front = None
         for endpoint in endpoints:
             try:
                 endpoint.destroy()
@@ -231,9 +296,97 @@ class FoxgloveBridge:
                 added.append(topic)
         return added
 
-    def _refresh_loop(self) -> None:
-        while not self._stop.wait(self.refresh_period):
-            self.refresh()
+    def _background(self) -> None:
+        """Send ``time`` every 0.1 s while no /clock drives it; refresh topics periodically."""
+        next_refresh = time.monotonic() + self.refresh_period
+        while not self._stop.wait(_TIME_PERIOD_S):
+            if time.monotonic() - self._sim_clock_seen > _CLOCK_SILENT_S:
+                self._broadcast_time(self.now_ns())
+            if self.refresh_period > 0 and time.monotonic() >= next_refresh:
+                next_refresh = time.monotonic() + self.refresh_period
+                self.refresh()
+
+    # -- time ------------------------------------------------------------------------------
+    def now_ns(self) -> int:
+        """The server's clock (ns): the newest ``/clock`` while it is published (within the
+        last second), else ``clock_ns`` (the wall clock by default)."""
+        sim = self._sim_clock_ns
+        if sim is not None and time.monotonic() - self._sim_clock_seen <= _CLOCK_SILENT_S:
+            return sim
+        return int(self._clock_fn())
+
+    def _on_clock(self, msg: Any) -> None:
+        ns = int(msg.clock.sec) * 1_000_000_000 + int(msg.clock.nanosec)
+        self._sim_clock_ns = ns
+        self._sim_clock_seen = time.monotonic()
+        self._broadcast_time(ns)
+
+    def _broadcast_time(self, ns: int) -> None:
+        server = self._server
+        if server is None or self._closed or ns < 0:
+            return
+        try:
+            server.broadcast_time(ns)
+        except Exception as exc:  # stopping server: nothing to tell
+            self.logger.debug(f"foxglove bridge: time not sent: {exc}")
+
+    # -- clientPublish ---------------------------------------------------------------------
+    def _client_advertise(self, client_id: int, channel: Any) -> None:
+        from posekit.msgs.cdr import serializable_type
+
+        topic = "/" + str(channel.topic).lstrip("/")
+        where = f"client channel '{topic}'"
+        if channel.encoding != "cdr":
+            self._warn("foxglove bridge: refused a " + where,
+                       f"encoding {channel.encoding!r} (only cdr is supported)")
+            return
+        try:
+            _, msg_class = serializable_type(str(channel.schema_name or ""))
+        except (LookupError, ValueError, UnknownMessageTypeError):
+            self._warn("foxglove bridge: refused a " + where,
+                       f"type {channel.schema_name!r} has no ROS 2 message definition")
+            return
+        info = EndpointInfo(topic, msg_class, _PUBLISH_QOS, _NODE_NAME, "/", self.logger)
+        with self._lock:
+            if self._closed or len(self._publishers) >= _MAX_CLIENT_CHANNELS:
+                full, known = not self._closed, False
+            else:
+                full, known = False, (client_id, int(channel.id)) in self._publishers
+        if full:
+            self._warn("foxglove bridge: refused a " + where,
+                       f"already {_MAX_CLIENT_CHANNELS} client channels")
+            return
+        if known:
+            return
+        try:
+            publisher = self.transport.advertise(info)
+        except (TopicTypeMismatchError, ValueError) as exc:
+            self._warn("foxglove bridge: refused a " + where, str(exc))
+            return
+        with self._lock:
+            self._publishers[(client_id, int(channel.id))] = (publisher, msg_class)
+        self.logger.info(f"foxglove bridge: a client publishes {channel.schema_name} on {topic}")
+
+    def _client_unadvertise(self, client_id: int, channel_id: int) -> None:
+        with self._lock:
+            entry = self._publishers.pop((client_id, channel_id), None)
+        if entry is not None:
+            with contextlib.suppress(Exception):
+                entry[0].destroy()
+
+    def _client_message(self, client_id: int, channel_id: int, data: bytes) -> None:
+        from posekit.msgs.cdr import from_cdr
+
+        with self._lock:
+            entry = self._publishers.get((client_id, channel_id))
+        if entry is None:
+            return
+        publisher, msg_class = entry
+        try:
+            publisher.publish(from_cdr(bytes(data), msg_class))
+        except Exception as exc:  # a malformed message from a client: one line, keep going
+            self._warn("foxglove bridge: dropped a client message",
+                       f"{type(exc).__name__}: {exc}")
 
     def _skip(self, topic: str, reason: str) -> bool:
         with self._lock:
@@ -276,16 +429,19 @@ class FoxgloveBridge:
         from posekit.msgs.cdr import to_cdr
 
         is_static = topic == _STATIC_TOPIC and type_name == TFMessage.__msgtype__
+        is_clock = topic == _CLOCK_TOPIC and type_name == _CLOCK_TYPE
 
         def sink(msg: Any) -> None:
             if self._closed:
                 return
             try:
+                if is_clock:
+                    self._on_clock(msg)
                 if is_static:
                     with self._lock:
                         for t in msg.transforms:
                             self._static[t.child_frame_id] = t
-                channel.log(to_cdr(msg, type_name), log_time=self._clock_ns())
+                channel.log(to_cdr(msg, type_name), log_time=self.now_ns())
             except Exception as exc:  # malformed message: log, keep running
                 self.logger.warning(
                     f"foxglove bridge: bad message on {topic}: {type(exc).__name__}: {exc}",
@@ -303,4 +459,113 @@ class FoxgloveBridge:
             transforms = list(self._static.values())
         if channel is None or not transforms or self._closed:
             return
-        channel.log(to_cdr(TFMessage(transforms=transforms)), log_time=self._clock_ns())
+        channel.log(to_cdr(TFMessage(transforms=transforms)), log_time=self.now_ns())
+
+
+class _SubprotocolFront:
+    """An aiohttp WebSocket server on the bridge's ``host:port`` that accepts every name of
+    :data:`FOXGLOVE_SUBPROTOCOLS` and relays each connection, frame by frame and unchanged,
+    to foxglove-sdk's server on ``127.0.0.1:backend_port`` (which accepts only the first)."""
+
+    def __init__(self, bridge: FoxgloveBridge, backend_port: int) -> None:
+        self.bridge = bridge
+        self.backend_url = f"ws://127.0.0.1:{backend_port}"
+        self.port = bridge.requested_port
+        self._runner: Any = None
+        self._session: Any = None
+        self._tasks: set[asyncio.Task[Any]] = set()
+        self._loop_thread = LoopThread("posekit-foxglove-front", self._startup, self._cleanup,
+                                       pending=lambda: list(self._tasks))
+
+    def start(self) -> None:
+        """Bind and serve in a daemon thread. Raises OSError when the address is taken."""
+        try:
+            self._loop_thread.start()
+        except TimeoutError as exc:
+            raise OSError(str(exc)) from exc
+        except OSError:
+            raise
+        except Exception as exc:
+            raise OSError(str(exc)) from exc
+
+    async def _startup(self) -> None:
+        from aiohttp import ClientSession, web
+
+        app = web.Application()
+        app.router.add_get("/{tail:.*}", self._handle)
+        self._runner = web.AppRunner(app, access_log=None)
+        await self._runner.setup()
+        site = web.TCPSite(self._runner, self.bridge.host, self.port)
+        await site.start()
+        sockets = getattr(site._server, "sockets", None) or []  # the bound port (port 0)
+        if sockets:
+            self.port = int(sockets[0].getsockname()[1])
+        self._session = ClientSession()
+
+    async def _cleanup(self) -> None:
+        if self._session is not None:
+            await self._session.close()
+        if self._runner is not None:
+            await self._runner.cleanup()
+
+    def stop(self) -> None:
+        self._loop_thread.stop()
+
+    async def _handle(self, request: Any) -> Any:
+        from aiohttp import web
+
+        from posekit.viewer.access import host_allowed
+
+        bridge = self.bridge
+        if not host_allowed(request.headers.get("Host"), bridge.host, self.port,
+                            bridge.allow_hosts):
+            bridge._warn("foxglove bridge: connection refused (Host header names another "
+                         "server)", f"{request.headers.get('Host', '')[:256]!r}; "
+                         "posekit view --allow-host NAME accepts it")
+            return web.Response(status=403, text="Host not allowed\n")
+        ws = web.WebSocketResponse(protocols=FOXGLOVE_SUBPROTOCOLS, max_msg_size=0)
+        ready = ws.can_prepare(request)
+        if not ready.ok or ready.protocol is None:
+            return web.Response(
+                status=400,
+                text="a Foxglove WebSocket client is expected (subprotocol "
+                     + " or ".join(FOXGLOVE_SUBPROTOCOLS) + ")\n",
+            )
+        try:
+            upstream = await self._session.ws_connect(
+                self.backend_url, protocols=(FOXGLOVE_SUBPROTOCOL,), max_msg_size=0
+            )
+        except Exception as exc:  # the SDK server is gone (stopping)
+            return web.Response(status=503, text=f"Foxglove server unavailable: {exc}\n")
+        await ws.prepare(request)
+        task = asyncio.current_task()
+        if task is not None:
+            self._tasks.add(task)
+        try:
+            pumps = [asyncio.ensure_future(_pump(ws, upstream)),
+                     asyncio.ensure_future(_pump(upstream, ws))]
+            await asyncio.wait(pumps, return_when=asyncio.FIRST_COMPLETED)
+            for pump in pumps:
+                pump.cancel()
+            await asyncio.gather(*pumps, return_exceptions=True)
+        finally:
+            if task is not None:
+                self._tasks.discard(task)
+            with contextlib.suppress(Exception):
+                await upstream.close()
+            with contextlib.suppress(Exception):
+                await ws.close()
+        return ws
+
+
+async def _pump(source: Any, sink: Any) -> None:
+    """Copy text and binary frames from ``source`` to ``sink`` until either closes."""
+    from aiohttp import WSMsgType
+
+    async for msg in source:
+        if msg.type == WSMsgType.TEXT:
+            await sink.send_str(msg.data)
+        elif msg.type == WSMsgType.BINARY:
+            await sink.send_bytes(msg.data)
+        else:
+            return

@@ -19,14 +19,18 @@ WebSocket protocol (server -> client, JSON text unless noted):
   w), at up to ``tf_rate`` Hz (default 30, at most 100) while TF changes, else 2 Hz;
 * ``odom``: ``{displays: {topic: {frame, child, received, trail: [[x, y, z, qx, qy, qz, qw,
   speed], ...]}}}`` at up to 10 Hz when a trail changed;
-* ``graph``: ``{tree: [...], topics: [...], images: [...]}`` at 2 Hz;
+* ``graph``: ``{tree: [...], topics: [...], images: [...], clock: {source, sim, wall, rtf,
+  rate_clock}, goal: {frame, pose, stamp} | null}`` at 2 Hz (``clock``:
+  :meth:`ViewerTap.time_state`; topic rates are on its ``rate_clock``);
 * binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
   seq, stamp, width, height, encoding}``, then the JPEG bytes. Only for topics the client
   watches, newest only, at up to ``image_rate`` Hz (default 15).
 
 Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "topics":
-[...]}``, ``{"op": "pause", "paused": BOOL}``. A malformed request gets ``{"type": "error",
-"message": ...}`` and the connection stays open.
+[...]}``, ``{"op": "pause", "paused": BOOL}``, ``{"op": "goal", "frame": NAME, "x": M, "y": M,
+"yaw": RAD}`` (publishes a ``geometry_msgs/PoseStamped`` on ``/goal_pose``, answered by
+``{"type": "goal_sent", ...}``: :meth:`ViewerServer.publish_goal`). A malformed request gets
+``{"type": "error", "message": ...}`` and the connection stays open.
 
 Who may talk to it (against other web pages in the user's browser and DNS rebinding, as
 local development servers check): every HTTP request's ``Host`` header must name this
@@ -60,10 +64,14 @@ from typing import Any
 from aiohttp import WSMsgType, web
 
 from posekit.robot.worlds import World
+from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
+from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
+from posekit.viewer._loop_thread import LoopThread
+from posekit.viewer.access import host_allowed, own_hosts
 from posekit.viewer.errors import ViewerError, ViewerOptionError
 from posekit.viewer.images import encode_jpeg
-from posekit.viewer.taps import ViewerTap
+from posekit.viewer.taps import GOAL_TOPIC, ViewerTap
 from posekit.viewer.world import world_payload
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "THREE_ROOT", "WEB_ROOT", "ViewerServer"]
@@ -81,6 +89,8 @@ _IDLE_TF_PERIOD = 0.5
 _MAX_NAME = 256
 _MAX_WATCH = 16
 _RESTART_DELAY_S = 0.5
+_MAX_GOAL_M = 10_000.0
+_WORLD_RETRY_S = 2.0
 
 
 @dataclass(eq=False)
@@ -155,6 +165,10 @@ class ViewerServer:
             ``"*"``: any), e.g. when the page is reached through a proxy or a host name.
         allow_origins: more WebSocket ``Origin`` values accepted (``scheme://host:port``;
             ``"*"``: any).
+        discover_world: when no ``world`` is given, ask the system for it (the ``world``
+            parameter of its simulator, :func:`~posekit.viewer.world_discovery.
+            discover_world`) every 2 s until one answers, and send the pages a new ``hello``
+            with it. Default: when the tap's transport crosses processes.
     """
 
     def __init__(
@@ -173,6 +187,7 @@ class ViewerServer:
         close_tap: bool = False,
         allow_hosts: Iterable[str] = (),
         allow_origins: Iterable[str] = (),
+        discover_world: bool | None = None,
     ) -> None:
         if not 0 < tf_rate <= _MAX_TF_RATE:
             raise ViewerOptionError(f"tf_rate must be in (0, {_MAX_TF_RATE:g}] Hz, got {tf_rate}")
@@ -199,17 +214,21 @@ class ViewerServer:
             o.strip().lower().rstrip("/") for o in allow_origins if o.strip()
         )
         self._world = world_payload(world)
+        if discover_world is None:
+            discover_world = bool(getattr(tap.transport, "crosses_processes", False))
+        self.discover_world = world is None and discover_world
         self._clients: set[_Client] = set()
-        self._loop: asyncio.AbstractEventLoop | None = None
+        self._runner_thread: LoopThread | None = None
         self._thread: threading.Thread | None = None
         self._runner: web.AppRunner | None = None
         self._encoder = ThreadPoolExecutor(max_workers=1, thread_name_prefix="posekit-jpeg")
         self._stopping = False
         self._image_tasks: set[asyncio.Task[None]] = set()
-        self._ready = threading.Event()
-        self._start_error: BaseException | None = None
         self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0,
-                          "producer_errors": 0, "producer_restarts": 0, "forbidden": 0}
+                          "producer_errors": 0, "producer_restarts": 0, "forbidden": 0,
+                          "goals": 0}
+        self._goal_lock = threading.Lock()
+        self._goal_pub: PublisherEndpoint | None = None
         self._producers: set[asyncio.Task[None]] = set()
         self._warn = RateLimitedLog(tap.logger.warning)
 
@@ -225,42 +244,47 @@ class ViewerServer:
         when the address cannot be bound."""
         if self._thread is not None:
             raise ViewerError("viewer server already started")
-        self._thread = threading.Thread(target=self._run, name="posekit-viewer", daemon=True)
-        self._thread.start()
-        self._ready.wait(timeout=15.0)
-        if self._start_error is not None:
-            self._thread.join(timeout=5.0)
-            self._thread = None
-            raise ViewerError(
-                f"cannot serve the viewer on {self.host}:{self.port}: {self._start_error}"
-            ) from self._start_error
-        if not self._ready.is_set():
-            raise ViewerError("viewer server did not start within 15 s")
+        runner = LoopThread(
+            "posekit-viewer", self._startup, self._cleanup,
+            pending=lambda: [*self._producers, *self._image_tasks],
+            on_started=self._on_started,
+        )
+        try:
+            runner.start()
+        except TimeoutError as exc:
+            raise ViewerError("viewer server did not start within 15 s") from exc
+        except Exception as exc:
+            raise ViewerError(f"cannot serve the viewer on {self.host}:{self.port}: {exc}") from exc
+        self._runner_thread = runner
+        self._thread = runner.thread
         return self.url
 
-    def _run(self) -> None:
-        loop = asyncio.new_event_loop()
-        self._loop = loop
-        asyncio.set_event_loop(loop)
-        try:
-            loop.run_until_complete(self._startup())
-        except BaseException as exc:  # report bind errors to start()
-            self._start_error = exc
-            self._ready.set()
-            loop.close()
-            return
-        self._ready.set()
+    def _on_started(self, loop: asyncio.AbstractEventLoop) -> None:
         self._start_producer(loop)
-        try:
-            loop.run_forever()
-        finally:
-            pending = [*self._producers, *self._image_tasks]
-            for task in pending:
-                task.cancel()
-            with contextlib.suppress(BaseException):
-                loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
-            loop.run_until_complete(self._cleanup())
-            loop.close()
+        if self.discover_world:
+            self._producers.add(loop.create_task(self._discover_world()))
+
+    async def _discover_world(self) -> None:
+        """Ask the system for its world every 2 s until one answers (see ``discover_world``)."""
+        from posekit.viewer.world_discovery import discover_world
+
+        loop = asyncio.get_running_loop()
+        while not self._stopping and self._world is None:
+            name = await loop.run_in_executor(
+                None, discover_world, self.tap.transport, self.tap.logger)
+            if name:
+                try:
+                    self._world = world_payload(name)
+                except Exception as exc:  # an unknown or broken world: say so once, stop
+                    self._warn("viewer: the system's world cannot be drawn",
+                               f"{name!r}: {exc}")
+                    return
+                self.tap.logger.info(f"viewer: drawing the system's world '{name}'")
+                hello = _dumps(self._hello())
+                for client in list(self._clients):
+                    client.put("hello", hello)
+                return
+            await asyncio.sleep(_WORLD_RETRY_S)
 
     def _start_producer(self, loop: asyncio.AbstractEventLoop) -> None:
         """Run :meth:`_produce`, restarting it (after one logged line) if it ever fails."""
@@ -283,22 +307,11 @@ class ViewerServer:
     # -- who may connect ---------------------------------------------------------------------
     def _own_hosts(self) -> set[str]:
         """``host:port`` values that name this server (loopback names and the bound host)."""
-        names = {"localhost", "127.0.0.1", "[::1]"}
-        if self.host not in ("", "0.0.0.0", "::"):
-            names.add(f"[{self.host}]" if ":" in self.host else self.host)
-        return {f"{n.lower()}:{self.port}" for n in names}
+        return own_hosts(self.host, self.port)
 
     def host_allowed(self, host: str | None) -> bool:
         """Whether a request's ``Host`` header names this server (see the module docstring)."""
-        if "*" in self.allow_hosts:
-            return True
-        if not host:
-            return False
-        host = host.strip().lower()
-        if host in self.allow_hosts or host in self._own_hosts():
-            return True
-        name = host.rsplit(":", 1)[0] if not host.endswith("]") else host
-        return name in self.allow_hosts
+        return host_allowed(host, self.host, self.port, self.allow_hosts)
 
     def origin_allowed(self, origin: str | None) -> bool:
         """Whether a WebSocket ``Origin`` may connect (absent: not a browser, allowed)."""
@@ -355,12 +368,15 @@ class ViewerServer:
     def stop(self) -> None:
         """Close every connection, stop serving and join the thread."""
         self._stopping = True
-        loop, thread = self._loop, self._thread
-        if loop is not None and thread is not None and thread.is_alive():
-            loop.call_soon_threadsafe(loop.stop)
-            thread.join(timeout=10.0)
+        if self._runner_thread is not None:
+            self._runner_thread.stop()
         self._thread = None
         self._encoder.shutdown(wait=False, cancel_futures=True)
+        with self._goal_lock:
+            goal_pub, self._goal_pub = self._goal_pub, None
+        if goal_pub is not None:
+            with contextlib.suppress(Exception):  # a closing transport: nothing to undo
+                goal_pub.destroy()
         if self.close_tap:
             self.tap.close()
 
@@ -419,6 +435,7 @@ class ViewerServer:
                 "tree": self.tap.tree(),
                 "topics": self.tap.topics(),
                 "odometry": self.tap.trails(),
+                "clock": self.tap.time_state(),
                 "stats": self.stats,
             }
         except Exception as exc:  # whatever the data, the API answers
@@ -510,10 +527,58 @@ class ViewerServer:
                 client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
             elif op == "pause":
                 client.paused = bool(request.get("paused"))
+            elif op == "goal":
+                goal = self.publish_goal(request.get("frame"), request.get("x"),
+                                         request.get("y"), request.get("yaw"))
+                client.put("goal_sent", _dumps({"type": "goal_sent", **goal}))
             else:
-                raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause)")
+                raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause, goal)")
         except (ValueError, TypeError) as exc:
             client.put("error", _dumps({"type": "error", "message": f"bad request: {exc}"}))
+
+    # -- goals -------------------------------------------------------------------------------
+    def publish_goal(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
+        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose`` (RViz2's "2D Goal Pose"):
+        position ``(x, y, 0)`` m and heading ``yaw`` rad about z in ``frame``, stamped with
+        the tap's "now". The publisher is created on first use (the viewer adds no topic
+        until a goal is sent). Returns what was published.
+
+        Raises:
+            ValueError: a non-string or over-long frame, non-numeric or non-finite values,
+                or a position beyond 10 km.
+        """
+        from posekit.msgs.geometry_msgs import PoseStamped
+
+        if not isinstance(frame, str) or not frame.strip("/") or len(frame) > _MAX_NAME:
+            raise ValueError("'frame' must be a non-empty frame name")
+        values = []
+        for name, v in (("x", x), ("y", y), ("yaw", yaw)):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ValueError(f"goal '{name}' must be a finite number, got {v!r}")
+            values.append(float(v))
+        gx, gy, gyaw = values
+        if max(abs(gx), abs(gy)) > _MAX_GOAL_M:
+            raise ValueError(f"goal position beyond {_MAX_GOAL_M:g} m")
+        msg = PoseStamped()
+        msg.header.frame_id = frame.lstrip("/")
+        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(self.tap.now_ns(), 1_000_000_000)
+        msg.pose.position.x, msg.pose.position.y = gx, gy
+        msg.pose.orientation.z, msg.pose.orientation.w = math.sin(gyaw / 2), math.cos(gyaw / 2)
+        with self._goal_lock:
+            created = self._goal_pub is None
+            if self._goal_pub is None:
+                self._goal_pub = self.tap.transport.advertise(EndpointInfo(
+                    GOAL_TOPIC, PoseStamped, QoSProfile(depth=10), "posekit_viewer", "/",
+                    self.tap.logger))
+            publisher = self._goal_pub
+        if created:
+            self.tap.refresh()  # the goal display subscribes now that goal_pose has a publisher
+        publisher.publish(msg)
+        self._counters["goals"] += 1
+        self.tap.logger.info(
+            f"viewer: goal sent on {GOAL_TOPIC}: x={gx:.2f}, y={gy:.2f}, yaw={gyaw:.2f} "
+            f"in {msg.header.frame_id}")
+        return {"frame": msg.header.frame_id, "x": gx, "y": gy, "yaw": gyaw}
 
     # -- producers ---------------------------------------------------------------------------
     def _tf_message(self, fixed: str) -> str:
@@ -537,6 +602,8 @@ class ViewerServer:
                 "tree": self.tap.tree(),
                 "topics": self.tap.topics(),
                 "images": self.tap.image_topics(),
+                "clock": self.tap.time_state(),
+                "goal": self.tap.goal(),
             }
         )
 

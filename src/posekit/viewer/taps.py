@@ -21,11 +21,17 @@ What is tapped (topics are matched fully qualified):
   last ``trail_length`` poses that moved more than RViz2's Odometry display tolerances
   (0.1 m or 0.1 rad) from the previous kept pose, with the speed ``|v|`` for the arrow
   length;
+* ``/goal_pose`` (geometry_msgs/PoseStamped): the current goal (the newest message with
+  finite values), drawn as an arrow in its header frame;
 * every ``sensor_msgs/Image`` topic: the newest message only (a reference; the in-process
   bus shares the frozen pixel array, so this costs nothing); JPEG encoding happens on demand
   in the server, only for topics a client watches;
-* every topic: receive rate over the last :data:`RATE_WINDOW_S` seconds of wall time (what
-  ``ros2 topic hz`` prints by default).
+* every topic: receive rate over the last :data:`RATE_WINDOW_S` seconds (what ``ros2 topic
+  hz`` prints by default) of the clock the data uses: sim time when the run is on it (the
+  ``clock_ns`` given, or ``/clock``), else the wall clock. A camera publishing at 30 Hz of
+  sim time reads 30 Hz even when the simulation runs below real time;
+* time (:meth:`ViewerTap.time_state`): sim time, wall time and the real-time factor
+  measured over the last :data:`RTF_WINDOW_S` s of wall time.
 
 Topics are discovered with ``transport.get_topic_names_and_types()`` (call :meth:`refresh`
 periodically); the tap subscribes only to topics that have a publisher, so it never creates
@@ -63,10 +69,12 @@ from posekit.tf2 import Buffer, TransformException
 from posekit.time import Duration
 
 __all__ = [
+    "GOAL_TOPIC",
     "GROUND_TRUTH_TOPIC",
     "IMAGE_TYPE",
     "ODOMETRY_TOPICS",
     "RATE_WINDOW_S",
+    "RTF_WINDOW_S",
     "FrameInfo",
     "OdometryTrail",
     "TopicInfo",
@@ -78,11 +86,16 @@ TF_TYPE = "tf2_msgs/msg/TFMessage"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
 IMAGE_TYPE = "sensor_msgs/msg/Image"
 CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
+POSE_STAMPED_TYPE = "geometry_msgs/msg/PoseStamped"
+#: The goal display's topic (what RViz2's "2D Goal Pose" tool publishes on).
+GOAL_TOPIC = "/goal_pose"
 #: Odometry displays shown by default (RViz2 config of the lecture) and the simulator's truth.
 ODOMETRY_TOPICS = ("/odometry/filtered", "/odometry/wheels")
 GROUND_TRUTH_TOPIC = "/ground_truth/odom"
-#: Window (s of wall time) of the per-topic receive rate.
+#: Window (s of the data's clock) of the per-topic receive rate.
 RATE_WINDOW_S = 2.0
+#: Window (s of wall time) over which the real-time factor is measured.
+RTF_WINDOW_S = 3.0
 #: RViz2 Odometry display defaults: keep a new arrow only past these tolerances.
 TRAIL_POSITION_TOLERANCE_M = 0.1
 TRAIL_ANGLE_TOLERANCE_RAD = 0.1
@@ -134,14 +147,17 @@ class TopicInfo:
     name: str
     type_name: str
     receipts: deque[float] = field(default_factory=deque)
+    #: The clock ``receipts`` are on ("sim" or "wall"); a change restarts the rate.
+    clock: str = "wall"
     count: int = 0
     subscribed: bool = False
     error: str = ""
 
     def rate_hz(self, now: float) -> float:
-        """Messages per second over the last :data:`RATE_WINDOW_S` s of wall time."""
+        """Messages per second over the last :data:`RATE_WINDOW_S` s before ``now`` (s, on
+        the clock of ``receipts``)."""
         r = self.receipts
-        while r and now - r[0] > RATE_WINDOW_S:
+        while r and (now - r[0] > RATE_WINDOW_S or r[0] > now):
             r.popleft()
         if len(r) < 2:
             return 0.0
@@ -239,10 +255,13 @@ class ViewerTap:
         self._endpoints: dict[str, SubscriptionEndpoint] = {}
         self._trails: dict[str, OdometryTrail] = {}
         self._images: dict[str, tuple[int, Any]] = {}
+        self._goal: dict[str, Any] | None = None
         self._clock_ns: int | None = None
         self._clock_fn = clock_ns
         # Newest stamp seen on /tf and when (monotonic s): "now" when there is no clock.
         self._newest_stamp: tuple[int, float] | None = None
+        # (monotonic s, sim ns) samples for the real-time factor.
+        self._rtf_samples: deque[tuple[float, int]] = deque(maxlen=256)
         self._tf_version = 0
         self._closed = False
         #: Number of transforms the tf2 buffer refused (logged once each by reason).
@@ -261,7 +280,8 @@ class ViewerTap:
             self.logger.warning(f"viewer: graph query failed: {exc}")
             return
         # The topics the page draws first: a graph with endless topics must not crowd them out.
-        shown = {"/tf", "/tf_static", "/clock", *self.odometry_topics, self.ground_truth_topic}
+        shown = {"/tf", "/tf_static", "/clock", GOAL_TOPIC, *self.odometry_topics,
+                 self.ground_truth_topic}
         names_and_types = sorted(names_and_types, key=lambda nt: nt[0] not in shown)
         for name, types in names_and_types:
             type_name = types[0] if types else ""
@@ -312,6 +332,8 @@ class ViewerTap:
         ):
             def handler(msg: Any) -> None:
                 self._on_odometry(name, msg)
+        elif info.type_name == POSE_STAMPED_TYPE and name == GOAL_TOPIC:
+            handler = self._on_goal
         elif info.type_name == IMAGE_TYPE:
             def handler(msg: Any) -> None:
                 with self._lock:
@@ -321,9 +343,12 @@ class ViewerTap:
         def sink(msg: Any) -> None:
             if self._closed:
                 return
-            now = time.monotonic()
+            clock, now = self._data_time()
             with self._lock:
                 info.count += 1
+                if info.clock != clock:
+                    info.clock = clock
+                    info.receipts.clear()
                 info.receipts.append(now)
                 if len(info.receipts) > 4096:  # bounded even without readers
                     info.receipts.popleft()
@@ -419,7 +444,24 @@ class ViewerTap:
                 trail = self._trails[topic] = OdometryTrail(topic)
             trail.add(pose, msg.header.frame_id.lstrip("/"), msg.child_frame_id, self.trail_length)
 
+    def _on_goal(self, msg: Any) -> None:
+        p, q = msg.pose.position, msg.pose.orientation
+        values = [float(v) for v in (p.x, p.y, p.z, q.x, q.y, q.z, q.w)]
+        if not all(math.isfinite(v) for v in values):
+            self._warn("viewer: goal not drawn (non-finite pose)", GOAL_TOPIC)
+            return
+        goal = {"frame": msg.header.frame_id.lstrip("/") or "odom", "pose": values,
+                "stamp": _stamp_ns(msg.header.stamp) / NS}
+        with self._lock:
+            self._goal = goal
+
     # -- snapshots for the server -----------------------------------------------------------
+    def goal(self) -> dict[str, Any] | None:
+        """The current goal: ``{frame, pose: [x, y, z, qx, qy, qz, qw], stamp}`` (m,
+        quaternion, s) from the newest ``/goal_pose``, or None."""
+        with self._lock:
+            return None if self._goal is None else dict(self._goal)
+
     def now_ns(self) -> int:
         """"Now" (ns) for frame ages: the ``clock_ns`` given, else ``/clock`` when the system
         publishes it, else the wall clock; but when the newest /tf stamp is more than an
@@ -500,16 +542,55 @@ class ViewerTap:
             ]
         return sorted(out, key=lambda d: d["name"])
 
+    def _sim_ns(self) -> int | None:
+        """Sim time (ns): the ``clock_ns`` given, else the newest ``/clock``; None on the wall
+        clock."""
+        if self._clock_fn is not None:
+            return int(self._clock_fn())
+        return self._clock_ns
+
+    def _data_time(self) -> tuple[str, float]:
+        """``(clock, seconds)`` on the clock the data uses: ``("sim", sim time)`` when there
+        is one, else ``("wall", monotonic time)``."""
+        sim = self._sim_ns()
+        return ("sim", sim / NS) if sim is not None else ("wall", time.monotonic())
+
+    def time_state(self) -> dict[str, Any]:
+        """What the page's clock shows: ``source`` (``"executor"``: the run's simulated time
+        in this process; ``"/clock"``; or ``"wall"``), ``sim`` (s, None on the wall clock),
+        ``wall`` (Unix time, s), ``rtf`` (sim seconds per wall second over the last
+        :data:`RTF_WINDOW_S` s; 1.0 on the wall clock; None until measured) and
+        ``rate_clock`` (the clock topic rates are measured on: ``"sim"`` or ``"wall"``)."""
+        mono, wall = time.monotonic(), time.time()
+        sim = self._sim_ns()
+        if sim is None:
+            return {"source": "wall", "sim": None, "wall": wall, "rtf": 1.0,
+                    "rate_clock": "wall"}
+        with self._lock:
+            samples = self._rtf_samples
+            if samples and sim < samples[-1][1]:
+                samples.clear()  # the clock went back (restarted run): measure afresh
+            samples.append((mono, sim))
+            while len(samples) > 2 and mono - samples[1][0] >= RTF_WINDOW_S:
+                samples.popleft()
+            first = samples[0]
+        span = mono - first[0]
+        rtf = (sim - first[1]) / NS / span if span >= 0.25 else None
+        source = "executor" if self._clock_fn is not None else "/clock"
+        return {"source": source, "sim": sim / NS, "wall": wall, "rtf": rtf,
+                "rate_clock": "sim"}
+
     def topics(self) -> list[dict[str, Any]]:
-        """The topic panel: name, type, rate (Hz), messages received, publisher count."""
-        now = time.monotonic()
+        """The topic panel: name, type, rate (Hz, on the clock the data uses: see
+        :meth:`time_state`), messages received, publisher count."""
+        clock, now = self._data_time()
         with self._lock:
             infos = list(self._topics.values())
             rows = [
                 {
                     "name": i.name,
                     "type": i.type_name,
-                    "rate": round(i.rate_hz(now), 2),
+                    "rate": round(i.rate_hz(now) if i.clock == clock else 0.0, 2),
                     "count": i.count,
                     "error": i.error,
                 }

@@ -29,6 +29,20 @@ const state = {
   fps: Number(params.get("fps") || 30),
 };
 
+// RViz2's TF display options (per-frame axes and names, marker scale).
+const tfOptions = { hidden: new Set(), noName: new Set(), scale: 1.0 };
+let knownFrames = [];
+
+function applyTfOptions() {
+  if (scene) scene.setTfOptions(tfOptions);
+  debug.tfOptions = { hidden: [...tfOptions.hidden].sort(), noName: [...tfOptions.noName].sort(), scale: tfOptions.scale };
+  for (const box of document.querySelectorAll("#tf-tree input[data-kind]")) {
+    const set = box.dataset.kind === "show" ? tfOptions.hidden : tfOptions.noName;
+    box.checked = !set.has(box.dataset.frame);
+  }
+  state.dirty = true;
+}
+
 const visibility = () => ({
   grid: $("show-grid").checked,
   tf: $("show-tf").checked,
@@ -38,6 +52,7 @@ const visibility = () => ({
   [ODOM_TOPICS.wheels]: $("show-odom-wheels").checked,
   truth: $("show-truth").checked,
   world: $("show-world").checked,
+  goal: $("show-goal").checked,
 });
 
 // ------------------------------------------------------------------------------ scene
@@ -90,6 +105,8 @@ async function createScene() {
     $("renderer-note").hidden = false;
   }
   scene.setVisibility(visibility());
+  scene.setTfOptions(tfOptions);
+  debug.labels = () => scene.labelState();
 }
 
 // Render loop capped at state.fps (30 by default) so a laptop stays cool.
@@ -136,6 +153,7 @@ function connect() {
       case "tf": onTf(msg); break;
       case "odom": onOdom(msg); break;
       case "graph": onGraph(msg); break;
+      case "goal_sent": debug.goalSent = msg; break;
       case "error": console.warn("viewer server:", msg.message); break;
       default: break;
     }
@@ -189,9 +207,28 @@ function onOdom(msg) {
   state.dirty = true;
 }
 
+// The clock line: sim time, wall time, real-time factor (state from the server).
+function fillClock(clock) {
+  if (!clock) return;
+  debug.clock = clock;
+  const wall = new Date(clock.wall * 1000).toISOString().slice(11, 19) + " UTC";
+  const rtf = clock.rtf === null ? "—" : `${clock.rtf.toFixed(2)}×`;
+  const el = $("clock");
+  el.textContent = clock.sim === null
+    ? `sim — (wall clock) · wall ${wall} · RTF ${rtf}`
+    : `sim ${clock.sim.toFixed(2)} s · wall ${wall} · RTF ${rtf}`;
+  el.classList.toggle("slow", clock.rtf !== null && clock.rtf < 0.9);
+  el.dataset.source = clock.source;
+  debug.clockText = el.textContent;
+  $("topics-hz").textContent = clock.rate_clock === "sim" ? "Hz (sim)" : "Hz";
+}
+
 function onGraph(msg) {
   if (state.paused) return;
   debug.graphMessages += 1;
+  fillClock(msg.clock);
+  debug.goal = msg.goal;
+  if (scene) scene.setGoal(msg.goal);
   fillTree(msg.tree);
   fillTopics(msg.topics);
   state.imageTopics = msg.images;
@@ -235,6 +272,172 @@ for (const input of document.querySelectorAll(".toggles input")) {
   });
 }
 
+// 2D Goal Pose (RViz2's tool): press on the ground for the position, drag for the heading,
+// release to publish geometry_msgs/PoseStamped on goal_pose in the Fixed Frame (the server
+// publishes it). One goal per activation, as in RViz2.
+const goalTool = { active: false, from: null, yaw: 0 };
+
+function setGoalTool(active) {
+  goalTool.active = active;
+  goalTool.from = null;
+  debug.goalTool = active;
+  $("goal-tool").setAttribute("aria-pressed", String(active));
+  $("view").classList.toggle("goal-tool", active);
+  if (scene) { scene.setControlsEnabled(!active); scene.setDraft(null, 0); }
+  state.dirty = true;
+}
+
+$("goal-tool").addEventListener("click", () => setGoalTool(!goalTool.active));
+
+function goalPointer(kind, ev) {
+  if (!goalTool.active || !scene || ev.button > 0) return;
+  const p = scene.pickGround(ev.clientX, ev.clientY);
+  if (kind === "down") {
+    if (!p) return;
+    goalTool.from = p;
+    goalTool.yaw = 0;
+  } else if (goalTool.from && p) {
+    const dx = p.x - goalTool.from.x, dy = p.y - goalTool.from.y;
+    if (Math.hypot(dx, dy) > 1e-3) goalTool.yaw = Math.atan2(dy, dx);
+  }
+  if (!goalTool.from) return;
+  ev.preventDefault();
+  if (kind === "up") {
+    const { from, yaw } = goalTool;
+    send({ op: "goal", frame: state.fixedFrame, x: from.x, y: from.y, yaw });
+    setGoalTool(false);
+  } else {
+    scene.setDraft(goalTool.from, goalTool.yaw);
+  }
+  state.dirty = true;
+}
+
+// ------------------------------------------------------------------------------ saved views
+// A view configuration (JSON, version 1): the fixed frame, the camera, every display toggle,
+// the TF display options and the image panels. "Save view" downloads it, "Load view" reads
+// it back, "Link" puts it in the URL (?view=<base64url JSON>) and a page opened with that
+// URL starts from it. Unknown keys are ignored; wrong values are skipped and named.
+const CONFIG_VERSION = 1;
+const toggleIds = () => [...document.querySelectorAll(".toggles input")].map((i) => i.id);
+
+function viewConfig() {
+  return {
+    posekit_view: CONFIG_VERSION,
+    fixed_frame: state.fixedFrame,
+    renderer: scene ? scene.kind : null,
+    view: scene ? scene.getView() : null,
+    displays: Object.fromEntries(toggleIds().map((id) => [id.replace(/^show-/, ""), $(id).checked])),
+    tf: { hidden: [...tfOptions.hidden].sort(), no_name: [...tfOptions.noName].sort(), marker_scale: tfOptions.scale },
+    panels: {
+      camera_topic: $("camera-topic").value || null,
+      open: Object.fromEntries([...document.querySelectorAll("#panels details")].map((d) => [d.id, d.open])),
+    },
+  };
+}
+
+function applyConfig(cfg) {
+  const problems = [];
+  if (!cfg || typeof cfg !== "object" || cfg.posekit_view !== CONFIG_VERSION) {
+    throw new Error(`not a posekit view configuration (version ${CONFIG_VERSION})`);
+  }
+  const names = (v) => Array.isArray(v) && v.every((n) => typeof n === "string" && n.length <= 256);
+  if (typeof cfg.fixed_frame === "string" && cfg.fixed_frame && cfg.fixed_frame.length <= 256) {
+    if (cfg.fixed_frame !== state.fixedFrame) {
+      state.fixedFrame = cfg.fixed_frame;
+      state.lastTf = null;
+      send({ op: "fixed_frame", frame: state.fixedFrame });
+      if (scene) scene.resetTrails();
+      fillFixedFrames(debug.frames);
+    }
+  } else if (cfg.fixed_frame !== undefined) problems.push("fixed_frame");
+  if (cfg.view !== undefined && !(scene && cfg.renderer === scene.kind && scene.setView(cfg.view))) {
+    problems.push("view");
+  }
+  for (const [key, on] of Object.entries(cfg.displays || {})) {
+    const box = $(`show-${key}`);
+    if (box && box.closest(".toggles") && typeof on === "boolean") box.checked = on;
+    else problems.push(`displays.${key}`);
+  }
+  const tf = cfg.tf || {};
+  if (names(tf.hidden)) tfOptions.hidden = new Set(tf.hidden); else if (tf.hidden !== undefined) problems.push("tf.hidden");
+  if (names(tf.no_name)) tfOptions.noName = new Set(tf.no_name); else if (tf.no_name !== undefined) problems.push("tf.no_name");
+  if (Number.isFinite(tf.marker_scale) && tf.marker_scale >= 0.1 && tf.marker_scale <= 10) {
+    tfOptions.scale = tf.marker_scale;
+    $("marker-scale").value = String(tf.marker_scale);
+  } else if (tf.marker_scale !== undefined) problems.push("tf.marker_scale");
+  const panels = cfg.panels || {};
+  for (const [id, open] of Object.entries(panels.open || {})) {
+    const d = $(id);
+    if (d && d.tagName === "DETAILS" && typeof open === "boolean") d.open = open;
+  }
+  if (typeof panels.camera_topic === "string") {
+    state.preferredCamera = panels.camera_topic;
+    const select = $("camera-topic");
+    if ([...select.options].some((o) => o.value === panels.camera_topic)) select.value = panels.camera_topic;
+  }
+  if (scene) scene.setVisibility(visibility());
+  applyTfOptions();
+  updateWatch(true);
+  debug.configProblems = problems;
+  const note = $("config-note");
+  note.hidden = problems.length === 0;
+  note.textContent = problems.length ? `view loaded; skipped: ${problems.join(", ")}` : "";
+  state.dirty = true;
+}
+
+function encodeConfig(cfg) {
+  const bytes = new TextEncoder().encode(JSON.stringify(cfg));
+  let bin = "";
+  for (const b of bytes) bin += String.fromCharCode(b);
+  return btoa(bin).replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
+}
+
+function decodeConfig(text) {
+  const bin = atob(text.replace(/-/g, "+").replace(/_/g, "/"));
+  return JSON.parse(new TextDecoder().decode(Uint8Array.from(bin, (c) => c.charCodeAt(0))));
+}
+
+function showConfigError(err) {
+  const note = $("config-note");
+  note.textContent = `view not loaded: ${err.message || err}`;
+  note.hidden = false;
+  debug.configError = note.textContent;
+}
+
+$("config-save").addEventListener("click", () => {
+  const blob = new Blob([JSON.stringify(viewConfig(), null, 2) + "\n"], { type: "application/json" });
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = "posekit-view.json";
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+});
+
+$("config-load").addEventListener("change", async (ev) => {
+  const file = ev.target.files && ev.target.files[0];
+  ev.target.value = "";
+  if (!file) return;
+  try {
+    if (file.size > 1 << 20) throw new Error("file larger than 1 MiB");
+    applyConfig(JSON.parse(await file.text()));
+    debug.configLoaded = (debug.configLoaded || 0) + 1;
+  } catch (err) {
+    showConfigError(err);
+  }
+});
+
+$("config-link").addEventListener("click", () => {
+  const url = new URL(location.href);
+  for (const key of ["view", "camera", "target", "fixed_frame"]) url.searchParams.delete(key);
+  url.searchParams.set("view", encodeConfig(viewConfig()));
+  history.replaceState(null, "", url);
+  debug.viewUrl = url.href;
+});
+
+debug.viewConfig = viewConfig;
+
 // ------------------------------------------------------------------------------ panels
 function cell(text, cls) {
   const td = document.createElement("td");
@@ -243,7 +446,36 @@ function cell(text, cls) {
   return td;
 }
 
+function checkCell(frame, kind) {
+  const td = document.createElement("td");
+  const box = document.createElement("input");
+  box.type = "checkbox";
+  box.dataset.frame = frame;
+  box.dataset.kind = kind;
+  box.title = kind === "show" ? `show ${frame}` : `show the name of ${frame}`;
+  box.checked = !(kind === "show" ? tfOptions.hidden : tfOptions.noName).has(frame);
+  td.append(box);
+  return td;
+}
+
+$("tf-tree").addEventListener("change", (ev) => {
+  const box = ev.target;
+  if (!box.dataset || !box.dataset.kind) return;
+  const set = box.dataset.kind === "show" ? tfOptions.hidden : tfOptions.noName;
+  if (box.checked) set.delete(box.dataset.frame); else set.add(box.dataset.frame);
+  applyTfOptions();
+});
+
+$("marker-scale").addEventListener("input", (ev) => {
+  const v = Number(ev.target.value);
+  if (Number.isFinite(v) && v >= 0.1 && v <= 10) { tfOptions.scale = v; applyTfOptions(); }
+});
+$("tf-show-all").addEventListener("click", () => { tfOptions.hidden.clear(); tfOptions.noName.clear(); applyTfOptions(); });
+$("tf-hide-all").addEventListener("click", () => { for (const f of knownFrames) tfOptions.hidden.add(f); applyTfOptions(); });
+$("tf-names-none").addEventListener("click", () => { for (const f of knownFrames) tfOptions.noName.add(f); applyTfOptions(); });
+
 function fillTree(tree) {
+  knownFrames = [...new Set([...tree.map((f) => f.name), ...tree.map((f) => f.parent)])].filter(Boolean);
   const body = $("tf-tree").tBodies[0];
   // Depth-first order under each root, indented, like rqt_tf_tree read top-down.
   const children = new Map();
@@ -261,6 +493,8 @@ function fillTree(tree) {
       const stale = !f.static && f.age !== null && f.age > STALE_S;
       tr.className = `${f.static ? "static" : ""} ${stale ? "stale" : ""}`;
       tr.append(
+        checkCell(f.name, "show"),
+        checkCell(f.name, "name"),
         cell(`${"\u00a0".repeat(depth)}${f.name}`),
         cell(f.parent),
         cell(f.static ? "static" : f.rate.toFixed(1), "num"),
@@ -273,7 +507,7 @@ function fillTree(tree) {
   for (const root of roots) {
     const tr = document.createElement("tr");
     tr.dataset.frame = root;
-    tr.append(cell(root), cell(""), cell("", "num"), cell("", "num"));
+    tr.append(checkCell(root, "show"), checkCell(root, "name"), cell(root), cell(""), cell("", "num"), cell("", "num"));
     rows.push(tr);
     walk(root, 1);
   }
@@ -301,7 +535,7 @@ function fillCameraTopics(images) {
   if (current.join("\n") === cams.join("\n")) return;
   const previous = select.value;
   select.replaceChildren(...cams.map((t) => new Option(t, t)));
-  const preferred = CAMERA_PREFERENCE.find((t) => cams.includes(t)) || cams[0];
+  const preferred = [state.preferredCamera, ...CAMERA_PREFERENCE].find((t) => cams.includes(t)) || cams[0];
   select.value = cams.includes(previous) ? previous : (preferred || "");
   $("camera-info").textContent = cams.length ? "waiting for an image…" : "no image topic";
 }
@@ -347,5 +581,16 @@ function onImage(buffer) {
 
 // ------------------------------------------------------------------------------ start
 await createScene();
+if (params.get("view")) {
+  try {
+    applyConfig(decodeConfig(params.get("view")));
+  } catch (err) {
+    showConfigError(err);
+  }
+}
+scene.canvas.addEventListener("pointerdown", (ev) => goalPointer("down", ev));
+window.addEventListener("pointermove", (ev) => goalPointer("move", ev));
+window.addEventListener("pointerup", (ev) => goalPointer("up", ev));
+debug.project = (x, y, z = 0) => scene.projectPoint(x, y, z);
 connect();
 requestAnimationFrame(loop);

@@ -1,6 +1,8 @@
 // 2D top-down fallback (canvas 2D) when WebGL or three.js is unavailable: the Fixed Frame's
 // x axis points right, y up. Drag to pan, wheel to zoom. Same interface as scene3d.js.
 
+import { placeLabels } from "./labels.js";
+
 const ODOM_COLORS = { "/odometry/filtered": "#ff1900", "/odometry/wheels": "#2f7bff", truth: "#21c45a" };
 
 function yawOf(qx, qy, qz, qw) {
@@ -29,8 +31,13 @@ export function createScene2D(container) {
   let vis = {};
   let staleSeconds = 1.0;
 
+  let tfOptions = { hidden: new Set(), noName: new Set(), scale: 1.0 };
+  let labels = { hidden: 0, shown: [] };
+  let goal = null;          // goal_pose in its frame
+  let draft = null;         // the 2D Goal Pose tool's arrow {x, y, yaw} in the fixed frame
+  let panEnabled = true;
   let drag = null;
-  canvas.addEventListener("mousedown", (e) => { drag = { x: e.clientX, y: e.clientY }; });
+  canvas.addEventListener("mousedown", (e) => { if (panEnabled) drag = { x: e.clientX, y: e.clientY }; });
   window.addEventListener("mouseup", () => { drag = null; });
   window.addEventListener("mousemove", (e) => {
     if (!drag) return;
@@ -108,6 +115,13 @@ export function createScene2D(container) {
         arrow({ x, y, yaw: frame.yaw + yawOf(p[3], p[4], p[5], p[6]) }, Math.max(0.03, 0.5 * p[7]), color);
       }
     }
+    const goalFrame = goal && poses.get(goal.frame);
+    if (goalFrame && vis.goal !== false) {
+      const [x, y, , qx, qy, qz, qw] = goal.pose;
+      const [gx, gy] = apply(goalFrame, x, y);
+      arrow({ x: gx, y: gy, yaw: goalFrame.yaw + yawOf(qx, qy, qz, qw) }, 0.45, "#ff40ff");
+    }
+    if (draft) arrow(draft, 0.45, "#40ff40");
     const base = poses.get((hello && hello.base_frame) || "base_link");
     if (base && vis.robot !== false) {
       polygon([apply(base, 0.1, 0.075), apply(base, -0.1, 0.075), apply(base, -0.1, -0.075), apply(base, 0.1, -0.075)], "#3a3f47", "#c0392b");
@@ -116,25 +130,39 @@ export function createScene2D(container) {
         polygon([[c[0] - 0.0425, c[1] - 0.02], [c[0] + 0.0425, c[1] - 0.02], [c[0] + 0.0425, c[1] + 0.02], [c[0] - 0.0425, c[1] + 0.02]], "#111");
       }
     }
+    const items = [];
     if (vis.tf !== false) {
       ctx.font = "12px 'DejaVu Sans', sans-serif";
+      const axis = 0.15 * tfOptions.scale;
       for (const f of frames) {
         const [name, parent, , , , , , , , age, isStatic, ok] = f;
         const p = poses.get(name);
-        if (!ok || !p) continue;
+        if (!ok || !p || tfOptions.hidden.has(name)) continue;
         const stale = !isStatic && age > staleSeconds;
         const q = poses.get(parent);
         if (q) line([p.x, p.y], [q.x, q.y], stale ? "#777" : "#f0d050");
-        line([p.x, p.y], apply(p, 0.15, 0), stale ? "#8a8a8a" : "#ff2020", 2);
-        line([p.x, p.y], apply(p, 0, 0.15), stale ? "#8a8a8a" : "#20d020", 2);
-        if (vis.names !== false) {
-          ctx.fillStyle = stale ? "#888" : "#fff";
+        line([p.x, p.y], apply(p, axis, 0), stale ? "#8a8a8a" : "#ff2020", 2);
+        line([p.x, p.y], apply(p, 0, axis), stale ? "#8a8a8a" : "#20d020", 2);
+        if (vis.names !== false && !tfOptions.noName.has(name)) {
           const [px, py] = toPx(p.x, p.y);
-          ctx.fillText(name, px + 4, py - 4);
+          items.push({ name, x: px, y: py, w: ctx.measureText(name).width, h: 14, stale });
         }
       }
+      const where = placeLabels(items);
+      for (const it of items) {
+        const at = where.get(it.name);
+        if (!at) continue;
+        if (at.shifted) line(...[[it.x, it.y], [at.x, at.y + it.h / 2]].map(fromPx), "#aaa");
+        ctx.fillStyle = it.stale ? "#888" : "#fff";
+        ctx.fillText(it.name, at.x, at.y + it.h - 3);
+      }
+      labels = { hidden: items.length - where.size, shown: [...where.keys()] };
+    } else {
+      labels = { hidden: 0, shown: [] };
     }
   }
+
+  const fromPx = ([px, py]) => [center.x + (px - canvas.width / 2) / scale, center.y - (py - canvas.height / 2) / scale];
 
   return {
     kind: "2d",
@@ -151,6 +179,31 @@ export function createScene2D(container) {
     setOdometry(displays, helloMsg) { odom = displays; hello = helloMsg; },
     resetTrails() { odom = {}; },
     setVisibility(v) { vis = v; moved = true; },
+    setGoal(g) { goal = g; moved = true; },
+    setTfOptions(o) { tfOptions = o; moved = true; },
+    // The view (centre in the Fixed Frame, m; scale, px per m) for saved configs.
+    getView: () => ({ center: [center.x, center.y], scale }),
+    setView(v) {
+      if (!v || !Array.isArray(v.center) || v.center.length !== 2 || !v.center.every(Number.isFinite)
+          || !Number.isFinite(v.scale) || v.scale < 5 || v.scale > 2000) return false;
+      center = { x: v.center[0], y: v.center[1] };
+      scale = v.scale;
+      moved = true;
+      return true;
+    },
+    labelState: () => ({ ...labels, frames: frames.filter((f) => f[11] && !tfOptions.hidden.has(f[0])).map((f) => f[0]) }),
+    setDraft(from, yaw) { draft = from ? { x: from.x, y: from.y, yaw } : null; moved = true; },
+    pickGround(clientX, clientY) {
+      const r = canvas.getBoundingClientRect();
+      const px = (clientX - r.left) * (canvas.width / r.width), py = (clientY - r.top) * (canvas.height / r.height);
+      return { x: center.x + (px - canvas.width / 2) / scale, y: center.y - (py - canvas.height / 2) / scale };
+    },
+    projectPoint(x, y) {
+      const r = canvas.getBoundingClientRect();
+      const [px, py] = toPx(x, y);
+      return { x: r.left + px * (r.width / canvas.width), y: r.top + py * (r.height / canvas.height) };
+    },
+    setControlsEnabled(on) { panEnabled = on; if (!on) drag = null; },
     needsRender: () => moved,
     render,
   };

@@ -5,6 +5,7 @@
 
 import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+import { createLabelLayer } from "./labels.js";
 
 const AXIS_LENGTH = 0.15;         // m, per frame
 const STALE_GREY = 0x8a8a8a;
@@ -18,29 +19,6 @@ const WHEELS = [[0.053, 0.096], [0.053, -0.096], [-0.053, 0.096], [-0.053, -0.09
 
 function poseToMatrix(x, y, z, qx, qy, qz, qw, m = new THREE.Matrix4()) {
   return m.compose(new THREE.Vector3(x, y, z), new THREE.Quaternion(qx, qy, qz, qw), new THREE.Vector3(1, 1, 1));
-}
-
-function textSprite(text, color = "#ffffff") {
-  const canvas = document.createElement("canvas");
-  const ctx = canvas.getContext("2d");
-  const font = "28px 'DejaVu Sans', sans-serif";
-  ctx.font = font;
-  const width = Math.ceil(ctx.measureText(text).width) + 8;
-  canvas.width = width;
-  canvas.height = 36;
-  ctx.font = font;
-  ctx.fillStyle = color;
-  ctx.textBaseline = "middle";
-  ctx.fillText(text, 4, 18);
-  const texture = new THREE.CanvasTexture(canvas);
-  texture.colorSpace = THREE.SRGBColorSpace;
-  const material = new THREE.SpriteMaterial({ map: texture, depthTest: false, transparent: true });
-  const sprite = new THREE.Sprite(material);
-  const h = 0.03;
-  sprite.scale.set((h * width) / 36, h, 1);
-  sprite.center.set(0, 0);
-  sprite.renderOrder = 10;
-  return sprite;
 }
 
 function makeAxes() {
@@ -157,7 +135,7 @@ export async function createScene3D(container) {
 
   const tfRoot = new THREE.Group();
   scene.add(tfRoot);
-  const frameObjects = new Map();               // name -> {group, axes, label}
+  const frameObjects = new Map();               // name -> {group, axes, stale, ok}
   const linkGeometry = new THREE.BufferGeometry();
   linkGeometry.setAttribute("position", new THREE.Float32BufferAttribute(new Float32Array(6 * 256), 3));
   const links = new THREE.LineSegments(linkGeometry, new THREE.LineBasicMaterial({ color: 0xf0d050, transparent: true, opacity: 0.8 }));
@@ -173,6 +151,19 @@ export async function createScene3D(container) {
   scene.add(worldGroup);
   let worldFrame = "odom";
 
+  // The current goal (goal_pose, in its header frame) and the 2D Goal Pose tool's draft.
+  const GOAL_COLOR = 0xff40ff;
+  const goalGroup = new THREE.Group();
+  goalGroup.matrixAutoUpdate = false;
+  goalGroup.visible = false;
+  const goalArrow = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 0.45, GOAL_COLOR, 0.12, 0.07);
+  goalGroup.add(goalArrow);
+  scene.add(goalGroup);
+  let goal = null;
+  const draft = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 0.45, 0x40ff40, 0.12, 0.07);
+  draft.visible = false;
+  scene.add(draft);
+
   const odomGroups = new Map();                 // topic -> {group, arrows: [], frame}
   let vis = {};
   let hello = null;
@@ -183,11 +174,10 @@ export async function createScene3D(container) {
       const group = new THREE.Group();
       group.matrixAutoUpdate = false;
       const axes = makeAxes();
-      const label = textSprite(name);
-      label.position.set(0.01, 0.01, 0.01);
-      group.add(axes, label);
+      axes.scale.setScalar(tfOptions.scale);
+      group.add(axes);
       tfRoot.add(group);
-      obj = { group, axes, label, stale: false };
+      obj = { group, axes, stale: false, ok: false };
       frameObjects.set(name, obj);
     }
     return obj;
@@ -197,7 +187,35 @@ export async function createScene3D(container) {
     if (obj.stale === stale) return;
     obj.stale = stale;
     for (const mat of obj.axes.userData.materials) mat.color.setHex(stale ? STALE_GREY : mat.userData.color);
-    obj.label.material.opacity = stale ? 0.45 : 1.0;
+  }
+
+  // RViz2's TF display options: frames hidden, frames whose name is hidden, marker scale.
+  let tfOptions = { hidden: new Set(), noName: new Set(), scale: 1.0 };
+  function setTfOptions(o) {
+    tfOptions = o;
+    for (const [name, obj] of frameObjects) {
+      obj.axes.scale.setScalar(o.scale);
+      obj.group.visible = obj.ok && vis.tf !== false && !o.hidden.has(name);
+    }
+    controlsMoved = true;
+  }
+
+  // Frame names in screen space, de-overlapped (labels.js), refreshed on every render.
+  const labelLayer = createLabelLayer(container);
+  let labelsHidden = 0;
+  const projected = new THREE.Vector3();
+  function updateLabels() {
+    const items = [];
+    if (vis.tf !== false && vis.names !== false) {
+      const w = canvas.clientWidth, h = canvas.clientHeight;
+      for (const [name, obj] of frameObjects) {
+        if (!obj.group.visible || tfOptions.noName.has(name)) continue;
+        projected.setFromMatrixPosition(obj.group.matrix).project(camera);
+        if (projected.z > 1 || Math.abs(projected.x) > 1.2 || Math.abs(projected.y) > 1.2) continue;
+        items.push({ name, x: ((projected.x + 1) / 2) * w, y: ((1 - projected.y) / 2) * h, stale: obj.stale });
+      }
+    }
+    labelsHidden = labelLayer.update(items);
   }
 
   function setFrames(msg, staleSeconds) {
@@ -214,13 +232,13 @@ export async function createScene3D(container) {
       const [name, parent, x, y, z, qx, qy, qz, qw, age, isStatic, ok] = f;
       const obj = frameGroup(name);
       seen.add(name);
-      obj.group.visible = ok && vis.tf !== false;
+      obj.ok = Boolean(ok);
+      obj.group.visible = obj.ok && vis.tf !== false && !tfOptions.hidden.has(name);
       if (!ok) continue;
       const m = poseToMatrix(x, y, z, qx, qy, qz, qw);
       framePose.set(name, m);
       obj.group.matrix.copy(m);
       obj.group.matrixWorldNeedsUpdate = true;
-      obj.label.visible = vis.names !== false;
       setStale(obj, !isStatic && age > staleSeconds);
       const p = okFrames.get(parent);
       if (p && nLinks < 256) {
@@ -229,7 +247,7 @@ export async function createScene3D(container) {
         nLinks += 1;
       }
     }
-    for (const [name, obj] of frameObjects) if (!seen.has(name)) obj.group.visible = false;
+    for (const [name, obj] of frameObjects) if (!seen.has(name)) obj.group.visible = obj.ok = false;
     positions.needsUpdate = true;
     links.geometry.setDrawRange(0, 2 * nLinks);
     links.visible = vis.tf !== false;
@@ -238,6 +256,51 @@ export async function createScene3D(container) {
     if (base) robot.matrix.copy(base), (robot.matrixAutoUpdate = false), (robot.matrixWorldNeedsUpdate = true);
     placeWorld();
     placeOdometry();
+    placeGoal();
+  }
+
+  function placeGoal() {
+    const m = goal ? framePose.get(goal.frame) : null;
+    goalGroup.visible = Boolean(m) && vis.goal !== false;
+    if (m) { goalGroup.matrix.copy(m); goalGroup.matrixWorldNeedsUpdate = true; }
+  }
+
+  function setGoal(g) {
+    goal = g;
+    if (g) {
+      const [x, y, z, qx, qy, qz, qw] = g.pose;
+      goalArrow.position.set(x, y, z + 0.01);
+      goalArrow.setDirection(new THREE.Vector3(1, 0, 0).applyQuaternion(new THREE.Quaternion(qx, qy, qz, qw)));
+    }
+    placeGoal();
+    controlsMoved = true;
+  }
+
+  // Where a pixel of the canvas (client coordinates) meets the Fixed Frame's z = 0 plane.
+  const raycaster = new THREE.Raycaster();
+  const ground = new THREE.Plane(new THREE.Vector3(0, 0, 1), 0);
+  function pickGround(clientX, clientY) {
+    const r = canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - r.left) / r.width) * 2 - 1, -((clientY - r.top) / r.height) * 2 + 1);
+    raycaster.setFromCamera(ndc, camera);
+    const hit = raycaster.ray.intersectPlane(ground, new THREE.Vector3());
+    return hit ? { x: hit.x, y: hit.y } : null;
+  }
+
+  // The client coordinates of a point of the Fixed Frame (three.js's projection).
+  function projectPoint(x, y, z = 0) {
+    const r = canvas.getBoundingClientRect();
+    const v = new THREE.Vector3(x, y, z).project(camera);
+    return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height };
+  }
+
+  function setDraft(from, yaw) {
+    draft.visible = Boolean(from);
+    if (from) {
+      draft.position.set(from.x, from.y, 0.02);
+      draft.setDirection(new THREE.Vector3(Math.cos(yaw), Math.sin(yaw), 0));
+    }
+    controlsMoved = true;
   }
 
   function placeWorld() {
@@ -344,10 +407,10 @@ export async function createScene3D(container) {
   function setVisibility(v) {
     vis = v;
     grid.visible = v.grid !== false;
+    placeGoal();
     links.visible = v.tf !== false;
-    for (const obj of frameObjects.values()) {
-      obj.group.visible = obj.group.visible && v.tf !== false;
-      obj.label.visible = v.names !== false;
+    for (const [name, obj] of frameObjects) {
+      obj.group.visible = obj.ok && v.tf !== false && !tfOptions.hidden.has(name);
     }
     controlsMoved = true;
   }
@@ -374,12 +437,33 @@ export async function createScene3D(container) {
     setOdometry,
     resetTrails,
     setVisibility,
+    setGoal,
+    setDraft,
+    pickGround,
+    projectPoint,
+    setControlsEnabled(on) { controls.enabled = on; },
+    setTfOptions,
+    // The view (camera position and orbit target in the Fixed Frame, m) for saved configs.
+    getView: () => ({ camera: camera.position.toArray(), target: controls.target.toArray() }),
+    setView(v) {
+      const ok = (a) => Array.isArray(a) && a.length === 3 && a.every(Number.isFinite);
+      if (!v || !ok(v.camera) || !ok(v.target)) return false;
+      camera.position.fromArray(v.camera);
+      controls.target.fromArray(v.target);
+      controls.update();
+      controlsMoved = true;
+      return true;
+    },
+    labelState: () => ({ hidden: labelsHidden,
+      shown: [...document.querySelectorAll("#tf-labels .tf-label:not([hidden])")].map((e) => e.dataset.frame),
+      frames: [...frameObjects].filter(([, o]) => o.group.visible).map(([n]) => n) }),
     needsRender: () => controlsMoved,
     render() {
       controlsMoved = false;
       resize();
       // Re-apply the TF visibility toggle (setFrames sets group visibility per message).
       renderer.render(scene, camera);
+      updateLabels();
     },
   };
 }
