@@ -5,6 +5,7 @@
   (transport from $POSEKIT_TRANSPORT, default in-process), shut down afterwards.
 * ``executor``: a :class:`~posekit.runtime.executors.SimulatedTimeExecutor` on ``ctx``
   without a /clock publisher (stepped sim time).
+* every test: ``POSEKIT_ZENOH_ROUTER`` on a free loopback port of its own.
 * ``logs``: every :class:`~posekit.runtime.logging.LogRecord` emitted during the test.
 
 The runtime is imported inside the fixtures, so the geometry/msgs/tf2 tests do not load it.
@@ -31,6 +32,16 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile("posekit")
+
+
+@pytest.fixture(autouse=True)
+def _private_zenoh_router(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each test's in-process Zenoh sessions (a ``posekit launch`` run by a test, a tool)
+    use a free loopback port of their own, so tests never meet each other's graph or a
+    user's router on the default port. Tests that start processes set their own endpoint."""
+    from _support.ports import free_port
+
+    monkeypatch.setenv("POSEKIT_ZENOH_ROUTER", f"tcp/127.0.0.1:{free_port()}")
 
 
 @pytest.fixture

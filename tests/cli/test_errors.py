@@ -157,7 +157,9 @@ def test_empty_graph_hints(monkeypatch: pytest.MonkeyPatch) -> None:
             out, err = io.StringIO(), io.StringIO()
             kwargs = {"timeout_s": 1.5} if function is tf_echo.main else {}
             function(argv, context=context, out=out, err=err, **kwargs)
-            assert "hint: no other node is visible on the zenoh graph" in err.getvalue()
+            hint = err.getvalue()
+            assert "hint: no other node is visible on zenoh domain" in hint
+            assert "ROS_DOMAIN_ID" in hint
         with pytest.raises(CliError, match="Unable to find node '/x'"):
             node_cmd.main_info(["/x"], context=context, out=io.StringIO(), err=io.StringIO())
     finally:

@@ -129,7 +129,7 @@ def test_service_list_type_find_call(ctx, served: Node) -> None:
 def test_bad_input_is_one_line_never_a_traceback(ctx) -> None:
     code, _, err = run(service_cmd.main_call, ["bad name", "std_srvs/srv/Empty"], ctx)
     assert code == 1
-    assert err.startswith("posekit service call: InvalidServiceNameException: Invalid service")
+    assert err.startswith("posekit service call: error: Invalid service name 'bad name'")
     assert err.count("\n") == 1
     code, _, err = run(param_cmd.main_set, ["/nobody", "x", "1"], ctx)
     assert (code, err) == (1, "Node not found\n")

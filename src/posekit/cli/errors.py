@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import sys
 import traceback
 from typing import TextIO
@@ -54,6 +55,7 @@ def _user_error_types() -> tuple[type[BaseException], ...]:
         CliError, OSError, UnicodeError, MessageError, NameValidationError, ParameterException,
         UnknownTransportError, TopicTypeMismatchError, GeometryError, ServicesNotSupportedError,
         ClockConflictError, RCLError,
+        re.error,  # a --filter/--regex pattern given by the user
     ]
     for module, name in (
         ("posekit.bag.errors", "BagError"),

@@ -209,12 +209,16 @@ def _main(argv: list[str]) -> int:
         return 0
     ns = _parser().parse_intermixed_args(argv)
     from posekit.cli._extras import require
+    from posekit.demos.scenarios import SCENARIO_EXTRAS
 
+    target = next((w for w in ns.words if ":=" not in w), "")
+    scenario_extra = SCENARIO_EXTRAS.get(target)
     problem = require("posekit launch", [
-        (flag, extra) for flag, extra, given in (
+        *([(f"scenario {target}", scenario_extra)] if scenario_extra else []),
+        *((flag, extra) for flag, extra, given in (
             ("--plot", "plot", ns.plot), ("--viewer", "viewer", ns.viewer),
             ("--record", "bag", ns.record), ("--save-images", "vision", ns.save_images),
-        ) if given
+        ) if given),
     ])
     if problem:  # before anything runs, not after a whole simulation
         raise _UsageError(problem.removeprefix("posekit launch: "))

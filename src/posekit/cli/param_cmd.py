@@ -337,9 +337,9 @@ def run(verb: str, argv: Sequence[str], *, context: Any = None, out: TextIO | No
         err.write(f"{exc}\n")
         return 1
     except Exception as exc:  # a transport that cannot start, ...: one line, no traceback
-        first = (str(exc).splitlines() or [""])[0]
-        err.write(f"posekit param {verb}: {type(exc).__name__}: {first}\n")
-        return 1
+        from posekit.cli.errors import report
+
+        return report(exc, f"posekit param {verb}", err)
     finally:
         out.flush()
     return 0

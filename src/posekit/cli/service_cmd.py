@@ -38,10 +38,9 @@ def _one_line_errors(verb: str) -> Callable[[_Verb], _Verb]:
             try:
                 return fn(argv, context=context, out=out, err=err)
             except Exception as exc:
-                first = (str(exc).splitlines() or [""])[0]
-                name = type(exc).__name__
-                (err or sys.stderr).write(f"posekit service {verb}: {name}: {first}\n")
-                return 1
+                from posekit.cli.errors import report
+
+                return report(exc, f"posekit service {verb}", err)
 
         return wrapper
 

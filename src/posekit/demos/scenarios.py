@@ -10,7 +10,21 @@ from typing import Any
 from posekit.launch import Node
 from posekit.robot.scenarios import get_scenario, run_scenario, scenario_names
 
-__all__ = ["get_scenario", "include_scenario", "run_scenario", "scenario_names"]
+__all__ = [
+    "SCENARIO_EXTRAS",
+    "get_scenario",
+    "include_scenario",
+    "run_scenario",
+    "scenario_names",
+]
+
+#: Scenarios that need an optional extra (registered only when it is installed), so that a
+#: missing one is named before anything runs.
+SCENARIO_EXTRAS: dict[str, str] = dict.fromkeys(
+    ("aruco_box_camera_world", "aruco_box_world", "static_aruco_detector", "kdl_chain_demo",
+     "dynamic_detector", "dynamic_detector_listener"),
+    "vision",
+)
 
 
 def include_scenario(name: str, params: Mapping[str, Any] | None = None,
@@ -23,6 +37,7 @@ def include_scenario(name: str, params: Mapping[str, Any] | None = None,
     ``params`` as ``posekit launch NAME name:=value`` takes them.
     """
     return get_scenario(name).factory(dict(params or {}), int(seed)).nodes
+
 
 # Each module registers its scenarios when imported; vision is optional (needs OpenCV).
 for _module in ("posekit.vision.scenarios", "posekit.demos.lecture"):
