@@ -8,8 +8,10 @@ A shell block is marked by an HTML comment right above it::
     <!-- runnable until="REGEX" -->          a command that runs until stopped: wait for
                                              REGEX in its output, then Ctrl-C it
     <!-- runnable background expect="RE" --> "terminal 1": start it, wait for RE, leave it
-                                             running for the blocks below; stopped by the
-                                             next background block or at the end
+                                             running for the blocks below; stopped (as a
+                                             reader leaves terminal 1 behind) by the next
+                                             background block, at the next heading of the
+                                             document, or at the end
 
 Blocks run with bash (``set -e``) in a temporary directory that links ``examples`` and
 ``docs`` of the repository, with the test's virtual environment first on PATH, and with
@@ -52,6 +54,8 @@ class Block:
     background: bool = False
     expect: str | None = None
     until: str | None = None
+    section: int = 0  # how many headings come before the block
+
 
     def __str__(self) -> str:
         return f"{self.doc.name}:{self.line}"
@@ -61,8 +65,17 @@ def runnable_blocks(doc: Path, text: str | None = None) -> list[Block]:
     if text is None:
         text = doc.read_text(encoding="utf-8")
     blocks = []
+    # Heading lines outside fenced code (a "# comment" inside a code block is no heading).
+    headings, fenced, offset = [], False, 0
+    for line in text.splitlines(keepends=True):
+        if line.startswith("```"):
+            fenced = not fenced
+        elif not fenced and re.match(r"#{1,6} ", line):
+            headings.append(offset)
+        offset += len(line)
     for match in _BLOCK.finditer(text):
-        block = Block(doc, text.count("\n", 0, match.start()) + 1, match["body"])
+        block = Block(doc, text.count("\n", 0, match.start()) + 1, match["body"],
+                      section=sum(1 for h in headings if h < match.start()))
         for key, value in _OPT.findall(match["opts"]):
             if key == "background":
                 block.background = True
@@ -164,12 +177,16 @@ def test_runnable_shell_blocks(doc: Path, tmp_path: Path) -> None:
     env = _env()
     background: list[Proc] = []
     try:
+        section = 0
         for block in runnable_blocks(doc):
             script = "set -e\n" + block.body
-            if block.background:
-                for proc in background:  # a new "terminal 1" replaces the previous one
+            if block.background or block.section != section:
+                # a new "terminal 1", or a new section: the reader stops the old terminal 1
+                for proc in background:
                     proc.interrupt_group()
                 background.clear()
+            section = block.section
+            if block.background:
                 proc = _start(script, env, tmp_path)
                 background.append(proc)
                 _wait_for(proc, block.expect or ".", 60.0, block)
