@@ -378,5 +378,14 @@ def test_other_subprotocols_and_foreign_hosts_are_refused(system: System) -> Non
                 await session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
                                          headers={"Host": f"evil.example:{system.bridge.port}"})
             assert rebound.value.status == 403
+            # a web page of another site open in the user's browser (it could publish)
+            with pytest.raises(aiohttp.WSServerHandshakeError) as foreign:
+                await session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
+                                         headers={"Origin": "https://evil.example"})
+            assert foreign.value.status == 403
+            own = f"http://127.0.0.1:{system.bridge.port}"  # a page of this server: accepted
+            async with session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
+                                          headers={"Origin": own}) as ws:
+                assert ws.protocol == FOXGLOVE_SUBPROTOCOL
 
     asyncio.run(go())

@@ -191,7 +191,7 @@ def _start_foxglove(
     from posekit.viewer.foxglove_bridge import FoxgloveBridge
 
     bridge = FoxgloveBridge(transport, host=ns.host, port=ns.foxglove_port, clock_ns=clock,
-                            allow_hosts=ns.allow_host)
+                            allow_hosts=ns.allow_host, allow_origins=ns.allow_origin)
     bridge.start()
     print(f"posekit view: Foxglove WebSocket on {bridge.url}", flush=True)
     return bridge

@@ -1,12 +1,13 @@
-"""Who may talk to the viewer's servers: the ``Host`` header check shared by the page server
-and the Foxglove bridge (against DNS rebinding: a page from another site that resolves its
-own name to 127.0.0.1 still sends its own name in ``Host``)."""
+"""Who may talk to the viewer's servers: the ``Host`` and WebSocket ``Origin`` checks shared by
+the page server and the Foxglove bridge (against DNS rebinding: a page from another site that
+resolves its own name to 127.0.0.1 still sends its own name in ``Host``; and against a page
+open in the user's browser connecting to the local WebSocket: it sends its own ``Origin``)."""
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 
-__all__ = ["host_allowed", "own_hosts"]
+__all__ = ["host_allowed", "origin_allowed", "own_hosts"]
 
 
 def own_hosts(bound_host: str, port: int) -> set[str]:
@@ -32,3 +33,18 @@ def host_allowed(header: str | None, bound_host: str, port: int,
         return True
     name = host.rsplit(":", 1)[0] if not host.endswith("]") else host
     return name in allowed
+
+
+def origin_allowed(origin: str | None, bound_host: str, port: int,
+                   allow_origins: Iterable[str] = ()) -> bool:
+    """Whether a WebSocket ``Origin`` may connect: absent (not a browser), a page served by
+    this server (``http(s)://`` one of :func:`own_hosts`), or listed in ``allow_origins``
+    (``scheme://host[:port]``, lower case; ``"*"``: any)."""
+    allowed = frozenset(allow_origins)
+    if origin is None or "*" in allowed:
+        return True
+    origin = origin.strip().lower().rstrip("/")
+    if origin in allowed:
+        return True
+    return any(origin == f"{scheme}://{h}" for h in own_hosts(bound_host, port)
+               for scheme in ("http", "https"))

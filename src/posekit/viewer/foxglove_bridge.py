@@ -108,6 +108,9 @@ class FoxgloveBridge:
         name: the server name shown by Foxglove.
         allow_hosts: more ``Host`` header values accepted (``name`` or ``name:port``;
             ``"*"``: any), as ``posekit view --allow-host``.
+        allow_origins: more WebSocket ``Origin`` values accepted (``scheme://host:port``;
+            ``"*"``: any), as ``posekit view --allow-origin``; a browser page from anywhere
+            else is refused, since ``clientPublish`` lets a client publish on the graph.
     """
 
     def __init__(
@@ -121,6 +124,7 @@ class FoxgloveBridge:
         name: str = "posekit",
         logger: RcutilsLogger | None = None,
         allow_hosts: tuple[str, ...] | list[str] = (),
+        allow_origins: tuple[str, ...] | list[str] = (),
     ) -> None:
         if not 0 <= port <= 65535:
             raise ValueError(f"port must be in 0..65535, got {port}")
@@ -134,6 +138,9 @@ class FoxgloveBridge:
         self.logger = logger or get_logger(_NODE_NAME)
         self._clock_fn = clock_ns or time.time_ns
         self.allow_hosts = frozenset(h.strip().lower() for h in allow_hosts if h.strip())
+        self.allow_origins = frozenset(
+            o.strip().lower().rstrip("/") for o in allow_origins if o.strip()
+        )
         self._sim_clock_ns: int | None = None  # newest /clock (ns)
         self._sim_clock_seen = 0.0  # monotonic s of the newest /clock
         self._warn = RateLimitedLog(self.logger.warning)
@@ -514,7 +521,7 @@ class _SubprotocolFront:
     async def _handle(self, request: Any) -> Any:
         from aiohttp import web
 
-        from posekit.viewer.access import host_allowed
+        from posekit.viewer.access import host_allowed, origin_allowed
 
         bridge = self.bridge
         if not host_allowed(request.headers.get("Host"), bridge.host, self.port,
@@ -523,6 +530,12 @@ class _SubprotocolFront:
                          "server)", f"{request.headers.get('Host', '')[:256]!r}; "
                          "posekit view --allow-host NAME accepts it")
             return web.Response(status=403, text="Host not allowed\n")
+        origin = request.headers.get("Origin")
+        if not origin_allowed(origin, bridge.host, self.port, bridge.allow_origins):
+            bridge._warn("foxglove bridge: connection refused (a web page of another origin)",
+                         f"{(origin or '')[:256]!r}; posekit view --allow-origin ORIGIN "
+                         "accepts it (e.g. https://app.foxglove.dev)")
+            return web.Response(status=403, text="Origin not allowed\n")
         ws = web.WebSocketResponse(protocols=FOXGLOVE_SUBPROTOCOLS, max_msg_size=0)
         ready = ws.can_prepare(request)
         if not ready.ok or ready.protocol is None:

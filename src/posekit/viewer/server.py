@@ -68,7 +68,7 @@ from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
 from posekit.viewer._loop_thread import LoopThread
-from posekit.viewer.access import host_allowed, own_hosts
+from posekit.viewer.access import host_allowed, origin_allowed, own_hosts
 from posekit.viewer.errors import ViewerError, ViewerOptionError
 from posekit.viewer.images import encode_jpeg
 from posekit.viewer.taps import GOAL_TOPIC, ViewerTap
@@ -315,13 +315,7 @@ class ViewerServer:
 
     def origin_allowed(self, origin: str | None) -> bool:
         """Whether a WebSocket ``Origin`` may connect (absent: not a browser, allowed)."""
-        if origin is None or "*" in self.allow_origins:
-            return True
-        origin = origin.strip().lower().rstrip("/")
-        if origin in self.allow_origins:
-            return True
-        return any(origin == f"{scheme}://{h}" for h in self._own_hosts()
-                   for scheme in ("http", "https"))
+        return origin_allowed(origin, self.host, self.port, self.allow_origins)
 
     @web.middleware
     async def _guard(self, request: web.Request, handler: Any) -> web.StreamResponse:
