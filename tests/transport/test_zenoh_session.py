@@ -474,11 +474,15 @@ def test_random_gids_and_keys_cannot_flood_logs_or_tables(
         if i % (n // good_count) == 0:
             good.put(valid, attachment=encode_attachment(2 + i // (n // good_count), 0,
                                                          good_gid))
-    total = n + good_count
-    assert wait_for(lambda: sub.received + sub.dropped.total() - received_before >= total, 30)
+    def good_seen() -> int:
+        return sum(1 for _, att in list(inbox.items) if att.gid == good_gid)
+
+    # Wait for what is asserted below (bounded; a loaded machine drains the flood slowly).
+    done = wait_for(lambda: good_seen() >= good_count and sub.dropped["cdr"] >= n // 3
+                    and sub.dropped["type_hash"] >= n // 3, 60)
     elapsed = time.monotonic() - start
-    good_seen = [att for _, att in inbox.items if att.gid == good_gid]
-    assert len(good_seen) >= good_count  # zero good messages lost (plus the probe ones)
+    assert done, (f"after {elapsed:.1f} s: {good_seen()} of {good_count} good messages, "
+                  f"received {sub.received - received_before}, dropped {dict(sub.dropped)}")
     assert sub.dropped["cdr"] == n // 3
     assert sub.dropped["type_hash"] == n // 3
     assert len(sub._last_seq) <= MAX_TRACKED_PUBLISHERS
