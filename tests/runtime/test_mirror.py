@@ -160,6 +160,33 @@ def test_a_stuck_network_never_blocks_the_publisher_and_keeps_the_newest() -> No
         ctx.shutdown()
 
 
+def test_destroying_a_publisher_waits_for_its_send_and_ends_its_lane() -> None:
+    """A forwarding thread left inside the network library when the interpreter exits is
+    killed there (zenoh aborts the process on that): destroy() waits for the send under way
+    and the lane thread ends."""
+    ctx = Context()
+    ctx.init(transport="inprocess+test_stuck")
+    mirror = ctx.transport()
+    assert isinstance(mirror, MirroredTransport)
+    net = mirror.network
+    assert isinstance(net, StuckNetwork)
+    try:
+        node = Node("talker", context=ctx)
+        pub = node.create_publisher(String, "/chatter", 10)
+        pub.publish(String(data="m0"))
+        assert net.entered.wait(10), "the forwarder never sent"
+        lanes = [t for t in threading.enumerate() if t.name == "posekit-mirror-out /chatter"]
+        assert len(lanes) == 1
+        threading.Timer(0.2, net.release.set).start()
+        node.destroy_publisher(pub)
+        assert net.sent == ["m0"], "destroy returned before the send under way finished"
+        lanes[0].join(5)
+        assert not lanes[0].is_alive(), "the destroyed publisher's lane is still running"
+    finally:
+        net.release.set()
+        ctx.shutdown()
+
+
 # -- over real Zenoh sessions -------------------------------------------------------------
 
 

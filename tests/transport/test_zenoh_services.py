@@ -125,6 +125,13 @@ def test_posekit_client_queries_a_hand_written_rmw_zenoh_server(sessions) -> Non
                 attachment=attachment(seq, att[17:33]))
 
     queryable = peer.session.declare_queryable(KEY, serve, complete=True)
+    # A real rmw_zenoh server announces itself with an SS token after its queryable; a client
+    # waits for it (wait_for_service): declarations arrive in order, so the queryable is
+    # reachable once the token is seen.
+    server_token = (f"@ros2_lv/0/{peer.zid}/0/1/SS/%/%/flag_server/%flip/"
+                    f"std_srvs::srv::dds_::SetBool_/{SETBOOL_HASH}/::,10:,:,:,,")
+    token = peer.session.liveliness().declare_token(server_token)
+    assert wait_for(lambda: server_token in tokens(ours.session))
     node = ours.create_node("flag_client")
     client = ours.create_service_client(node, "/flip", SetBool, WireQoS(depth=10))
     assert client.token_key.split("/")[5] == "SC"
@@ -142,6 +149,7 @@ def test_posekit_client_queries_a_hand_written_rmw_zenoh_server(sessions) -> Non
         assert len(att) == 33
         assert struct.unpack_from("<q", att, 0)[0] == i  # sequence numbers from 1
         assert att[17:] == client.gid
+    token.undeclare()
     queryable.undeclare()
 
 

@@ -76,7 +76,7 @@ FORWARD_QUEUE_LIMIT = 1000
 
 class _MirrorPublisher(PublisherEndpoint):
     __slots__ = ("_mirror", "always", "busy", "cond", "info", "lane", "local", "pending",
-                 "remote", "remote_count")
+                 "remote", "remote_count", "stopped")
 
     def __init__(self, mirror: MirroredTransport, info: EndpointInfo,
                  local: PublisherEndpoint, remote: PublisherEndpoint) -> None:
@@ -95,6 +95,8 @@ class _MirrorPublisher(PublisherEndpoint):
         self.cond = threading.Condition()
         self.lane: threading.Thread | None = None
         self.busy = False
+        #: Set when the publisher is destroyed: its lane ends.
+        self.stopped = False
 
     def publish(self, msg: Any) -> None:
         self.local.publish(msg)
@@ -301,7 +303,7 @@ class MirroredTransport(Transport):
     # -- forwarding -----------------------------------------------------------------------
     def _forward(self, pub: _MirrorPublisher, msg: Any) -> None:
         with pub.cond:
-            if self._closed:
+            if self._closed or pub.stopped:
                 return
             if len(pub.pending) == pub.pending.maxlen:
                 topic = pub.info.topic
@@ -326,9 +328,9 @@ class MirroredTransport(Transport):
         topic = pub.info.topic
         while True:
             with pub.cond:
-                while not pub.pending and not self._closed:
+                while not pub.pending and not self._closed and not pub.stopped:
                     pub.cond.wait()
-                if self._closed:
+                if self._closed or pub.stopped:
                     return
                 msg = pub.pending.popleft()
                 pub.busy = True
@@ -363,6 +365,12 @@ class MirroredTransport(Transport):
             pub.pending.clear()
             pub.remote_count = 0
             pub.always = False
+            pub.stopped = True
+            pub.cond.notify_all()
+        # Wait for a send under way: a thread left inside the network library when the
+        # interpreter exits is killed there, and zenoh's runtime aborts the process on that.
+        if pub.lane is not None and pub.lane is not threading.current_thread():
+            pub.lane.join(timeout=1.0)
 
     def flush(self, timeout: float = 2.0) -> bool:
         """Wait until every queued message was handed to the network (False on timeout)."""
