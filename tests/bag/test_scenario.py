@@ -19,8 +19,8 @@ from posekit.robot.scenarios import start_scenario
 from posekit.runtime.context import Context
 from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformListener
 from posekit.tf2 import Buffer
+from posekit.tf2_ros import TransformListener
 from posekit.time import Time
 
 SECONDS = 2.0

@@ -16,7 +16,7 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import Image
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformBroadcaster
+from posekit.tf2_ros import TransformBroadcaster
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_FLAGS = [

@@ -28,7 +28,7 @@ from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
 from posekit.runtime.executors import SingleThreadedExecutor  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
-from posekit.runtime.tf2_ros import (  # noqa: E402
+from posekit.tf2_ros import (  # noqa: E402
     StaticTransformBroadcaster,
     TransformBroadcaster,
 )
