@@ -208,7 +208,7 @@ def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
 
 def _lidar_report() -> None:
     from posekit.robot.lidar import DEFAULT_LIDAR
-    from posekit.robot.worlds import World, load_world
+    from posekit.worlds import World, load_world
 
     period_ms = 1e3 / DEFAULT_LIDAR.rate_hz
     grid = World.from_dict({

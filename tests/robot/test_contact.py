@@ -20,7 +20,7 @@ from posekit.robot.drive import RosbotBase
 from posekit.robot.obstacles import BoxObstacles
 from posekit.robot.odometry import WheelOdometry
 from posekit.robot.params import DEFAULT_DRIVE, SlipParams
-from posekit.robot.worlds import World
+from posekit.worlds import World
 
 HX, HY, _ = ROBOT_HALF_EXTENTS
 
@@ -187,7 +187,7 @@ def test_walls_stop_the_robot_at_their_face_even_below_the_scan_plane() -> None:
 
 def test_husarion_world_spawn_is_free() -> None:
     from posekit.robot.obstacles import WallSegments
-    from posekit.robot.worlds import load_world
+    from posekit.worlds import load_world
 
     world = load_world("husarion_world")
     contact = Contact(BoxObstacles.from_world(world), WallSegments.from_world(world))

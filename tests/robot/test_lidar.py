@@ -18,7 +18,7 @@ from posekit.geometry import Rotation, Transform
 from posekit.robot.description import T_base_frame
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
 from posekit.robot.obstacles import BoxObstacles, cast_rays
-from posekit.robot.worlds import World, load_world
+from posekit.worlds import World, load_world
 
 NOISELESS = LidarParams(noise_stddev=0.0)
 HALF = 0.25  # the aruco_box is a 0.5 m cube

@@ -9,11 +9,11 @@ import cv2
 import numpy as np
 import pytest
 
-from posekit.vision.box_model import ARUCO_BOX, box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.errors import CameraModelError
 from posekit.vision.evaluation import look_at
 from posekit.vision.render import BoxRenderer, marker_texture
+from posekit.worlds import ARUCO_BOX, box_pose_matrix
 
 SUN = np.array([-0.5, 0.1, -0.9])
 TO_SUN = -SUN / np.linalg.norm(SUN)

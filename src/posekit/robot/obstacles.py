@@ -1,6 +1,6 @@
 """The world's solid geometry as numpy arrays, and vectorised ray casting against it.
 
-Every box of a :class:`~posekit.robot.worlds.World` is an oriented cuboid: its centre
+Every box of a :class:`~posekit.worlds.World` is an oriented cuboid: its centre
 ``centres[m]`` (m, world frame), its rotation ``rotations[m]`` (3x3, R_world_box) and its
 half side lengths ``half_extents[m]`` (m, box frame). :func:`cast_rays` intersects many rays
 with all boxes at once (the slab method in each box's frame, numpy over rays x boxes), which
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from posekit.robot.worlds import World, box_half_extents
+from posekit.worlds import World, box_half_extents
 
 __all__ = ["BoxObstacles", "WallSegments", "cast_rays"]
 

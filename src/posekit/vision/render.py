@@ -37,9 +37,9 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from posekit.vision.box_model import ARUCO_BOX, ArucoBoxModel, BoxFace, marker_corners_local
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.errors import CameraModelError
+from posekit.worlds import ARUCO_BOX, ArucoBoxModel, BoxFace, marker_corners_local
 
 __all__ = ["BoxRenderer", "VisibleMarker", "marker_texture", "render_boxes"]
 

@@ -91,11 +91,11 @@ from posekit.robot.params import (
     ImuParams,
     SlipParams,
 )
-from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.worlds import World, load_world
 
 __all__ = ["MAX_KEPT_REJECTIONS", "WorldSimulation"]
 
