@@ -246,7 +246,10 @@ def rasterize(
     outside = ((u.max(axis=1) < -0.5) | (u.min(axis=1) > W - 0.5)
                | (v.max(axis=1) < -0.5) | (v.min(axis=1) > H - 0.5))
     visible &= ~(in_front & outside)
-    for q in np.flatnonzero(visible):
+    # Nearest first: a quad whose nearest point is behind everything already drawn over its
+    # bounding box is skipped after one pass over that box (occlusion cull).
+    candidates = np.flatnonzero(visible)
+    for q in candidates[np.argsort(z[candidates].min(axis=1), kind="stable")]:
         poly = P[q] if in_front[q] else _clip_near(P[q], _CLIP_Z)
         if len(poly) < 3:
             continue
@@ -255,6 +258,8 @@ def rasterize(
         x0, x1 = max(math.ceil(pu.min()), 0), min(math.floor(pu.max()) + 1, W)
         y0, y1 = max(math.ceil(pv.min()), 0), min(math.floor(pv.max()) + 1, H)
         if x1 <= x0 or y1 <= y0:
+            continue
+        if float(inverse_depth[y0:y1, x0:x1].min()) > 1.0 / float(poly[:, 2].min()):
             continue
         us = np.arange(x0, x1, dtype=np.float32)
         vs = np.arange(y0, y1, dtype=np.float32)
