@@ -193,7 +193,7 @@ def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
     from posekit.msgs.cdr import to_cdr
     from posekit.robot.description import T_base_frame
     from posekit.robot.lidar import Lidar
-    from posekit.robot.obstacles import BoxObstacles, WallSegments
+    from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
     lidar = Lidar(BoxObstacles.from_world(world), seed=1, walls=WallSegments.from_world(world))
     x, y, yaw = world.spawn

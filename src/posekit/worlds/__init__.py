@@ -3,7 +3,9 @@
 The course's worlds as validated data and a loader for users' own world files
 (:mod:`posekit.worlds.world`: :func:`load_world`, :class:`World` and its box, wall, camera and
 static-transform specs, :func:`marker_poses`), and the ArUco box model their boxes use
-(:mod:`posekit.worlds.aruco_box`: :data:`ARUCO_BOX`, ground truth of every marker). Needs
+(:mod:`posekit.worlds.aruco_box`: :data:`ARUCO_BOX`, ground truth of every marker), and
+the world's solid geometry as arrays with vectorised ray casting
+(:mod:`posekit.worlds.obstacles`: ``BoxObstacles``, ``WallSegments``, ``cast_rays``). Needs
 numpy and :mod:`posekit.geometry` only (PyYAML for ``.yaml`` world files); the robot's
 simulator, the vision cameras and the viewer build on it.
 """
