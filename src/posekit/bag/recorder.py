@@ -60,9 +60,10 @@ from posekit.bag._split import SplitWriter
 from posekit.bag._storage import SUPPORTED_VERSIONS
 from posekit.bag.errors import BagOptionError
 from posekit.runtime.context import Context
-from posekit.runtime.executors import Executor, SimulatedTimeExecutor
+from posekit.runtime.executors import Executor
 from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 __all__ = ["Recorder", "attach_recorder", "record_scenario"]
 

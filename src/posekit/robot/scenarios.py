@@ -11,7 +11,7 @@ name                nodes
 ==================  ===========================================================================
 
 ``run_scenario(name, params, seed, until_sim_time, realtime)`` starts one in a fresh context
-on a :class:`~posekit.runtime.executors.SimulatedTimeExecutor` (as fast as possible, or paced
+on a :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` (as fast as possible, or paced
 to the wall clock with ``realtime``) and returns a :class:`ScenarioResult`.
 
 Parameters (``--param name:=value``): a plain ``name`` goes to every node of the scenario
@@ -58,9 +58,9 @@ from posekit.robot.nodes import (
 )
 from posekit.robot.worlds import WorldError, load_world
 from posekit.runtime.context import Context
-from posekit.runtime.executors import ClockConflictError, SimulatedTimeExecutor
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.parameters import ParameterException
+from posekit.runtime.sim_executor import ClockConflictError, SimulatedTimeExecutor
 
 __all__ = [
     "DEFAULT_GOAL",

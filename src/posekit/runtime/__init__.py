@@ -12,7 +12,6 @@ from posekit.runtime.executors import (
     Executor,
     Future,
     MultiThreadedExecutor,
-    SimulatedTimeExecutor,
     SingleThreadedExecutor,
     spin,
     spin_once,
@@ -27,6 +26,7 @@ from posekit.runtime.qos import (
     ReliabilityPolicy,
     qos_profile_sensor_data,
 )
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 __all__ = [
     "Clock",

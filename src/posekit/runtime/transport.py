@@ -25,7 +25,7 @@ Contract for implementations:
   in-process bus ignores it (everything on it is local). This is what
   :class:`posekit.runtime.mirror.MirroredTransport` builds on.
 * ``crosses_processes`` says whether the endpoints are visible to other processes (a network
-  transport). A :class:`~posekit.runtime.executors.SimulatedTimeExecutor` publishes
+  transport). A :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` publishes
   ``/clock`` exactly when one of its nodes sits on such a transport.
 * ``subscribe_with_source(info, sink)`` is ``subscribe`` whose sink also gets an opaque id of
   the sending publisher (bytes, e.g. rmw_zenoh's GID) or None when the transport cannot tell;
