@@ -35,7 +35,7 @@ import traceback
 from collections import deque
 from collections.abc import Callable, Coroutine
 from types import TracebackType
-from typing import Any, TypeVar, cast
+from typing import Any, Self, TypeVar, cast
 
 from posekit.runtime.context import Context, get_default_context
 from posekit.runtime.inbox import Inbox
@@ -68,9 +68,10 @@ _F = TypeVar("_F", bound=Callable[..., Any])
 _NO_PAYLOAD: Any = object()
 
 
-def _runs_callbacks(method: _F) -> _F:
-    """Mark the calling thread as running this executor's callbacks for the call's
-    duration (what ``Client.call`` checks to serve a request instead of deadlocking)."""
+def runs_callbacks(method: _F) -> _F:
+    """Decorator for an executor's spinning methods: marks the calling thread as running
+    this executor's callbacks for the call's duration (what ``Client.call`` checks to serve
+    a request instead of deadlocking)."""
 
     @functools.wraps(method)
     def wrapper(self: Executor, *args: Any, **kwargs: Any) -> Any:
@@ -120,7 +121,7 @@ class Executor:
         """The context whose shutdown stops this executor."""
         return self._context
 
-    def __enter__(self) -> Executor:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(
@@ -214,12 +215,16 @@ class Executor:
     def _take_ready(self) -> tuple[int, Any, Any] | None:
         """Claim the next ready callback: (kind, entity, payload) or None."""
         with self._lock:
-            if self._tasks:
-                return (_TASK, self._tasks.popleft(), None)
-            timer = self._schedule.claim_due()
-            if timer is not None:
-                return (_TIMER, timer, None)
-            return self._take_message()
+            return self._take_task_or_timer() or self._take_message()
+
+    def _take_task_or_timer(self) -> tuple[int, Any, Any] | None:
+        """Claim a ready task, else the due timer (its group claimed), else None."""
+        if self._tasks:
+            return (_TASK, self._tasks.popleft(), None)
+        timer = self._schedule.claim_due()
+        if timer is not None:
+            return (_TIMER, timer, None)
+        return None
 
     def _take_message(self) -> tuple[int, Any, Any] | None:
         """Claim the oldest queued item whose group is free (caller holds the lock)."""
@@ -366,20 +371,20 @@ class Executor:
                 wait = min(wait, remaining)
             future.wait(wait)
 
-    @_runs_callbacks
+    @runs_callbacks
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""
         work = self._wait_for_work(timeout_sec)
         if work is not None:
             self._execute(work)
 
-    @_runs_callbacks
+    @runs_callbacks
     def spin(self) -> None:
         """Run callbacks until the context shuts down or shutdown() is called."""
         while self._context.ok() and not self._is_shutdown:
             self.spin_once()
 
-    @_runs_callbacks
+    @runs_callbacks
     def spin_some(self, max_duration: float = 0.0) -> None:
         """Run what is ready now (and for up to ``max_duration`` s more), then return."""
         end = time.monotonic() + max_duration
@@ -402,7 +407,7 @@ class Executor:
         if work is not None:
             self._execute(work)
 
-    @_runs_callbacks
+    @runs_callbacks
     def spin_until_future_complete(
         self, future: Future[Any], timeout_sec: float | None = None
     ) -> None:
@@ -459,7 +464,7 @@ class MultiThreadedExecutor(Executor):
         """How many workers spin() starts."""
         return self._num_threads
 
-    @_runs_callbacks
+    @runs_callbacks
     def _worker(self) -> None:
         while self._context.ok() and not self._is_shutdown:
             work = self._wait_for_work(0.05)

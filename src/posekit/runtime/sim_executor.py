@@ -35,7 +35,7 @@ from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
 from posekit.runtime.clock import ROSClock
 from posekit.runtime.context import Context
 from posekit.runtime.entities import Timer
-from posekit.runtime.executors import _TASK, _TIMER, Executor, _runs_callbacks
+from posekit.runtime.executors import Executor, runs_callbacks
 from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
@@ -352,13 +352,9 @@ class SimulatedTimeExecutor(Executor):
     def _take_ready(self) -> tuple[int, Any, Any] | None:
         # Only the stepping thread claims timers, so the schedule needs no lock here (node
         # and timer changes from other threads only invalidate it).
-        if self._tasks:
-            return (_TASK, self._tasks.popleft(), None)
-        timer = self._schedule.claim_due()
-        if timer is not None:
-            return (_TIMER, timer, None)
-        if not len(self.inbox):
-            return None
+        work = self._take_task_or_timer()
+        if work is not None or not len(self.inbox):
+            return work
         with self._lock:
             return self._take_message()
 
@@ -399,7 +395,7 @@ class SimulatedTimeExecutor(Executor):
         self.callbacks_run += count
         return count
 
-    @_runs_callbacks
+    @runs_callbacks
     def run_until(self, t: float | Time) -> int:
         """Advance simulated time to ``t`` (seconds or Time), running every callback due on
         the way in time order; returns the number of callbacks run."""
@@ -424,7 +420,7 @@ class SimulatedTimeExecutor(Executor):
         """run_until(now + seconds)."""
         return self.run_until(Time(nanoseconds=self._now_ns + _to_ns(seconds)))
 
-    @_runs_callbacks
+    @runs_callbacks
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Run one ready callback; if none, jump to the next timer and run one there. With no
         timers at all, wait up to ``timeout_sec`` wall seconds for an outside message."""
@@ -440,7 +436,7 @@ class SimulatedTimeExecutor(Executor):
             self._execute(work)
             self.callbacks_run += 1
 
-    @_runs_callbacks
+    @runs_callbacks
     def spin_until_future_complete(
         self, future: Future[Any], timeout_sec: float | None = None
     ) -> None:
