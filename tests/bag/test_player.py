@@ -22,9 +22,10 @@ from posekit.bag import (
 from posekit.msgs.rosgraph_msgs import Clock
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
+from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.tf2 import Buffer
 from posekit.tf2_ros import TransformListener
 from posekit.time import Time

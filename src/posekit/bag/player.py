@@ -45,9 +45,10 @@ from posekit.bag._storage import open_reader
 from posekit.bag.errors import BagFormatError, BagOptionError
 from posekit.bag.reader import BagMessage, read_messages
 from posekit.runtime.context import Context
-from posekit.runtime.executors import Executor, SimulatedTimeExecutor
+from posekit.runtime.executors import Executor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 __all__ = ["PlaybackTopic", "Player"]
 
