@@ -367,6 +367,22 @@ def _parse_param(spec: str, out: RosArguments) -> None:
     out._add_parameter(node, lhs, parse_parameter_value(value))
 
 
+def _apply_flag(flag: str, value: str, out: RosArguments) -> None:
+    """Record one ``flag value`` pair of a ``--ros-args`` section in ``out``."""
+    if flag in ("-p", "--param"):
+        _parse_param(value, out)
+    elif flag in ("-r", "--remap"):
+        out.remaps.append(_parse_remap(value))
+    elif flag == "--params-file":
+        for node, values in load_parameter_file(value):
+            for name, v in values.items():
+                out._add_parameter(node, name, v)
+    elif flag == "--log-level":
+        out.log_levels.append(_parse_level(value))
+    elif flag in ("-e", "--enclave"):
+        out.enclave = value
+
+
 def parse_arguments(args: Sequence[str] | None, *, strict: bool = True) -> RosArguments:
     """Parse ``args`` (every element, ``args[0]`` included, as rcl does).
 
@@ -404,18 +420,7 @@ def parse_arguments(args: Sequence[str] | None, *, strict: bool = True) -> RosAr
         value = items[i]
         i += 1
         try:
-            if arg in ("-p", "--param"):
-                _parse_param(value, out)
-            elif arg in ("-r", "--remap"):
-                out.remaps.append(_parse_remap(value))
-            elif arg == "--params-file":
-                for node, values in load_parameter_file(value):
-                    for name, v in values.items():
-                        out._add_parameter(node, name, v)
-            elif arg == "--log-level":
-                out.log_levels.append(_parse_level(value))
-            elif arg in ("-e", "--enclave"):
-                out.enclave = value
+            _apply_flag(arg, value, out)
         except RCLError as exc:
             raise RCLError(
                 f"Couldn't parse {_KIND.get(arg, arg)}: '{arg} {value}'. Error: {exc}"

@@ -436,6 +436,71 @@ def parameter_dict_from_yaml_file(
         yaml.MappingNode("tag:yaml.org,2002:map", list(merged.values())), typed, namespace)
 
 
+def _declaration_tuple(
+    namespace: str, index: int, item: tuple[Any, ...],
+) -> tuple[str, Any, ParameterDescriptor]:
+    """``(full name, value or Type, descriptor)`` of one ``declare_parameters`` tuple, with
+    rclpy's TypeErrors for a malformed one (a name alone: dynamically typed, deprecated)."""
+    if not 1 <= len(item) <= 3:
+        raise TypeError(
+            f"Invalid parameter tuple length at index {index} in parameters list: "
+            f"{item}; expecting length between 1 and 3"
+        )
+    name = item[0]
+    if not isinstance(name, str):
+        raise TypeError(
+            f"First element {name} at index {index} in parameters list is not a str."
+        )
+    if namespace:
+        name = f"{namespace}.{name}"
+    if not name:
+        raise InvalidParameterException(name)
+    second = item[1] if len(item) > 1 else None
+    descriptor = item[2] if len(item) > 2 else ParameterDescriptor()
+    if not isinstance(descriptor, ParameterDescriptor):
+        raise TypeError(
+            f"Third element {descriptor} at index {index} in parameters list "
+            "is not a ParameterDescriptor."
+        )
+    if len(item) == 1:
+        warnings.warn(
+            f"when declaring parameter named '{name}', declaring a parameter only "
+            "providing its name is deprecated; pass a default value, a parameter "
+            "type or a descriptor with dynamic_typing=True",
+            stacklevel=4,
+        )
+        descriptor.dynamic_typing = True
+    return name, second, descriptor
+
+
+def _declared_default(name: str, second: Any, descriptor: ParameterDescriptor) -> Any:
+    """The default value a declaration gives (None for a ``Parameter.Type``); fixes the
+    descriptor's type unless it is dynamically typed. ValueError as rclpy's."""
+    if isinstance(second, Type):
+        if second is Type.NOT_SET:
+            raise ValueError(
+                f"Cannot declare parameter {{{name}}} as statically typed of type NOT_SET"
+            )
+        if descriptor.dynamic_typing:
+            raise ValueError(
+                f"When declaring parameter {{{name}}} passing a descriptor with"
+                "`dynamic_typing=True` is not allowed when the parameter type is provided"
+            )
+        descriptor.type = second.value
+        return None
+    value = second.value if isinstance(second, Parameter) else second
+    if isinstance(value, ParameterValue):
+        value = parameter_value_to_python(value)
+    if not descriptor.dynamic_typing:
+        descriptor.type = Type.from_parameter_value(value).value
+        if descriptor.type == ParameterType.PARAMETER_NOT_SET:
+            raise ValueError(
+                "Cannot declare a statically typed parameter with default value "
+                "of type PARAMETER_NOT_SET"
+            )
+    return value
+
+
 OnSetCallback = Callable[[list[Parameter]], SetParametersResult]
 PreSetCallback = Callable[[list[Parameter]], list[Parameter]]
 PostSetCallback = Callable[[list[Parameter]], None]
@@ -516,58 +581,8 @@ class ParameterStore:
         declared: list[Parameter] = []
         descriptors: dict[str, ParameterDescriptor] = {}
         for index, item in enumerate(parameters):
-            if not 1 <= len(item) <= 3:
-                raise TypeError(
-                    f"Invalid parameter tuple length at index {index} in parameters list: "
-                    f"{item}; expecting length between 1 and 3"
-                )
-            name = item[0]
-            if not isinstance(name, str):
-                raise TypeError(
-                    f"First element {name} at index {index} in parameters list is not a str."
-                )
-            if namespace:
-                name = f"{namespace}.{name}"
-            if not name:
-                raise InvalidParameterException(name)
-            second = item[1] if len(item) > 1 else None
-            descriptor = item[2] if len(item) > 2 else ParameterDescriptor()
-            if not isinstance(descriptor, ParameterDescriptor):
-                raise TypeError(
-                    f"Third element {descriptor} at index {index} in parameters list "
-                    "is not a ParameterDescriptor."
-                )
-            if len(item) == 1:
-                warnings.warn(
-                    f"when declaring parameter named '{name}', declaring a parameter only "
-                    "providing its name is deprecated; pass a default value, a parameter "
-                    "type or a descriptor with dynamic_typing=True",
-                    stacklevel=3,
-                )
-                descriptor.dynamic_typing = True
-            value: Any = None
-            if isinstance(second, Type):
-                if second is Type.NOT_SET:
-                    raise ValueError(
-                        f"Cannot declare parameter {{{name}}} as statically typed of type NOT_SET"
-                    )
-                if descriptor.dynamic_typing:
-                    raise ValueError(
-                        f"When declaring parameter {{{name}}} passing a descriptor with"
-                        "`dynamic_typing=True` is not allowed when the parameter type is provided"
-                    )
-                descriptor.type = second.value
-            else:
-                value = second.value if isinstance(second, Parameter) else second
-                if isinstance(value, ParameterValue):
-                    value = parameter_value_to_python(value)
-                if not descriptor.dynamic_typing:
-                    descriptor.type = Type.from_parameter_value(value).value
-                    if descriptor.type == ParameterType.PARAMETER_NOT_SET:
-                        raise ValueError(
-                            "Cannot declare a statically typed parameter with default value "
-                            "of type PARAMETER_NOT_SET"
-                        )
+            name, second, descriptor = _declaration_tuple(namespace, index, item)
+            value = _declared_default(name, second, descriptor)
             if not ignore_override and name in self.overrides:
                 value = _widened(self.overrides[name].value, descriptor.type)
             declared.append(Parameter(name, value=value))
