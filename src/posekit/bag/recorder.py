@@ -495,17 +495,19 @@ def record_scenario(
 ) -> dict[str, int]:
     """Run the named robot scenario for ``duration`` simulated seconds while recording.
 
-    Starts it with :func:`posekit.robot.scenarios.start_scenario` (its nodes on a
+    Starts it with :func:`posekit.launch.scenarios.start_scenario` (its nodes on a
     SimulatedTimeExecutor, nothing run yet), attaches a :class:`Recorder` before the first
     step, runs, finishes the bag and shuts the scenario down. ``params``/``seed`` are the
     scenario's; ``options`` are :class:`Recorder`'s keyword arguments. Returns the messages
     written per topic.
     """
-    from posekit.robot import scenarios  # robot layer: only needed for this helper
+    # Only needed for this helper: the framework, and the robot's scenarios registered in it.
+    import posekit.robot.scenarios  # noqa: F401
+    from posekit.launch.scenarios import start_scenario
 
     if not duration >= 0.0:
         raise BagOptionError(f"duration must be >= 0 s, got {duration}")
-    run = scenarios.start_scenario(scenario, params, seed, record=False)
+    run = start_scenario(scenario, params, seed)
     try:
         recorder = attach_recorder(run, output, topics, **options)
         executor = run.executor

@@ -252,7 +252,7 @@ class Service:
 
         return send
 
-    def _finish(self, future: Future, respond: ResponseSink) -> None:
+    def _finish(self, future: Future[Any], respond: ResponseSink) -> None:
         exc = future.exception()
         if exc is not None:
             tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
@@ -313,7 +313,7 @@ class Client:
         self.callback_group = callback_group
         self._endpoint = endpoint
         self._lock = threading.Lock()
-        self._pending: dict[int, Future] = {}
+        self._pending: dict[int, Future[Any]] = {}
         self._next_id = 1
         self._queued = _Queued(
             node, srv_name, callback_group, self._complete,
@@ -335,7 +335,7 @@ class Client:
         """Fully qualified (expanded, remapped) service name."""
         return self._srv_name
 
-    def _send(self, request: Any, direct: bool) -> Future:
+    def _send(self, request: Any, direct: bool) -> Future[Any]:
         if self._destroyed:
             raise RuntimeError(f"client of '{self._srv_name}' has been destroyed")
         if not isinstance(request, self.srv_type.Request):
@@ -343,7 +343,7 @@ class Client:
                 f"Request must be instance of '{self.srv_type.Request.__name__}', "
                 f"got '{type(request).__name__}'"
             )
-        future = Future()
+        future: Future[Any] = Future()
         with self._lock:
             request_id = self._next_id
             self._next_id += 1
@@ -374,7 +374,7 @@ class Client:
         if not future.done():
             future.set_result(response)
 
-    def call_async(self, request: Any) -> Future:
+    def call_async(self, request: Any) -> Future[Any]:
         """Send ``request``; the Future completes with the response (on the executor)."""
         return self._send(request, direct=False)
 
@@ -395,7 +395,7 @@ class Client:
             return None
         return future.result()
 
-    def remove_pending_request(self, future: Future) -> None:
+    def remove_pending_request(self, future: Future[Any]) -> None:
         """Forget a pending request; its response, if it comes, is dropped."""
         with self._lock:
             for request_id, pending in list(self._pending.items()):

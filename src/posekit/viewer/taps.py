@@ -56,9 +56,9 @@ from posekit.msgs.registry import find_message_class
 from posekit.runtime.logging import RcutilsLogger, get_logger
 from posekit.runtime.observe import ObservedTopic, TopicObserver
 from posekit.runtime.ratelimit import RateLimitedLog
-from posekit.runtime.tf2_ros import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
 from posekit.runtime.transport import MessageSink, Transport
 from posekit.tf2 import Buffer, TransformException
+from posekit.tf2_ros.transform_listener import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
 from posekit.time import Duration
 
 __all__ = [
