@@ -43,6 +43,7 @@ from typing import Any
 from posekit.bag._qos import from_rosbags_qos, playback_qos
 from posekit.bag._storage import open_reader
 from posekit.bag.errors import BagFormatError, BagOptionError
+from posekit.bag.info import SERVICE_EVENT_SUFFIX, is_service_event_topic
 from posekit.bag.reader import BagMessage, read_messages
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor
@@ -63,6 +64,21 @@ class PlaybackTopic:
     msgtype: str
     message_count: int
     qos: QoSProfile
+
+
+#: ``service_requests_source`` -> the ServiceEventInfo event type holding the request.
+_REQUEST_EVENTS = {"service_introspection": 1, "client_introspection": 0}
+
+
+def _service_class(event_type: str) -> type[Any]:
+    from posekit.msgs.errors import UnknownMessageTypeError
+    from posekit.msgs.registry import get_service_class
+
+    try:
+        return get_service_class(event_type.removesuffix("_Event"))
+    except UnknownMessageTypeError:
+        raise BagFormatError(f"service type {event_type.removesuffix('_Event')!r} is not one "
+                             "posekit can call") from None
 
 
 def _message_class(msgtype: str) -> type[Any]:
@@ -99,6 +115,12 @@ class Player:
         delay: wall seconds to wait before each pass in :meth:`play`.
         node_name: name of the player node.
         transport: transport name for the node (default: the context's).
+        publish_service_requests: instead of publishing a recorded service's events on its
+            ``<service>/_service_event`` topic, call the service with each recorded request
+            (``ros2 bag play --publish-service-requests``); responses are not waited for.
+        service_requests_source: which recorded events hold the requests to send:
+            ``"service_introspection"`` (the servers' REQUEST_RECEIVED events, default) or
+            ``"client_introspection"`` (the clients' REQUEST_SENT events).
 
     Raises:
         BagNotFoundError, BagFormatError: the bag is missing or unreadable.
@@ -121,7 +143,15 @@ class Player:
         start_paused: bool = False,
         remap: Mapping[str, str] | None = None,
         delay: float = 0.0,
+        publish_service_requests: bool = False,
+        service_requests_source: str = "service_introspection",
     ) -> None:
+        if service_requests_source not in _REQUEST_EVENTS:
+            raise BagOptionError(
+                f"service_requests_source must be one of {sorted(_REQUEST_EVENTS)}, got "
+                f"{service_requests_source!r}")
+        self._request_event = _REQUEST_EVENTS[service_requests_source]
+        self._request_side = service_requests_source.split("_")[0]
         if not rate > 0:
             raise BagOptionError(f"playback rate must be > 0, got {rate}")
         if not (start_offset >= 0 and delay >= 0):
@@ -162,16 +192,28 @@ class Player:
             if (wanted is None or name in wanted)
             and not (name == _CLOCK_TOPIC and publish_clock and wanted is None)
         }
-        classes = {name: _message_class(info.msgtype) for name, info in self.topics.items()}
+        requests = {name for name, info in self.topics.items()
+                    if publish_service_requests and is_service_event_topic(name, info.msgtype)}
+        classes = {name: _message_class(info.msgtype) for name, info in self.topics.items()
+                   if name not in requests}
+        services = {name: _service_class(self.topics[name].msgtype) for name in requests}
         self.node = Node(node_name, context=context, transport=transport)
         remap = dict(remap or {})
-        if unknown := sorted(set(remap) - set(self.topics)):
+        if unknown := sorted(set(remap) - set(classes)):
             self.node.destroy_node()
-            raise BagOptionError(f"cannot remap {unknown}: not played from this bag")
+            raise BagOptionError(f"cannot remap {unknown}: not published from this bag")
         self._publishers: dict[str, Any] = {
-            name: self.node.create_publisher(classes[name], remap.get(name, name), info.qos)
-            for name, info in self.topics.items()
+            name: self.node.create_publisher(classes[name], remap.get(name, name),
+                                             self.topics[name].qos)
+            for name in classes
         }
+        #: Service clients replaying recorded requests, by service event topic.
+        self._clients: dict[str, Any] = {
+            name: self.node.create_client(srv, name.removesuffix(SERVICE_EVENT_SUFFIX))
+            for name, srv in services.items()
+        }
+        #: Recorded requests sent to services (``publish_service_requests``).
+        self.requests_sent = 0
         self._clock_pub: Any = None
         #: Messages published so far.
         self.published = 0
@@ -220,8 +262,29 @@ class Player:
                 f"skipped the message on '{message.topic}' at {message.timestamp_ns} ns: {exc}"
             )
             return
-        self._publishers[message.topic].publish(msg)
-        self.published += 1
+        client = self._clients.get(message.topic)
+        if client is None:
+            self._publishers[message.topic].publish(msg)
+            self.published += 1
+        else:
+            self._send_request(client, msg)
+
+    def _send_request(self, client: Any, event: Any) -> None:
+        """Call the service with a recorded request event's request (rosbag2's checks)."""
+        if int(event.info.event_type) != self._request_event:
+            return  # responses, and the other side's requests, are not replayed
+        logger = self.node.get_logger()
+        if not client.service_is_ready():
+            logger.warning(f"Service request hasn't been sent. The '{client.service_name}' "
+                           "service isn't ready !", throttle_duration_sec=5.0)
+            return
+        if not len(event.request):
+            logger.warning(f"Can't send service request. The configuration of introspection "
+                           f"for '{client.service_name}' was metadata only on "
+                           f"{self._request_side} side!", throttle_duration_sec=5.0)
+            return
+        client.call_async(event.request[0])
+        self.requests_sent += 1
 
     def stop(self) -> None:
         """Make :meth:`play` / :meth:`run_simulated` return before the next message."""
