@@ -10,8 +10,9 @@ import pytest
 
 pytest.importorskip("aiohttp")
 
+import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
 from posekit.cli.view_cmd import attach_to_run, find_world, main
-from posekit.robot.scenarios import start_scenario
+from posekit.launch.scenarios import start_scenario
 
 pytestmark = pytest.mark.slow  # real processes, sessions or a browser
 
@@ -40,7 +41,7 @@ def test_a_config_that_is_not_a_saved_view_stops_with_one_line(
 
 
 def test_attach_to_a_stepped_run_uses_its_world_and_sim_time() -> None:
-    run = start_scenario("empty_world", {"world": "aruco_box_world"}, record=False)
+    run = start_scenario("empty_world", {"world": "aruco_box_world"})
     try:
         assert find_world(run) == "aruco_box_world"
         server = attach_to_run(run, port=0)
