@@ -7,7 +7,7 @@ drive + slip, 25 Hz IMU, 20 Hz wheel odometry, 20 Hz EKF, 20 Hz controller. Two 
 in the same process, alternately:
 
 * ``headless``: the models in one fixed-step loop (posekit.robot.headless, no runtime);
-* ``nodes``: ``run_scenario("p_controller")`` -- five posekit nodes (world_simulation,
+* ``nodes``: ``run_robot_scenario("p_controller")`` -- five posekit nodes (world_simulation,
   wheel_odometry, ekf_node, p_controller) on the stepped sim-time executor and the in-process
   bus, as ``posekit launch p_controller`` runs it (no recorder, no /clock); ``nodes+rec``
   adds the odometry recorder that ``--plot`` uses.
@@ -52,7 +52,7 @@ from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.ekf import Ekf2D
 from posekit.robot.headless import run_headless
 from posekit.robot.kinematics import wrap_angle
-from posekit.robot.scenarios import run_scenario
+from posekit.robot.scenarios import run_robot_scenario
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 
 GOAL_RATIO = 200.0
@@ -69,9 +69,9 @@ def _headless(duration: float, seed: int) -> tuple[float, float, float | None]:
 
 
 def _nodes(duration: float, seed: int, record: bool) -> tuple[float, float, float | None]:
-    """Like _headless for run_scenario (the times include building the nodes)."""
+    """Like _headless for run_robot_scenario (the times include building the nodes)."""
     t0, c0 = time.perf_counter(), time.process_time()
-    res = run_scenario("p_controller", seed=seed, until_sim_time=duration, record=record)
+    res = run_robot_scenario("p_controller", seed=seed, until_sim_time=duration, record=record)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     reached_ns = res.node("p_controller").goal_reached_ns
     return duration / wall, duration / cpu, None if reached_ns is None else reached_ns / 1e9
@@ -312,7 +312,7 @@ def _group(filename: str) -> str:
 def _profile(duration: float, seed: int) -> None:
     profiler = cProfile.Profile()
     profiler.enable()
-    run_scenario("p_controller", seed=seed, until_sim_time=duration, record=False)
+    run_robot_scenario("p_controller", seed=seed, until_sim_time=duration, record=False)
     profiler.disable()
     stats = pstats.Stats(profiler)
     groups: collections.Counter[str] = collections.Counter()

@@ -25,8 +25,8 @@ from posekit.runtime.context import Context
 from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile
-from posekit.runtime.tf2_ros import TransformListener
 from posekit.tf2 import Buffer
+from posekit.tf2_ros import TransformListener
 from posekit.time import Time
 
 PAIRS = [("odom", "base_link"), ("odom", "laser"), ("odom", "camera"), ("laser", "camera")]

@@ -515,10 +515,10 @@ def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
     import threading
 
     from posekit.cli.view_cmd import attach_to_run
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
     pytest.importorskip("posekit.vision.scenarios")  # registers the ArUco scenarios
-    run = start_scenario("dynamic_detector", realtime=True, record=False)
+    run = start_scenario("dynamic_detector", realtime=True)
     server = attach_to_run(run, port=0)
     spinner = threading.Thread(target=run.executor.spin, daemon=True)
     spinner.start()

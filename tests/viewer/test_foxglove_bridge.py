@@ -28,7 +28,7 @@ from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
 from posekit.runtime.executors import SingleThreadedExecutor  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
-from posekit.runtime.tf2_ros import (  # noqa: E402
+from posekit.tf2_ros import (  # noqa: E402
     StaticTransformBroadcaster,
     TransformBroadcaster,
 )
@@ -236,13 +236,14 @@ def test_bad_arguments() -> None:
 
 
 def test_cli_bridge_serves_the_p_controller_scenario_on_sim_time() -> None:
+    import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
     from posekit.cli.view_cmd import _parser, _sim_clock, _start_foxglove, main
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
     assert main(["--foxglove", "--foxglove-port", "70000"]) == 2
     ns = _parser().parse_args(["--foxglove", "--foxglove-port", "0"])
     assert _parser().parse_args([]).foxglove_port == 8766  # the documented default
-    run = start_scenario("p_controller", record=False)
+    run = start_scenario("p_controller")
     bridge = None
     try:
         run.executor.run_for(1.0)

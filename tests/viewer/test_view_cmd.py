@@ -9,8 +9,9 @@ import pytest
 
 pytest.importorskip("aiohttp")
 
+import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
 from posekit.cli.view_cmd import attach_to_run, find_world, main
-from posekit.robot.scenarios import start_scenario
+from posekit.launch.scenarios import start_scenario
 
 pytestmark = pytest.mark.slow  # real processes, sessions or a browser
 
@@ -27,7 +28,7 @@ def test_bad_arguments_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_attach_to_a_stepped_run_uses_its_world_and_sim_time() -> None:
-    run = start_scenario("empty_world", {"world": "aruco_box_world"}, record=False)
+    run = start_scenario("empty_world", {"world": "aruco_box_world"})
     try:
         assert find_world(run) == "aruco_box_world"
         server = attach_to_run(run, port=0)

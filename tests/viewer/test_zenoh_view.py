@@ -13,7 +13,7 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.runtime.context import Context
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 from posekit.viewer.taps import ViewerTap
 
 pytestmark = pytest.mark.slow  # real processes, sessions or a browser

@@ -79,7 +79,7 @@ class ToolSession:
 
     def listen_tf(self, buffer: Any) -> None:
         """Fill ``buffer`` from /tf and /tf_static with tf2_ros's QoS."""
-        from posekit.runtime.tf2_ros import TransformListener
+        from posekit.tf2_ros import TransformListener
 
         self._listener = TransformListener(buffer, self.node)
 

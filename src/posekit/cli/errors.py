@@ -59,7 +59,7 @@ def _user_error_types() -> tuple[type[BaseException], ...]:
     ]
     for module, name in (
         ("posekit.bag.errors", "BagError"),
-        ("posekit.robot.scenarios", "ScenarioError"),
+        ("posekit.launch.scenarios", "ScenarioError"),
         ("posekit.robot.worlds", "WorldError"),
         ("posekit.robot.plot", "PlotError"),
         ("posekit.viewer.errors", "ViewerError"),

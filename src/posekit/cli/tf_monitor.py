@@ -103,8 +103,8 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
          err: TextIO | None = None, timeout_s: float | None = None) -> int:
     """Run tf2_monitor; ``timeout_s`` (tests) bounds the wait for the chain."""
     from posekit.msgs.tf2_msgs import TFMessage
-    from posekit.runtime.tf2_ros import DynamicListenerQoS, StaticListenerQoS
     from posekit.tf2 import Buffer
+    from posekit.tf2_ros import DynamicListenerQoS, StaticListenerQoS
     from posekit.time import Time
 
     out = out or sys.stdout

@@ -198,10 +198,11 @@ def _start_foxglove(
 
 
 def _view_scenario(ns: argparse.Namespace, options: dict[str, Any]) -> int:
-    from posekit.robot.scenarios import ScenarioError, start_scenario
+    import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
+    from posekit.launch.scenarios import ScenarioError, start_scenario
 
     try:
-        run = start_scenario(ns.scenario, seed=ns.seed, realtime=True, record=False)
+        run = start_scenario(ns.scenario, seed=ns.seed, realtime=True)
     except ScenarioError as exc:
         print(f"posekit view: {exc}", file=sys.stderr)
         return 2

@@ -117,22 +117,22 @@ def get_typestore() -> Any:
 
 
 def serializable_type(type_name: str) -> tuple[str, type]:
-    """``(normalized name, posekit class)`` of a type that has both a posekit message class
-    and a ROS 2 definition (so it can be serialized, recorded or advertised with a schema).
+    """``(normalized name, class)`` of a message type with a ROS 2 definition (so it can be
+    serialized, recorded or advertised with a schema): posekit's class when posekit defines
+    the type, else the class of rosbags' Jazzy typestore (``sensor_msgs/msg/PointCloud2``).
 
     Raises LookupError (or ValueError for a malformed name) otherwise. Types derived from
     services and actions (``pkg/srv/...``, ``pkg/action/...``, e.g. an action's feedback
     topic) are refused too: rosbags writes message-definition text for ``pkg/msg/`` names only.
     """
-    from posekit.msgs.registry import get_message_class, normalize_type_name
+    from posekit.msgs.registry import find_message_class, normalize_type_name
 
     name = normalize_type_name(type_name)
     if name.split("/")[1] != "msg":
         raise LookupError(f"{name}: no message-definition text for service or action types")
-    msg_class = get_message_class(name)
     if name not in get_typestore().fielddefs:
-        raise LookupError(name)
-    return name, msg_class
+        raise LookupError(f"{name}: no ROS 2 Jazzy definition known")
+    return name, find_message_class(name)
 
 def _build_store() -> Any:
     from rosbags.typesys import Stores

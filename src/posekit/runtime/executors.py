@@ -357,7 +357,7 @@ class Executor:
         self.callback_exceptions += 1
         node.get_logger().error(f"Exception in {what}:\n{tb.rstrip()}")
 
-    def _report_future(self, node: Node, what: str, future: Future) -> None:
+    def _report_future(self, node: Node, what: str, future: Future[Any]) -> None:
         exc = future.exception()
         if exc is not None:
             tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
@@ -411,7 +411,7 @@ class Executor:
         finally:
             self._waiting = self._always_wake
 
-    def _serve_until(self, future: Future, timeout_sec: float | None) -> None:
+    def _serve_until(self, future: Future[Any], timeout_sec: float | None) -> None:
         """Run ready callbacks (never moving simulated time) until ``future`` is done or
         ``timeout_sec`` wall seconds passed: a blocking call made inside a callback."""
         end = None if timeout_sec is None or timeout_sec < 0 else time.monotonic() + timeout_sec
@@ -458,14 +458,14 @@ class Executor:
             if work[0] == _MESSAGE:
                 self._drain_messages(64)
 
-    def _spin_once_until(self, timeout_sec: float | None, future: Future) -> None:
+    def _spin_once_until(self, timeout_sec: float | None, future: Future[Any]) -> None:
         """spin_once that also returns when ``future`` completes (in any thread)."""
         work = self._wait_for_work(timeout_sec, future.done)
         if work is not None:
             self._execute(work)
 
     @_runs_callbacks
-    def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
+    def spin_until_future_complete(self, future: Future[Any], timeout_sec: float | None = None) -> None:
         """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed. A future
         completed by another thread ends the wait at once (its done-callback wakes us)."""
         future.add_done_callback(lambda _f: self.wake())
@@ -481,7 +481,7 @@ class Executor:
             self._spin_once_until(remaining, future)
 
     def spin_once_until_future_complete(
-        self, future: Future, timeout_sec: float | None = None
+        self, future: Future[Any], timeout_sec: float | None = None
     ) -> None:
         """spin_once, returning early if ``future`` completes."""
         future.add_done_callback(lambda _f: self.wake())
@@ -1023,7 +1023,7 @@ class SimulatedTimeExecutor(Executor):
             self.callbacks_run += 1
 
     @_runs_callbacks
-    def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
+    def spin_until_future_complete(self, future: Future[Any], timeout_sec: float | None = None) -> None:
         """Step until ``future`` is done; ``timeout_sec`` counts *simulated* seconds."""
         future.add_done_callback(lambda _f: self.wake())
         end = None if timeout_sec is None or timeout_sec < 0 else self._now_ns + _to_ns(timeout_sec)
@@ -1096,7 +1096,7 @@ def spin(node: Node, executor: Executor | None = None) -> None:
 
 def spin_until_future_complete(
     node: Node,
-    future: Future,
+    future: Future[Any],
     executor: Executor | None = None,
     timeout_sec: float | None = None,
 ) -> None:

@@ -58,7 +58,6 @@ from posekit.runtime.qos import (
     ReliabilityPolicy,
 )
 from posekit.runtime.ratelimit import RateLimitedLog
-from posekit.runtime.tf2_ros import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
 from posekit.runtime.transport import (
     EndpointInfo,
     SubscriptionEndpoint,
@@ -66,6 +65,7 @@ from posekit.runtime.transport import (
     Transport,
 )
 from posekit.tf2 import Buffer, TransformException
+from posekit.tf2_ros.transform_listener import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
 from posekit.time import Duration
 
 __all__ = [

@@ -14,7 +14,7 @@ from posekit.msgs.std_msgs import Header
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
-from posekit.runtime.tf2_ros import StaticListenerQoS
+from posekit.tf2_ros import StaticListenerQoS
 from posekit.vision.box_model import box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA
 from posekit.vision.detector import ArucoMarkerDetector

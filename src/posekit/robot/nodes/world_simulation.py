@@ -112,7 +112,7 @@ from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 
 __all__ = ["MAX_KEPT_REJECTIONS", "WorldSimulation"]
 
