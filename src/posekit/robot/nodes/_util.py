@@ -1,12 +1,12 @@
-"""Helpers shared by the ROSbot nodes: stamps in integer nanoseconds and parameter reads."""
+"""Helpers shared by the ROSbot nodes: wheel-geometry parameters and rates as periods."""
 
 from __future__ import annotations
 
 from typing import Any, TypedDict
 
-from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.robot.params import DEFAULT_DRIVE
 from posekit.runtime.node import Node
+from posekit.time import NS_PER_S
 
 __all__ = [
     "NS",
@@ -14,22 +14,9 @@ __all__ = [
     "declare",
     "declare_wheel_geometry",
     "period_ns",
-    "stamp_msg",
-    "stamp_ns",
 ]
 
-NS = 1_000_000_000
-
-
-def stamp_msg(ns: int) -> TimeMsg:
-    """builtin_interfaces/Time for ``ns`` nanoseconds."""
-    sec, nanosec = divmod(ns, NS)
-    return TimeMsg(sec, nanosec)  # positional: 2x faster than keywords
-
-
-def stamp_ns(stamp: Any) -> int:
-    """Nanoseconds of a builtin_interfaces/Time-like object (``sec``, ``nanosec``)."""
-    return int(stamp.sec) * NS + int(stamp.nanosec)
+NS = NS_PER_S
 
 
 def declare(node: Node, name: str, default: Any) -> Any:

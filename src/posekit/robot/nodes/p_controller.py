@@ -40,12 +40,13 @@ from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.posekit_interfaces import NavigateToPose
 from posekit.msgs.std_msgs import Bool, Header
 from posekit.robot.kinematics import wrap_angle, yaw_from_quaternion_xyzw
-from posekit.robot.nodes._util import declare, stamp_msg
+from posekit.robot.nodes._util import declare
 from posekit.robot.p_controller import PController, PControllerParams, Phase
 from posekit.runtime.action import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter, SetParametersResult
 from posekit.runtime.task import Future
+from posekit.time import stamp_from_ns
 
 __all__ = ["PControllerNode"]
 
@@ -225,7 +226,7 @@ class PControllerNode(Node):
         now_ns = self._now_ns()
         # Positional fields in ROS order (header, twist = (linear, angular)): fastest.
         cmd = TwistStamped(
-            Header(stamp_msg(now_ns), "base_link"),
+            Header(stamp_from_ns(now_ns), "base_link"),
             Twist(Vector3(out.v, 0.0, 0.0), Vector3(0.0, 0.0, out.omega)),
         )
         self._cmd_pub.publish_transfer(cmd)  # built for this publish: no copy

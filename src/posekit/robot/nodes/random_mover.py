@@ -16,9 +16,10 @@ from typing import Any
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
-from posekit.robot.nodes._util import declare, period_ns, stamp_msg
+from posekit.robot.nodes._util import declare, period_ns
 from posekit.robot.random_mover import RandomMover, RandomMoverParams
 from posekit.runtime.node import Node
+from posekit.time import stamp_from_ns
 
 __all__ = ["RandomMoverNode"]
 
@@ -42,7 +43,7 @@ class RandomMoverNode(Node):
     def _on_tick(self) -> None:
         v, w = self.mover.next_command()
         cmd = TwistStamped()
-        cmd.header.stamp = stamp_msg(self._now_ns())
+        cmd.header.stamp = stamp_from_ns(self._now_ns())
         cmd.header.frame_id = "base_link"
         cmd.twist.linear.x = v
         cmd.twist.angular.z = w

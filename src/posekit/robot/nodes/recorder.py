@@ -20,8 +20,8 @@ import numpy.typing as npt
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.std_msgs import Bool
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
-from posekit.robot.nodes._util import stamp_ns
 from posekit.runtime.node import Node
+from posekit.time import stamp_to_ns
 
 __all__ = ["COLUMNS", "DEFAULT_TOPICS", "OdometryRecorder", "OdometryRecording"]
 
@@ -127,7 +127,7 @@ class OdometryRecorder(Node):
             twist = msg.twist.twist
             append(
                 (
-                    stamp_ns(msg.header.stamp) / 1e9,
+                    stamp_to_ns(msg.header.stamp) / 1e9,
                     float(pose.position.x),
                     float(pose.position.y),
                     yaw_from_quaternion_xyzw(float(q.x), float(q.y), float(q.z), float(q.w)),

@@ -32,17 +32,12 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import JointState
 from posekit.robot._msgutil import yaw_quaternion
-from posekit.robot.nodes._util import (
-    declare,
-    declare_wheel_geometry,
-    period_ns,
-    stamp_msg,
-    stamp_ns,
-)
+from posekit.robot.nodes._util import declare, declare_wheel_geometry, period_ns
 from posekit.robot.odometry import WheelOdometry
 from posekit.robot.params import DEFAULT_DRIVE, WHEEL_JOINT_NAMES, DriveParams
 from posekit.runtime.node import Node
 from posekit.tf2_ros import TransformBroadcaster
+from posekit.time import stamp_from_ns, stamp_to_ns
 
 __all__ = ["WheelOdometryNode"]
 
@@ -120,7 +115,7 @@ class WheelOdometryNode(Node):
         values = position.tolist() if isinstance(position, np.ndarray) else position
         left = sum(float(values[i]) for i in left_idx) / len(left_idx)
         right = sum(float(values[i]) for i in right_idx) / len(right_idx)
-        t_ns = stamp_ns(msg.header.stamp)
+        t_ns = stamp_to_ns(msg.header.stamp)
         if not (math.isfinite(left) and math.isfinite(right)):
             self.get_logger().warning("Ignoring joint state: non-finite wheel position")
             return
@@ -142,12 +137,12 @@ class WheelOdometryNode(Node):
 
     def _publish(self, t_ns: int) -> None:
         msg = self.odometry.to_msg()
-        msg.header.stamp = stamp_msg(t_ns)
+        msg.header.stamp = stamp_from_ns(t_ns)
         self._pub.publish_transfer(msg)  # a fresh message: no copy
         if self._tf is not None:
             p = self.odometry.params
             tf = TransformStamped()
-            tf.header.stamp = stamp_msg(t_ns)
+            tf.header.stamp = stamp_from_ns(t_ns)
             tf.header.frame_id = p.odom_frame_id
             tf.child_frame_id = p.base_frame_id
             tf.transform.translation.x = self.odometry.x

@@ -98,7 +98,7 @@ from posekit.robot.headless import sub_seeds
 from posekit.robot.imu import ImuModel
 from posekit.robot.kinematics import wrap_angle
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
-from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns, stamp_msg
+from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -111,6 +111,7 @@ from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.time import stamp_from_ns
 from posekit.worlds import World, load_world
 from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
@@ -284,7 +285,7 @@ class WorldSimulation(Node):
         out = []
         for spec in self.world.static_transforms:
             tf = TransformStamped()
-            tf.header.stamp = stamp_msg(t_ns)
+            tf.header.stamp = stamp_from_ns(t_ns)
             tf.header.frame_id = spec.parent
             tf.child_frame_id = spec.child
             tf.transform.translation = Vector3(x=spec.xyz[0], y=spec.xyz[1], z=spec.xyz[2])
@@ -351,7 +352,7 @@ class WorldSimulation(Node):
         left, right = self.base.wheel_angles
         positions = (left, right, left, right)
         msg = self._encoders.joint_state(positions, self.base.wheel_velocities, now_ns / NS)
-        msg.header.stamp = stamp_msg(now_ns)
+        msg.header.stamp = stamp_from_ns(now_ns)
         self._joint_pub.publish_transfer(msg)  # fresh: no copy
         if self._tf.pub_tf.get_subscription_count():
             self._tf.sendTransform(wheel_transforms(positions, now_ns / NS))
@@ -362,7 +363,7 @@ class WorldSimulation(Node):
         x, y, yaw = self.base.pose
         v, w, _ = self.base.body_velocity
         msg = self._truth_msg
-        msg.header.stamp = stamp_msg(now_ns)
+        msg.header.stamp = stamp_from_ns(now_ns)
         pose = msg.pose.pose
         pose.position.x = x
         pose.position.y = y
@@ -384,7 +385,7 @@ class WorldSimulation(Node):
         scan_index = round(t_ns / (self._n_lidar * self._period_ns))
         ranges = self.lidar.scan(T_world_base * self._T_base_laser, scan_index)
         msg = self.lidar.to_msg(ranges)
-        msg.header.stamp = stamp_msg(t_ns)
+        msg.header.stamp = stamp_from_ns(t_ns)
         return msg
 
     def _publish_depth(self, now_ns: int) -> None:
@@ -393,7 +394,7 @@ class WorldSimulation(Node):
         if not (want_image or want_points):
             return  # lazy: no subscriber, no rendering
         depth = self.depth_frame(now_ns)
-        header = Header(stamp=stamp_msg(now_ns), frame_id=self.depth_camera.params.frame_id)
+        header = Header(stamp=stamp_from_ns(now_ns), frame_id=self.depth_camera.params.frame_id)
         if want_image:
             self._depth_pub.publish_transfer(depth_image_msg(depth, header))
         if want_points:

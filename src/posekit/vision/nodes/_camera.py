@@ -15,8 +15,9 @@ from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.std_msgs import Header
 from posekit.runtime.node import Node
+from posekit.time import stamp_from_ns
 from posekit.vision.camera import PinholeCamera
-from posekit.vision.nodes._common import declare, stamp_msg
+from posekit.vision.nodes._common import declare
 from posekit.vision.render import BoxRenderer
 from posekit.worlds import World, load_world
 from posekit.worlds.obstacles import WallSegments
@@ -84,7 +85,7 @@ class SimulatedCamera(Node):
 
     def _on_frame(self) -> None:
         now_ns = self._now_ns()
-        header = Header(stamp=stamp_msg(now_ns), frame_id=self.frame_id)
+        header = Header(stamp=stamp_from_ns(now_ns), frame_id=self.frame_id)
         self._info_msg.header = header
         self._info_pub.publish(self._info_msg)
         if self._lazy and not self._image_pub.get_subscription_count():

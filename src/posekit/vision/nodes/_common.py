@@ -1,5 +1,5 @@
 """Helpers shared by the vision nodes: image decoding with named rejections, intrinsics from
-``CameraInfo``, per-id marker sizes, TF messages from PnP results, stamps and poses."""
+``CameraInfo``, per-id marker sizes, TF messages from PnP results and poses."""
 
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.image import image_to_numpy
 from posekit.runtime.node import Node
+from posekit.time import NS_PER_S
 
 __all__ = [
     "DETECTABLE_ENCODINGS",
@@ -29,12 +30,10 @@ __all__ = [
     "parse_marker_sizes",
     "pose_from_chain",
     "rpy_pose_matrix",
-    "stamp_msg",
-    "stamp_ns",
     "transform_msg",
 ]
 
-NS = 1_000_000_000
+NS = NS_PER_S
 F64Array = npt.NDArray[np.float64]
 U8Array = npt.NDArray[np.uint8]
 
@@ -49,17 +48,6 @@ class ImageRejectedError(ValueError):
 def declare(node: Node, name: str, default: Any) -> Any:
     """Declare ``name`` with ``default`` and return its (possibly overridden) value."""
     return node.declare_parameter(name, default).value
-
-
-def stamp_msg(ns: int) -> TimeMsg:
-    """``builtin_interfaces/Time`` of ``ns`` nanoseconds."""
-    sec, nanosec = divmod(int(ns), NS)
-    return TimeMsg(sec=sec, nanosec=nanosec)
-
-
-def stamp_ns(stamp: Any) -> int:
-    """Nanoseconds of a ``builtin_interfaces/Time``-like object."""
-    return int(stamp.sec) * NS + int(stamp.nanosec)
 
 
 def decode_for_detection(msg: Any) -> U8Array:

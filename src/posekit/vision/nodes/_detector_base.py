@@ -17,6 +17,7 @@ from typing import Any
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.runtime.node import Node
 from posekit.runtime.qos import qos_profile_sensor_data
+from posekit.time import stamp_to_ns
 from posekit.vision.detector import ArucoMarkerDetector, MarkerDetection
 from posekit.vision.nodes._common import (
     ImageRejectedError,
@@ -88,7 +89,7 @@ class ArucoDetectorNodeBase(Node):
     # ------------------------------------------------------------------ images
     def _reject(self, msg: Image, reason: str) -> None:
         stamp = msg.header.stamp
-        self.images_rejected.append((int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec),
+        self.images_rejected.append((stamp_to_ns(stamp),
                                      reason))
         self.get_logger().error(f"Skipping image: {reason}", throttle_duration_sec=2.0)
 

@@ -29,7 +29,8 @@ from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.image import image_to_numpy
 from posekit.msgs.sensor_msgs import Image
 from posekit.runtime.node import Node
-from posekit.vision.nodes._common import NS, declare, stamp_ns
+from posekit.time import stamp_to_ns
+from posekit.vision.nodes._common import NS, declare
 
 __all__ = ["ImageSaver", "attach_image_saver", "image_saver_entry"]
 
@@ -59,7 +60,7 @@ class ImageSaver(Node):
 
     def _on_image(self, msg: Image) -> None:
         self._last_msg = msg
-        t_ns = stamp_ns(msg.header.stamp)
+        t_ns = stamp_to_ns(msg.header.stamp)
         if self._next_ns is not None and t_ns < self._next_ns:
             return
         if self._max_images and len(self.saved) >= self._max_images:

@@ -41,9 +41,10 @@ from posekit.geometry.se2 import integrate_arc
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.description import FIXED_JOINTS
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
+from posekit.time import stamp_to_ns
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
-from posekit.vision.nodes._common import NS, declare, pose_from_chain, stamp_ns
+from posekit.vision.nodes._common import NS, declare, pose_from_chain
 
 __all__ = ["OakCameraNode"]
 
@@ -76,7 +77,7 @@ class OakCameraNode(SimulatedCamera):
         q = msg.pose.pose.orientation
         yaw = yaw_from_quaternion_xyzw(q.x, q.y, q.z, q.w)
         tw = msg.twist.twist
-        self._truth = (stamp_ns(msg.header.stamp), float(p.x), float(p.y), yaw,
+        self._truth = (stamp_to_ns(msg.header.stamp), float(p.x), float(p.y), yaw,
                        float(tw.linear.x), float(tw.angular.z))
 
     def T_world_base_at(self, t_ns: int) -> F64Array:

@@ -26,9 +26,10 @@ from typing import Any
 import numpy as np
 
 from posekit.tf2_ros import StaticTransformBroadcaster
+from posekit.time import stamp_from_ns
 from posekit.vision.camera import T_CAMERA_FRAME_OPTICAL, PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
-from posekit.vision.nodes._common import declare, rpy_pose_matrix, stamp_msg, transform_msg
+from posekit.vision.nodes._common import declare, rpy_pose_matrix, transform_msg
 
 __all__ = ["OverheadCameraNode"]
 
@@ -61,7 +62,7 @@ class OverheadCameraNode(SimulatedCamera):
                                          near=near, far=far)
         if publish_statics and self._statics:
             self._static_broadcaster = StaticTransformBroadcaster(self)
-            stamp = stamp_msg(self.get_clock().now_ns())
+            stamp = stamp_from_ns(self.get_clock().now_ns())
             self._static_broadcaster.sendTransform(
                 [transform_msg(s.parent, s.child, stamp, s.xyz, s.quaternion_xyzw)
                  for s in self._statics]

@@ -25,8 +25,9 @@ from typing import Any
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.sensor_msgs import Image
 from posekit.tf2_ros import StaticTransformBroadcaster
+from posekit.time import stamp_from_ns
 from posekit.vision.detector import MarkerDetection
-from posekit.vision.nodes._common import declare, stamp_msg, transform_msg
+from posekit.vision.nodes._common import declare, transform_msg
 from posekit.vision.nodes._detector_base import ArucoDetectorNodeBase
 
 __all__ = ["StaticArucoDetector"]
@@ -71,7 +72,7 @@ class StaticArucoDetector(ArucoDetectorNodeBase):
             return
         det = detections[0]
         parent = self._parent_frame(msg)
-        t = transform_msg(parent, self._child_frame_id, stamp_msg(self.get_clock().now_ns()),
+        t = transform_msg(parent, self._child_frame_id, stamp_from_ns(self.get_clock().now_ns()),
                           det.translation, det.quaternion_xyzw)
         self._static_tf_broadcaster.sendTransform(t)
         self.tf_published = True
