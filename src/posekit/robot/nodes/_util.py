@@ -2,26 +2,21 @@
 
 from __future__ import annotations
 
-from typing import Any, TypedDict
+from typing import TypedDict
 
 from posekit.robot.params import DEFAULT_DRIVE
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
 from posekit.time import NS_PER_S
 
 __all__ = [
     "NS",
     "WheelGeometry",
-    "declare",
     "declare_wheel_geometry",
     "period_ns",
 ]
 
 NS = NS_PER_S
-
-
-def declare(node: Node, name: str, default: Any) -> Any:
-    """Declare ``name`` with ``default`` on ``node`` and return its (possibly overridden) value."""
-    return node.declare_parameter(name, default).value
 
 
 class WheelGeometry(TypedDict):
@@ -39,16 +34,16 @@ def declare_wheel_geometry(node: Node) -> WheelGeometry:
     the wheel odometry read, defaults from :data:`DEFAULT_DRIVE`; ``DriveParams`` keywords."""
     d = DEFAULT_DRIVE
     return WheelGeometry(
-        wheel_separation=float(declare(node, "wheel_separation", d.wheel_separation)),
-        wheel_radius=float(declare(node, "wheel_radius", d.wheel_radius)),
+        wheel_separation=float(declare_value(node, "wheel_separation", d.wheel_separation)),
+        wheel_radius=float(declare_value(node, "wheel_radius", d.wheel_radius)),
         wheel_separation_multiplier=float(
-            declare(node, "wheel_separation_multiplier", d.wheel_separation_multiplier)
+            declare_value(node, "wheel_separation_multiplier", d.wheel_separation_multiplier)
         ),
         left_wheel_radius_multiplier=float(
-            declare(node, "left_wheel_radius_multiplier", d.left_wheel_radius_multiplier)
+            declare_value(node, "left_wheel_radius_multiplier", d.left_wheel_radius_multiplier)
         ),
         right_wheel_radius_multiplier=float(
-            declare(node, "right_wheel_radius_multiplier", d.right_wheel_radius_multiplier)
+            declare_value(node, "right_wheel_radius_multiplier", d.right_wheel_radius_multiplier)
         ),
     )
 

@@ -98,7 +98,7 @@ from posekit.robot.headless import sub_seeds
 from posekit.robot.imu import ImuModel
 from posekit.robot.kinematics import wrap_angle
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
-from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns
+from posekit.robot.nodes._util import NS, declare_wheel_geometry, period_ns
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -108,6 +108,7 @@ from posekit.robot.params import (
     SlipParams,
 )
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
@@ -148,36 +149,36 @@ class WorldSimulation(Node):
     def __init__(self, node_name: str = "world_simulation", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
         d = DEFAULT_DRIVE
-        world_name = str(declare(self, "world", "empty_world"))
-        seed = int(declare(self, "seed", 0))
-        update_rate = float(declare(self, "update_rate", d.control_rate_hz))
+        world_name = str(declare_value(self, "world", "empty_world"))
+        seed = int(declare_value(self, "seed", 0))
+        update_rate = float(declare_value(self, "update_rate", d.control_rate_hz))
         drive = DriveParams(
             **declare_wheel_geometry(self),
-            cmd_vel_timeout=float(declare(self, "cmd_vel_timeout", d.cmd_vel_timeout)),
+            cmd_vel_timeout=float(declare_value(self, "cmd_vel_timeout", d.cmd_vel_timeout)),
             max_linear_velocity=float(
-                declare(self, "linear.x.max_velocity", d.max_linear_velocity)
+                declare_value(self, "linear.x.max_velocity", d.max_linear_velocity)
             ),
             max_linear_acceleration=float(
-                declare(self, "linear.x.max_acceleration", d.max_linear_acceleration)
+                declare_value(self, "linear.x.max_acceleration", d.max_linear_acceleration)
             ),
             max_angular_velocity=float(
-                declare(self, "angular.z.max_velocity", d.max_angular_velocity)
+                declare_value(self, "angular.z.max_velocity", d.max_angular_velocity)
             ),
             max_angular_acceleration=float(
-                declare(self, "angular.z.max_acceleration", d.max_angular_acceleration)
+                declare_value(self, "angular.z.max_acceleration", d.max_angular_acceleration)
             ),
             control_rate_hz=update_rate,
         )
-        imu_rate = float(declare(self, "imu_rate", DEFAULT_IMU.rate_hz))
-        joint_states_rate = float(declare(self, "joint_states_rate", 20.0))
-        ground_truth_rate = float(declare(self, "ground_truth_rate", 20.0))
-        self._gt_frame = str(declare(self, "ground_truth_frame_id", d.odom_frame_id))
-        slip = SlipParams(enabled=bool(declare(self, "slip_enabled", True)))
-        encoders = EncoderParams(quantize=bool(declare(self, "encoder_quantize", False)))
-        publish_world_statics = bool(declare(self, "publish_world_static_transforms", True))
-        lidar_rate = float(declare(self, "lidar_rate", DEFAULT_LIDAR.rate_hz))
-        contact_enabled = bool(declare(self, "contact", True))
-        depth_rate = float(declare(self, "depth_rate", DEFAULT_DEPTH.rate_hz))
+        imu_rate = float(declare_value(self, "imu_rate", DEFAULT_IMU.rate_hz))
+        joint_states_rate = float(declare_value(self, "joint_states_rate", 20.0))
+        ground_truth_rate = float(declare_value(self, "ground_truth_rate", 20.0))
+        self._gt_frame = str(declare_value(self, "ground_truth_frame_id", d.odom_frame_id))
+        slip = SlipParams(enabled=bool(declare_value(self, "slip_enabled", True)))
+        encoders = EncoderParams(quantize=bool(declare_value(self, "encoder_quantize", False)))
+        publish_world_statics = bool(declare_value(self, "publish_world_static_transforms", True))
+        lidar_rate = float(declare_value(self, "lidar_rate", DEFAULT_LIDAR.rate_hz))
+        contact_enabled = bool(declare_value(self, "contact", True))
+        depth_rate = float(declare_value(self, "depth_rate", DEFAULT_DEPTH.rate_hz))
 
         #: The loaded world (WorldError from the loader names the problem).
         self.world: World = load_world(world_name)

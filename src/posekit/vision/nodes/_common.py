@@ -16,7 +16,6 @@ from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.image import image_to_numpy
-from posekit.runtime.node import Node
 from posekit.time import NS_PER_S
 
 __all__ = [
@@ -25,7 +24,6 @@ __all__ = [
     "ImageRejectedError",
     "bgr_canvas",
     "camera_matrix_from_info",
-    "declare",
     "decode_for_detection",
     "parse_marker_sizes",
     "pose_from_chain",
@@ -43,11 +41,6 @@ DETECTABLE_ENCODINGS = ("rgb8", "bgr8", "mono8", "rgba8", "bgra8", "8UC1", "8UC3
 
 class ImageRejectedError(ValueError):
     """An image the detectors cannot use; the message says why (logged, then skipped)."""
-
-
-def declare(node: Node, name: str, default: Any) -> Any:
-    """Declare ``name`` with ``default`` and return its (possibly overridden) value."""
-    return node.declare_parameter(name, default).value
 
 
 def decode_for_detection(msg: Any) -> U8Array:
