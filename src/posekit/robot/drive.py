@@ -32,7 +32,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from posekit.robot.kinematics import integrate_exact_arc, wrap_angle
+from posekit.geometry import wrap_angle
+from posekit.robot.kinematics import integrate_exact_arc
 from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, DriveParams, SlipParams
 from posekit.time import stamp_to_seconds
 

@@ -35,11 +35,12 @@ import dataclasses
 import math
 from typing import Any
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.geometry_msgs import PoseStamped, Twist, TwistStamped, Vector3
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.posekit_interfaces import NavigateToPose
 from posekit.msgs.std_msgs import Bool, Header
-from posekit.robot.kinematics import wrap_angle, yaw_from_quaternion_xyzw
+from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.p_controller import PController, PControllerParams, Phase
 from posekit.runtime.action import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
 from posekit.runtime.node import Node

@@ -72,7 +72,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Rotation, Transform, wrap_angle
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import Image, Imu, JointState, LaserScan, PointCloud2
@@ -96,7 +96,6 @@ from posekit.robot.drive import CommandResult, RosbotBase
 from posekit.robot.encoders import WheelEncoders
 from posekit.robot.headless import sub_seeds
 from posekit.robot.imu import ImuModel
-from posekit.robot.kinematics import wrap_angle
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
 from posekit.robot.nodes._util import NS, declare_wheel_geometry, period_ns
 from posekit.robot.params import (
