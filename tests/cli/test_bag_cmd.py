@@ -17,9 +17,10 @@ from posekit.cli.bag_cmd import info, play, record
 from posekit.msgs.rosgraph_msgs import Clock
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
+from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 
 @pytest.fixture

@@ -46,9 +46,10 @@ from posekit.bag.errors import BagFormatError, BagOptionError
 from posekit.bag.info import SERVICE_EVENT_SUFFIX, is_service_event_topic
 from posekit.bag.reader import BagMessage, read_messages
 from posekit.runtime.context import Context
-from posekit.runtime.executors import Executor, SimulatedTimeExecutor
+from posekit.runtime.executors import Executor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 __all__ = ["PlaybackTopic", "Player"]
 
@@ -400,41 +401,13 @@ class Player:
             while not self._stopped and (left := end_delay - time.monotonic()) > 0:
                 wait(left)
             origin = self.start_ns + self.start_offset_ns
-            # bag time at wall time w: anchor_bag + (w - anchor_wall) * rate, unless paused
-            anchor_wall, anchor_bag, anchor_rate = time.monotonic(), origin, self.rate
-            next_clock = anchor_wall
+            clock = _BagClock(time.monotonic(), origin, self.rate, self._paused)
+            next_clock = clock.wall
             for message in self._pass_messages():
                 if message.timestamp_ns < origin:
                     continue
-                while not self._stopped:
-                    now = time.monotonic()
-                    with self._control:
-                        paused, rate, step = self._paused, self.rate, self._steps > 0
-                        if step:
-                            self._steps -= 1
-                    if paused:
-                        bag_now = anchor_bag
-                        anchor_wall = now  # resuming continues from anchor_bag
-                    elif rate != anchor_rate:  # a rate change starts from the current time
-                        anchor_bag += int((now - anchor_wall) * anchor_rate * 1e9)
-                        anchor_wall, anchor_rate = now, rate
-                        bag_now = anchor_bag
-                    else:
-                        bag_now = anchor_bag + int((now - anchor_wall) * rate * 1e9)
-                    if progress is not None:
-                        progress(min(bag_now, message.timestamp_ns), paused)
-                    if self._clock_pub is not None and now >= next_clock:
-                        self._send_clock(min(bag_now, message.timestamp_ns))
-                        next_clock = now + period
-                    if step or (not paused and bag_now >= message.timestamp_ns):
-                        if step:
-                            anchor_bag, anchor_wall = message.timestamp_ns, now
-                        break
-                    due_in = (message.timestamp_ns - bag_now) / 1e9 / rate
-                    timeout = 0.05 if paused else due_in
-                    if self._clock_pub is not None:
-                        timeout = min(timeout, max(0.0, next_clock - now))
-                    wait(min(timeout, 0.05) if progress is not None else timeout)
+                next_clock = self._wait_until_due(
+                    message.timestamp_ns, clock, next_clock, period, wait, progress)
                 if self._stopped:
                     break
                 if self._clock_pub is not None:
@@ -444,6 +417,35 @@ class Player:
                 executor.spin_some()
             self.loops_done += 1
         return self.published - before
+
+    def _wait_until_due(self, stamp_ns: int, clock: _BagClock, next_clock: float,
+                        period: float, wait: Callable[[float], None],
+                        progress: Callable[[int, bool], None] | None) -> float:
+        """Wait until the bag clock reaches ``stamp_ns`` (pause, step and rate changes from
+        other threads honoured), sending ``/clock`` every ``period`` s of wall time on the
+        way; returns the wall time of the next ``/clock``."""
+        while not self._stopped:
+            now = time.monotonic()
+            with self._control:
+                paused, rate, step = self._paused, self.rate, self._steps > 0
+                if step:
+                    self._steps -= 1
+            bag_now = clock.at(now, paused, rate)
+            if progress is not None:
+                progress(min(bag_now, stamp_ns), paused)
+            if self._clock_pub is not None and now >= next_clock:
+                self._send_clock(min(bag_now, stamp_ns))
+                next_clock = now + period
+            if step:  # play_next: this message now, and the clock continues from it
+                clock.bag, clock.wall = stamp_ns, now
+                return next_clock
+            if not paused and bag_now >= stamp_ns:
+                return next_clock
+            timeout = 0.05 if paused else (stamp_ns - bag_now) / 1e9 / rate
+            if self._clock_pub is not None:
+                timeout = min(timeout, max(0.0, next_clock - now))
+            wait(min(timeout, 0.05) if progress is not None else timeout)
+        return next_clock
 
     def _send_clock(self, ns: int) -> None:
         from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
@@ -464,6 +466,29 @@ class Player:
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
         self.close()
+
+
+class _BagClock:
+    """Bag time (ns) during wall-clock playback: ``bag + (wall_now - wall) * rate * 1e9``.
+
+    Paused, it stands still; a pause, a resume or a new rate re-anchors it at the current
+    bag time, so none of them makes the bag time jump.
+    """
+
+    def __init__(self, wall: float, bag: int, rate: float, paused: bool = False) -> None:
+        self.wall, self.bag, self.rate, self.paused = wall, bag, rate, paused
+
+    def at(self, wall_now: float, paused: bool, rate: float) -> int:
+        """The bag time at monotonic wall time ``wall_now`` (s) under ``paused``/``rate``."""
+        if (paused, rate) != (self.paused, self.rate):
+            self.bag = self._time(wall_now)
+            self.wall, self.paused, self.rate = wall_now, paused, rate
+        return self._time(wall_now)
+
+    def _time(self, wall_now: float) -> int:
+        if self.paused:
+            return self.bag
+        return self.bag + int((wall_now - self.wall) * self.rate * 1e9)
 
 
 def _ns_time(ns: int) -> Any:

@@ -67,10 +67,11 @@ from posekit.bag.info import (
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.registry import normalize_type_name
 from posekit.runtime.context import Context
-from posekit.runtime.executors import Executor, SimulatedTimeExecutor
+from posekit.runtime.executors import Executor
 from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node
 from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped, is_hidden_topic
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import EndpointInfo, MessageSink, SubscriptionEndpoint
 
 __all__ = ["Recorder", "attach_recorder", "record_scenario"]

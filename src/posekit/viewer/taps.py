@@ -26,6 +26,10 @@ What is tapped (topics are matched fully qualified):
 * every ``sensor_msgs/Image`` topic: the newest message only (a reference; the in-process
   bus shares the frozen pixel array, so this costs nothing); JPEG encoding happens on demand
   in the server, only for topics a client watches;
+* every topic: the newest message (a reference), and for the topics the page's displays
+  follow (:meth:`ViewerTap.set_message_watches`) the newest messages in a
+  :class:`~posekit.viewer.display_feed.MessageQueue`, seeded with the newest message received
+  before the display was added;
 * every topic: receive rate over the last :data:`RATE_WINDOW_S` seconds (what ``ros2 topic
   hz`` prints by default) of the clock the data uses: sim time when the run is on it (the
   ``clock_ns`` given, or ``/clock``), else the wall clock. A camera publishing at 30 Hz of
@@ -60,6 +64,7 @@ from posekit.runtime.transport import MessageSink, Transport
 from posekit.tf2 import Buffer, TransformException
 from posekit.tf2_ros.transform_listener import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
 from posekit.time import Duration
+from posekit.viewer.display_feed import MessageQueue
 
 __all__ = [
     "GOAL_TOPIC",
@@ -252,6 +257,8 @@ class ViewerTap:
         )
         self._trails: dict[str, OdometryTrail] = {}
         self._images: dict[str, tuple[int, Any]] = {}
+        self._latest: dict[str, Any] = {}
+        self._queues: dict[str, MessageQueue] = {}
         self._goal: dict[str, Any] | None = None
         self._clock_ns: int | None = None
         self._clock_fn = clock_ns
@@ -346,6 +353,10 @@ class ViewerTap:
                 info.receipts.append(now)
                 if len(info.receipts) > 4096:  # bounded even without readers
                     info.receipts.popleft()
+                self._latest[name] = msg
+                queue = self._queues.get(name)
+            if queue is not None:
+                queue.append(msg)
             if handler is not None:
                 try:
                     handler(msg)
@@ -606,6 +617,34 @@ class ViewerTap:
         """``(sequence number, newest Image message)`` of ``topic``, or None."""
         with self._lock:
             return self._images.get(topic)
+
+    def set_message_watches(self, depths: dict[str, int]) -> None:
+        """Keep the newest ``depths[topic]`` messages of each topic for the displays (a new
+        watch starts with the newest message already received); other topics' queues go."""
+        with self._lock:
+            for topic in [t for t in self._queues if t not in depths]:
+                del self._queues[topic]
+            for topic, depth in depths.items():
+                queue = self._queues.get(topic)
+                if queue is None:
+                    queue = self._queues[topic] = MessageQueue(depth)
+                    if topic in self._latest:
+                        queue.append(self._latest[topic])
+                else:
+                    queue.resize(depth)
+
+    def messages_after(self, topic: str, seq: int) -> list[tuple[int, Any]]:
+        """``(number, message)`` of the kept messages of a watched ``topic`` newer than
+        ``seq`` (oldest first; empty when the topic is not watched)."""
+        with self._lock:
+            queue = self._queues.get(topic)
+        return [] if queue is None else queue.after(seq)
+
+    def topic_type(self, topic: str) -> str | None:
+        """The type of ``topic`` as the graph announced it, or None when not seen yet."""
+        with self._lock:
+            info = self._topics.get(topic)
+        return None if info is None else info.type_name
 
     def trails(self) -> dict[str, dict[str, Any]]:
         """Every Odometry display: frame, child frame, kept poses, messages received."""
