@@ -147,12 +147,13 @@ class DisplayTestNode(Node):
 
 @pytest.fixture(scope="module")
 def viewer(support: SimpleNamespace) -> Iterator[Any]:
+    import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
     from posekit.cli.view_cmd import attach_to_run
     from posekit.launch import Node as LaunchNode
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
     run = start_scenario(
-        "p_controller", realtime=True, record=False,
+        "p_controller", realtime=True,
         extra_nodes=[LaunchNode(support.CameraTestNode, name="viewer_test_camera"),
                      LaunchNode(DisplayTestNode, name="viewer_display_test")],
     )

@@ -28,8 +28,8 @@ WebSocket protocol (server -> client, JSON text unless noted):
   first, at most the display's ``queue`` of them (newest only by default), each at most
   once, at up to ``tf_rate`` Hz;
 * binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
-  seq, stamp, width, height, encoding}``, then the JPEG bytes. Only for topics the client
-  watches, newest only, at up to ``image_rate`` Hz (default 15).
+  seq, stamp, width, height, encoding, frame_id}``, then the JPEG bytes. Only for topics the
+  client watches, newest only, at up to ``image_rate`` Hz (default 15).
 
 Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "topics":
 [...]}``, ``{"op": "pause", "paused": BOOL}``, ``{"op": "goal", "frame": NAME, "x": M, "y": M,
@@ -851,6 +851,7 @@ class ViewerServer:
                 "width": int(msg.width),
                 "height": int(msg.height),
                 "encoding": str(msg.encoding),
+                "frame_id": str(msg.header.frame_id),
             }
         ).encode()
         payload = struct.pack(">I", len(header)) + header + jpeg

@@ -59,6 +59,7 @@ const visibility = () => ({
   truth: $("show-truth").checked,
   world: $("show-world").checked,
   goal: $("show-goal").checked,
+  detections: $("show-detections").checked,
 });
 
 // ------------------------------------------------------------------------------ scene
@@ -113,6 +114,7 @@ async function createScene() {
   scene.setVisibility(visibility());
   scene.setTfOptions(tfOptions);
   debug.labels = () => scene.labelState();
+  debug.detections = () => (scene.detections ? scene.detections() : {});
 }
 
 // Render loop capped at state.fps (30 by default) so a laptop stays cool.
@@ -250,10 +252,38 @@ function onGraph(msg) {
   if (scene) scene.setGoal(msg.goal);
   fillTree(msg.tree);
   fillTopics(msg.topics);
+  state.topics = msg.topics;
+  addCameras(msg.topics);
   state.imageTopics = msg.images;
   fillCameraTopics(msg.images);
   updateWatch(false);
 }
+
+// ------------------------------------------------------------------------------ cameras
+// "Cameras": a Camera display (camera.js: frustum and image) for every camera_info topic as
+// it appears; a camera whose display the user removed is not added again. Unticked, the
+// Camera displays are hidden.
+const CAMERA_INFO = "sensor_msgs/msg/CameraInfo";
+let camerasHandled = new Set();
+
+function addCameras(topics) {
+  if (!displays || !$("show-cameras").checked) return;
+  for (const t of topics) {
+    if (t.type !== CAMERA_INFO || camerasHandled.has(t.name)) continue;
+    camerasHandled.add(t.name);
+    const exists = displays.state().displays.some((d) => d.display === "Camera" && d.topic === t.name);
+    if (!exists) {
+      try { displays.add("Camera", t.name, t.type); } catch (err) { console.warn("viewer: no Camera display", err); }
+    }
+  }
+}
+
+$("show-cameras").addEventListener("change", () => {
+  if (!displays) return;
+  const on = $("show-cameras").checked;
+  for (const d of displays.state().displays) if (d.display === "Camera") displays.setEnabled(d.id, on);
+  if (on && state.topics) addCameras(state.topics);
+});
 
 // ------------------------------------------------------------------------------ controls
 function fillFixedFrames(frames) {
@@ -348,6 +378,7 @@ function viewConfig() {
     displays: Object.fromEntries(toggleIds().map((id) => [id.replace(/^show-/, ""), $(id).checked])),
     tf: { hidden: [...tfOptions.hidden].sort(), no_name: [...tfOptions.noName].sort(), marker_scale: tfOptions.scale },
     topic_displays: displays ? displays.toConfig() : [],
+    cameras_handled: [...camerasHandled].sort(),
     panels: {
       camera_topic: $("camera-topic").value || null,
       open: Object.fromEntries([...document.querySelectorAll("#panels details")].map((d) => [d.id, d.open])),
@@ -389,6 +420,8 @@ function applyConfig(cfg) {
     if (displays) problems.push(...displays.fromConfig(cfg.topic_displays));
     else problems.push("topic_displays");
   }
+  if (names(cfg.cameras_handled)) camerasHandled = new Set(cfg.cameras_handled);
+  else if (cfg.cameras_handled !== undefined) problems.push("cameras_handled");
   const panels = cfg.panels || {};
   for (const [id, open] of Object.entries(panels.open || {})) {
     const d = $(id);
@@ -646,6 +679,7 @@ displays = createDisplayManager(await loadDisplayModules(), {
   requestRender: () => { state.dirty = true; },
   fixedFrame: () => state.fixedFrame,
   now: () => (state.lastTf ? state.lastTf.now : null),
+  topics: () => state.topics || [],
   panels: $("panels"),
   list: $("display-list"),
   watchImages: () => updateWatch(false),
