@@ -348,7 +348,8 @@ export async function createScene3D(container) {
     return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height };
   }
 
-  function setDraft(from, yaw) {
+  function setDraft(from, yaw, kind = "goal") {
+    draft.setColor(kind === "pose" ? 0x40a0ff : 0x40ff40);
     draft.visible = Boolean(from);
     if (from) {
       draft.position.set(from.x, from.y, 0.02);
