@@ -63,7 +63,7 @@ def attach_to_run(
     the wall clock (``realtime=True`` / ``real_time_factor=1.0``) to watch it move.
     ``options`` go to :class:`posekit.viewer.server.ViewerServer`.
     """
-    from posekit.runtime.executors import SimulatedTimeExecutor
+    from posekit.runtime.sim_executor import SimulatedTimeExecutor
     from posekit.viewer import attach_viewer
 
     executor = run.executor
@@ -182,7 +182,7 @@ def _announce(server: ViewerServer, what: str) -> None:
 
 def _sim_clock(run: LaunchRun) -> Callable[[], int] | None:
     """The run's simulated clock (ns) when its executor is a SimulatedTimeExecutor."""
-    from posekit.runtime.executors import SimulatedTimeExecutor
+    from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
     executor = run.executor
     if not isinstance(executor, SimulatedTimeExecutor):

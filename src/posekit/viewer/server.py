@@ -77,7 +77,6 @@ from typing import Any
 
 from aiohttp import WSMsgType, web
 
-from posekit.robot.worlds import World
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
@@ -88,6 +87,7 @@ from posekit.viewer.errors import ViewerError, ViewerOptionError
 from posekit.viewer.images import encode_jpeg
 from posekit.viewer.taps import GOAL_TOPIC, ViewerTap
 from posekit.viewer.world import world_payload
+from posekit.worlds import World
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "THREE_ROOT", "WEB_ROOT", "ViewerServer",
            "load_view_config"]
