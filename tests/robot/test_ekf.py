@@ -243,7 +243,8 @@ def test_set_pose_replaces_state_covariance_and_queue() -> None:
     ekf.add_wheel_twist(1.9, 5.0, 0.0, 0.0, (1e-3, 1e-3, 1e-3))  # before the reset: ignored
     ekf.add_imu(2.1, 1.3, 0.0, (1e-3, 1e-3))   # the new zero of the relative IMU yaw
     ekf.step(2.1)
-    assert ekf.state[0] == 3.0 and ekf.state[3] == 0.0
+    assert ekf.state[0] == 3.0
+    assert ekf.state[3] == 0.0
     assert ekf.state[YAW] == pytest.approx(0.5, abs=1e-9)
     with pytest.raises(ValueError, match="3x3"):
         ekf.set_pose(3.0, 0.0, 0.0, 0.0, np.eye(2))

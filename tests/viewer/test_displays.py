@@ -25,10 +25,10 @@ pytestmark = pytest.mark.slow  # a scenario and a browser
 cv2 = pytest.importorskip("cv2")
 
 from _support.browser import canvas_pixels, debug, wait_for  # noqa: E402
-from posekit.cli.interface_cmd import default_message  # noqa: E402
 from posekit.msgs.geometry_msgs import PoseStamped  # noqa: E402
 from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.msgs.registry import find_message_class  # noqa: E402
+from posekit.msgs.yaml_io import default_message  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
 
 #: Marker types the display draws, one marker each in ns "types" (id = type).
@@ -464,7 +464,8 @@ def test_pose_estimate_tool_publishes_an_initial_pose_the_ekf_adopts(
         px, py = robot.x + 2.0, robot.y - 0.5
         start = page.evaluate(f"window.posekitViewer.project({px}, {py})")
         end = page.evaluate(f"window.posekitViewer.project({px}, {py - 0.5})")
-        assert 0 < start["x"] < 800 and 0 < start["y"] < 800, start  # on the 3D view
+        assert 0 < start["x"] < 800, start  # on the 3D view
+        assert 0 < start["y"] < 800, start
         page.click("#pose-tool")
         assert debug(page, "poseTool") is True
         page.mouse.move(start["x"], start["y"])
