@@ -198,7 +198,7 @@ def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
     from posekit.msgs.cdr import to_cdr
     from posekit.robot.description import T_base_frame
     from posekit.robot.lidar import Lidar
-    from posekit.robot.obstacles import BoxObstacles, WallSegments
+    from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
     lidar = Lidar(BoxObstacles.from_world(world), seed=1, walls=WallSegments.from_world(world))
     x, y, yaw = world.spawn
@@ -213,7 +213,7 @@ def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
 
 def _lidar_report() -> None:
     from posekit.robot.lidar import DEFAULT_LIDAR
-    from posekit.robot.worlds import World, load_world
+    from posekit.worlds import World, load_world
 
     period_ms = 1e3 / DEFAULT_LIDAR.rate_hz
     grid = World.from_dict({

@@ -239,8 +239,8 @@ def flood(seconds: float) -> dict[str, Any]:
 def scenario(seconds: float) -> dict[str, Any]:
     import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
     from posekit.launch.scenarios import start_scenario
-    from posekit.runtime.executors import SimulatedTimeExecutor
     from posekit.runtime.logging import LogRecord, add_sink, remove_sink, set_logger_level
+    from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
     set_logger_level("random_mover", 30)  # its 1 Hz odometry INFO line is not the subject
     lines: list[LogRecord] = []

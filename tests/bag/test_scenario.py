@@ -18,8 +18,8 @@ from posekit.bag import Player, attach_recorder, bag_info, read_messages, record
 from posekit.launch.scenarios import start_scenario
 from posekit.msgs.nav_msgs import Odometry
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.tf2 import Buffer
 from posekit.tf2_ros import TransformListener
 from posekit.time import Time

@@ -30,8 +30,8 @@ from posekit.robot.depth import (
     depth_points,
 )
 from posekit.robot.description import FIXED_JOINTS, T_base_frame
-from posekit.robot.obstacles import BoxObstacles, WallSegments, cast_rays
-from posekit.robot.worlds import World, load_world
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import BoxObstacles, WallSegments, cast_rays
 
 NOISELESS = DepthParams(disparity_stddev=0.0)
 OPTICAL = "oak_rgb_camera_optical_frame"

@@ -19,7 +19,7 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.rclpy import task as rclpy_task
 from posekit.runtime.context import Context
 from posekit.runtime.node import Node
-from posekit.runtime.executors import SimulatedTimeExecutor
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.task import CancelledError, Future, Task
 from posekit.tf2 import future as tf2_future
 from posekit.tf2.buffer import Buffer
@@ -39,7 +39,8 @@ def _tf(parent: str, child: str, x: float) -> TransformStamped:
 
 def test_one_class_everywhere() -> None:
     assert Future is tf2_future.Future is rclpy_task.Future
-    assert rclpy_task.Task is Task and issubclass(Task, Future)
+    assert rclpy_task.Task is Task
+    assert issubclass(Task, Future)
     assert CancelledError is tf2_future.CancelledError
     assert isinstance(Buffer().wait_for_transform_async("a", "b", Time()), Future)
 
@@ -93,7 +94,8 @@ def test_cancelled_tf2_future_raises_in_the_awaiting_coroutine(
     executor.add_node(node)
     executor.run_until(1.0)
     assert outcome == ["cancelled"]
-    assert waits[0].done() and waits[0].cancelled()
+    assert waits[0].done()
+    assert waits[0].cancelled()
     with pytest.raises(CancelledError):
         waits[0].result()
 
@@ -108,7 +110,8 @@ def test_rclpy_spin_until_future_complete_on_a_tf2_future(ctx: Context) -> None:
     setter.start()
     rclpy.spin_until_future_complete(node, future, timeout_sec=LONG_TIMEOUT_S)
     setter.join()
-    assert future.done() and future.result() is True
+    assert future.done()
+    assert future.result() is True
 
 
 def test_rclpy_spin_until_future_complete_with_a_timer_completing_it(ctx: Context) -> None:

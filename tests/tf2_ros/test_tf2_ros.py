@@ -9,9 +9,10 @@ import pytest
 
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.tf2_msgs import TFMessage
-from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
+from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.tf2 import Buffer, TransformException
 from posekit.tf2_ros import (
     StaticTransformBroadcaster,

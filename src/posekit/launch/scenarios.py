@@ -8,7 +8,7 @@ register theirs when imported (:mod:`posekit.robot.scenarios` the ROSbot's ``emp
 importing :mod:`posekit.demos.scenarios` registers every one).
 
 ``start_scenario(name, params, seed)`` builds one and starts it in a fresh context on a
-:class:`~posekit.runtime.executors.SimulatedTimeExecutor`; ``run_scenario(name, params,
+:class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor`; ``run_scenario(name, params,
 seed, until_sim_time, realtime)`` also steps it (as fast as possible, or paced to the wall
 clock with ``realtime``) and returns a :class:`ScenarioResult`.
 
@@ -45,9 +45,9 @@ from typing import Any
 from posekit.launch.description import LaunchDescription, Node
 from posekit.launch.runner import LaunchRun, start
 from posekit.runtime.context import Context
-from posekit.runtime.executors import ClockConflictError, SimulatedTimeExecutor
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.parameters import ParameterException
+from posekit.runtime.sim_executor import ClockConflictError, SimulatedTimeExecutor
 
 __all__ = [
     "Scenario",

@@ -372,7 +372,8 @@ def to_cdr(msg: Any, msg_type: str | None = None) -> bytes:
         CdrError: a field does not fit its ROS type (the message names which).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
-    codec = _class_codecs.get(type(msg)) if msg_type is None else None
+    # Fast paths: the message's class, or a type name already in its full form.
+    codec = _class_codecs.get(type(msg)) if msg_type is None else _codecs.get(msg_type)
     if codec is None:
         name = _resolve_name(msg_type) if msg_type is not None else _resolve_name(type(msg))
         codec = _codecs.get(name) or _codec(name)

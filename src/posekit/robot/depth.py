@@ -55,8 +55,8 @@ from posekit.msgs.image import numpy_to_image
 from posekit.msgs.point_cloud2 import xyz_fields
 from posekit.msgs.sensor_msgs import Image, PointCloud2
 from posekit.msgs.std_msgs import Header
-from posekit.robot.obstacles import WallSegments
-from posekit.robot.worlds import World, box_half_extents
+from posekit.worlds import World, box_half_extents
+from posekit.worlds.obstacles import WallSegments
 
 __all__ = [
     "DEFAULT_DEPTH",

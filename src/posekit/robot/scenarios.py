@@ -44,7 +44,7 @@ from posekit.robot.nodes import (
     WheelOdometryNode,
     WorldSimulation,
 )
-from posekit.robot.worlds import WorldError, load_world
+from posekit.worlds import WorldError, load_world
 
 __all__ = [
     "DEFAULT_GOAL",

@@ -13,7 +13,6 @@ from posekit.runtime.executors import (
     Executor,
     Future,
     MultiThreadedExecutor,
-    SimulatedTimeExecutor,
     SingleThreadedExecutor,
     spin,
     spin_once,
@@ -28,6 +27,7 @@ from posekit.runtime.qos import (
     ReliabilityPolicy,
     qos_profile_sensor_data,
 )
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 __all__ = [
     "Clock",

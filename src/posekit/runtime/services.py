@@ -9,7 +9,7 @@ executor instead).
 
 A client's ``call_async(request)`` returns a :class:`~posekit.runtime.task.Future`. The
 response is queued for the client's node's executor, which completes the future there (as
-rclpy does), so under :class:`~posekit.runtime.executors.SimulatedTimeExecutor` a request,
+rclpy does), so under :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` a request,
 its handling and its response happen in a reproducible order. ``call(request)`` blocks:
 
 * in a thread that is not spinning the node's executor, it waits for another thread (or
@@ -165,6 +165,7 @@ class _Queued:
         self.callback_description = what
         self.queue: deque[tuple[int, Any]] = deque(maxlen=limit)
         self.destroyed = False
+        self.handoff = node.handoff
         self._seq = node.context.seq
 
     def enqueue(self, payload: Any) -> None:
@@ -172,9 +173,9 @@ class _Queued:
             return
         seq = next(self._seq)
         self.queue.append((seq, payload))
-        executor = self._node._executor
-        if executor is not None:
-            executor._message_ready(seq, self)  # type: ignore[arg-type]
+        inbox = self.handoff.inbox
+        if inbox is not None:
+            inbox.put(seq, self)
 
 
 class Service:
@@ -233,7 +234,7 @@ class Service:
             respond = self._introspected(respond, sequence)
         result = self.callback(request, self.srv_type.Response())
         if inspect.iscoroutine(result):
-            executor = self._node._executor
+            executor = self._node.executor
             if executor is None:  # cannot happen from the executor; be safe
                 result.close()
                 return
@@ -350,7 +351,7 @@ class Client:
             self._pending[request_id] = future
 
         def on_response(response: Any) -> None:
-            if direct or self._node._executor is None:
+            if direct or self._node.executor is None:
                 self._complete((request_id, response))
             else:
                 self._queued.enqueue((request_id, response))

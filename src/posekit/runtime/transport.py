@@ -27,7 +27,7 @@ Contract for implementations:
 * ``publisher_qos_profiles(topic)`` (optional) lists the QoS each publisher on a topic
   offers, None when the transport cannot tell.
 * ``crosses_processes`` says whether the endpoints are visible to other processes (a network
-  transport). A :class:`~posekit.runtime.executors.SimulatedTimeExecutor` publishes
+  transport). A :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` publishes
   ``/clock`` exactly when one of its nodes sits on such a transport.
 * ``subscribe_with_source(info, sink)`` is ``subscribe`` whose sink also gets an opaque id of
   the sending publisher (bytes, e.g. rmw_zenoh's GID) or None when the transport cannot tell;

@@ -18,10 +18,10 @@ from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.nodes import WorldSimulation
 from posekit.robot.nodes._util import stamp_msg
 from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, WHEEL_JOINT_NAMES
-from posekit.robot.worlds import WorldError
 from posekit.runtime.node import Node
 from posekit.tf2_ros import Buffer, TransformListener
 from posekit.time import Time
+from posekit.worlds import WorldError
 
 SIM = {"use_sim_time": True}
 

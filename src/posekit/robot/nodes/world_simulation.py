@@ -99,7 +99,6 @@ from posekit.robot.imu import ImuModel
 from posekit.robot.kinematics import wrap_angle
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
 from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns, stamp_msg
-from posekit.robot.obstacles import BoxObstacles, WallSegments
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -108,11 +107,12 @@ from posekit.robot.params import (
     ImuParams,
     SlipParams,
 )
-from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
 __all__ = ["MAX_KEPT_REJECTIONS", "WorldSimulation"]
 

@@ -14,12 +14,12 @@ import numpy.typing as npt
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.std_msgs import Header
-from posekit.robot.obstacles import WallSegments
-from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.nodes._common import declare, stamp_msg
 from posekit.vision.render import BoxRenderer
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import WallSegments
 
 __all__ = ["SimulatedCamera"]
 
