@@ -143,6 +143,14 @@ def test_laser_scan_points_land_on_the_wall(page: Any) -> None:
     _enable(page, d["id"], False)
     wait_for(lambda: _mask(page, MAGENTA).sum() < 20, what="the scan hidden")
     _enable(page, d["id"], True)
+    # Decay time 1 s: the scans of the last second of stamps (10 Hz) are kept, then one.
+    _set(page, d["id"], "decay_time", 1.0)
+    kept = wait_for(lambda: (_entry(page, "LaserScan", "/scan") or {})["info"]["scans"] >= 8
+                    and _entry(page, "LaserScan", "/scan"), timeout=30, what="decayed scans")
+    assert kept["info"]["scans"] <= 11
+    _set(page, d["id"], "decay_time", 0)
+    wait_for(lambda: (_entry(page, "LaserScan", "/scan") or {})["info"]["scans"] == 1,
+             what="one scan again")
 
 
 def test_depth_cloud_points_land_on_the_wall(page: Any) -> None:
@@ -162,6 +170,11 @@ def test_depth_cloud_points_land_on_the_wall(page: Any) -> None:
         assert _near(mask, u, v), (y, z, u, v)
     u, v = _pixel(page, WALL_X, 0.0, 1.6, mask.shape)  # above the wall: nothing
     assert not _near(mask, u, v, 3)
+    # Removed: the page unsubscribes and the cloud leaves the canvas.
+    page.click(f"#display-list details[data-display-id='{d['id']}'] .display-remove")
+    wait_for(lambda: "/oak/stereo/depth/points" not in page.evaluate(
+        "window.posekitViewer.displays()")["subscriptions"], what="the cloud unsubscribed")
+    wait_for(lambda: _mask(page, ORANGE).sum() < 20, what="the cloud gone")
 
 
 def test_robot_model_draws_the_urdf_links(page: Any, viewer: Any) -> None:
