@@ -21,7 +21,15 @@ import pytest
 
 pytestmark = pytest.mark.slow  # a scenario and a browser
 
-from _support.browser import canvas_pixels, debug, wait_for  # noqa: E402
+from _support.browser import (  # noqa: E402
+    add_from_topic_list,
+    canvas_pixels,
+    debug,
+    display_info,
+    set_display_shown,
+    set_option,
+    wait_for,
+)
 
 #: The wall: x = WALL_X in odom, |y| <= 3, 1 m high; the robot at the origin facing it.
 WALL_X = 2.0
@@ -65,46 +73,6 @@ def page(browser: Any, viewer: Any) -> Iterator[Any]:
     page.close()
 
 
-def _entry(page: Any, name: str, topic: str) -> dict[str, Any] | None:
-    for d in page.evaluate("window.posekitViewer.displays()")["displays"]:
-        if d["display"] == name and d["topic"] == topic:
-            return dict(d)
-    return None
-
-
-def _add(page: Any, topic: str, name: str) -> dict[str, Any]:
-    button = f"#topics tr[data-topic='{topic}'] button[data-add-display='{name}']"
-    wait_for(lambda: page.query_selector(button), timeout=20, what=f"'+ {name}' of {topic}")
-    page.click(button)
-    return dict(wait_for(lambda: _entry(page, name, topic), what=f"the {name} display"))
-
-
-def _set(page: Any, display_id: int, key: str, value: Any) -> None:
-    row = f"#display-list details[data-display-id='{display_id}']"
-    page.evaluate(f"document.querySelector(\"{row}\").open = true")
-    selector = f"{row} [data-option='{key}']"
-    if isinstance(value, bool):
-        page.set_checked(selector, value)
-    elif isinstance(value, str) and value.startswith("#"):
-        page.eval_on_selector(selector, "(e, v) => { e.value = v; "
-                              "e.dispatchEvent(new Event('change')); }", value)
-    elif isinstance(value, str) and key in ("reference_frame", "hidden_links"):
-        page.fill(selector, value)
-        page.eval_on_selector(selector, "e => e.dispatchEvent(new Event('change'))")
-    elif isinstance(value, str):
-        page.select_option(selector, value)
-    else:
-        page.fill(selector, str(value))
-
-
-def _enable(page: Any, display_id: int, on: bool) -> None:
-    box = f"#display-list details[data-display-id='{display_id}'] .display-enabled"
-    if on:
-        page.check(box)
-    else:
-        page.uncheck(box)
-
-
 def _mask(page: Any, bgr: tuple[int, int, int], tol: int = 30) -> np.ndarray:
     image = canvas_pixels(page, "#scene")
     return np.abs(image.astype(int) - np.array(bgr)).max(axis=2) <= tol  # type: ignore[no-any-return]
@@ -122,13 +90,13 @@ def _near(mask: np.ndarray, u: int, v: int, r: int = 8) -> bool:
 
 
 def test_laser_scan_points_land_on_the_wall(page: Any) -> None:
-    d = _add(page, "/scan", "LaserScan")
+    d = add_from_topic_list(page, "/scan", "LaserScan", timeout=20)
     assert d["type"] == "sensor_msgs/msg/LaserScan"
     assert d["options"]["color_transformer"] == "Intensity"
-    _set(page, d["id"], "color_transformer", "FlatColor")
-    _set(page, d["id"], "color", "#ff00ff")
-    _set(page, d["id"], "size", 0.06)
-    got = wait_for(lambda: (_entry(page, "LaserScan", "/scan") or {}).get("info"),
+    set_option(page, d["id"], "color_transformer", "FlatColor")
+    set_option(page, d["id"], "color", "#ff00ff")
+    set_option(page, d["id"], "size", 0.06)
+    got = wait_for(lambda: display_info(page, "LaserScan", "/scan"),
                    timeout=20, what="a scan drawn")
     assert got["frame"] == "laser"
     wait_for(lambda: _mask(page, MAGENTA).sum() > 200, timeout=20, what="magenta scan points")
@@ -140,26 +108,27 @@ def test_laser_scan_points_land_on_the_wall(page: Any) -> None:
     # Nothing magenta where the scan cannot be: 1 m in front of the wall.
     u, v = _pixel(page, WALL_X - 1.0, 0.0, laser_z, mask.shape)
     assert not _near(mask, u, v, 3)
-    _enable(page, d["id"], False)
+    set_display_shown(page, d["id"], False)
     wait_for(lambda: _mask(page, MAGENTA).sum() < 20, what="the scan hidden")
-    _enable(page, d["id"], True)
+    set_display_shown(page, d["id"], True)
     # Decay time 1 s: the scans of the last second of stamps (10 Hz) are kept, then one.
-    _set(page, d["id"], "decay_time", 1.0)
-    kept = wait_for(lambda: (_entry(page, "LaserScan", "/scan") or {})["info"]["scans"] >= 8
-                    and _entry(page, "LaserScan", "/scan"), timeout=30, what="decayed scans")
-    assert kept["info"]["scans"] <= 11
-    _set(page, d["id"], "decay_time", 0)
-    wait_for(lambda: (_entry(page, "LaserScan", "/scan") or {})["info"]["scans"] == 1,
+    set_option(page, d["id"], "decay_time", 1.0)
+    kept = wait_for(lambda: display_info(page, "LaserScan", "/scan")["scans"] >= 8
+                    and display_info(page, "LaserScan", "/scan"), timeout=30,
+                    what="decayed scans")
+    assert kept["scans"] <= 11
+    set_option(page, d["id"], "decay_time", 0)
+    wait_for(lambda: display_info(page, "LaserScan", "/scan")["scans"] == 1,
              what="one scan again")
 
 
 def test_depth_cloud_points_land_on_the_wall(page: Any) -> None:
-    d = _add(page, "/oak/stereo/depth/points", "PointCloud2")
-    _set(page, d["id"], "color_transformer", "FlatColor")
-    _set(page, d["id"], "color", "#ff8000")
-    _set(page, d["id"], "size", 0.04)
-    got = wait_for(lambda: (_entry(page, "PointCloud2", "/oak/stereo/depth/points")
-                            or {}).get("info"), timeout=30, what="a cloud drawn")
+    d = add_from_topic_list(page, "/oak/stereo/depth/points", "PointCloud2")
+    set_option(page, d["id"], "color_transformer", "FlatColor")
+    set_option(page, d["id"], "color", "#ff8000")
+    set_option(page, d["id"], "size", 0.04)
+    got = wait_for(lambda: display_info(page, "PointCloud2", "/oak/stereo/depth/points"),
+                   timeout=30, what="a cloud drawn")
     assert got["frame"] == "oak_rgb_camera_optical_frame"
     assert got["total"] == 1280 * 720
     assert 10_000 < got["points"] <= 100_000
@@ -183,42 +152,43 @@ def test_robot_model_draws_the_urdf_links(page: Any, viewer: Any) -> None:
     root = ET.fromstring(robot_description_urdf())
     with_visuals = {link.get("name") for link in root.iter("link") if link.find("visual")
                     is not None}
-    d = _add(page, "/robot_description", "RobotModel")
-    _set(page, d["id"], "default_color", "#00ff00")
-    got = wait_for(lambda: ((_entry(page, "RobotModel", "/robot_description") or {}).get("info")
-                            or {}).get("links"), timeout=20, what="the robot model")
+    d = add_from_topic_list(page, "/robot_description", "RobotModel")
+    set_option(page, d["id"], "default_color", "#00ff00")
+    got = wait_for(lambda: (display_info(page, "RobotModel", "/robot_description") or {})
+                   .get("links"), timeout=20, what="the robot model")
     assert set(got) == with_visuals
     green = (0, 255, 0)
     wait_for(lambda: _mask(page, green, 90).sum() > 100, what="the green robot")
     mask = _mask(page, green, 90)
     u, v = _pixel(page, 0.0, 0.0, 0.08, mask.shape)  # the body box around base_link
     assert _near(mask, u, v, 12)
-    _set(page, d["id"], "hidden_links", "body_link")
-    info = wait_for(lambda: (_entry(page, "RobotModel", "/robot_description") or {})["info"]
-                    if "body_link" not in (_entry(page, "RobotModel", "/robot_description")
-                                           or {})["info"]["links"] else None,
-                    what="body_link hidden")
+    set_option(page, d["id"], "hidden_links", "body_link")
+    def body_hidden() -> Any:
+        got = display_info(page, "RobotModel", "/robot_description")
+        return got if "body_link" not in got["links"] else None
+
+    info = wait_for(body_hidden, what="body_link hidden")
     assert set(info["links"]) == with_visuals - {"body_link"}
 
 
 def test_imu_and_axes(page: Any) -> None:
-    d = _add(page, "/imu/data", "Imu")
-    got = wait_for(lambda: (_entry(page, "Imu", "/imu/data") or {}).get("info"),
+    d = add_from_topic_list(page, "/imu/data", "Imu")
+    got = wait_for(lambda: display_info(page, "Imu", "/imu/data"),
                    timeout=20, what="the IMU drawn")
     assert got["frame"] == "imu_link"
     assert abs(sum(c * c for c in got["orientation"]) - 1.0) < 1e-6
     assert got["axes"] is True
-    a = _add(page, "/tf", "Axes")
-    _set(page, a["id"], "reference_frame", "odom")
-    _set(page, a["id"], "length", 1.5)
-    _set(page, a["id"], "radius", 0.05)
+    a = add_from_topic_list(page, "/tf", "Axes")
+    set_option(page, a["id"], "reference_frame", "odom")
+    set_option(page, a["id"], "length", 1.5)
+    set_option(page, a["id"], "radius", 0.05)
     red = (0, 0, 255)
-    wait_for(lambda: (_entry(page, "Axes", "/tf") or {}).get("info", {}).get("placed"),
+    wait_for(lambda: (display_info(page, "Axes", "/tf") or {}).get("placed"),
              what="the axes placed")
     mask = _mask(page, red, 60)
     u, v = _pixel(page, 1.0, 0.0, 0.0, mask.shape)  # on the x axis of odom
     assert _near(mask, u, v)
-    _enable(page, a["id"], False)
-    _enable(page, d["id"], False)
+    set_display_shown(page, a["id"], False)
+    set_display_shown(page, d["id"], False)
     wait_for(lambda: not _near(_mask(page, red, 60), u, v, 2), what="the axes hidden")
 
