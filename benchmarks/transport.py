@@ -51,6 +51,7 @@ import socket
 import statistics
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from typing import Any
@@ -72,7 +73,8 @@ QUICK_SIZES = {"tf": (5_000, 1_000), "image": (500, 1_000)}
 RCLPY_BURST = 5_000
 
 Publish = Callable[[], None]
-Spin = Callable[[float], None]
+#: ``serve(done)``: receive (run the callbacks) until ``done()`` is true.
+Spin = Callable[[Callable[[], bool]], None]
 Close = Callable[[], None]
 OnStamp = Callable[[int, int], None]
 
@@ -134,7 +136,17 @@ def _stamp_now(stamp: Any) -> None:
 
 
 # ---------------------------------------------------------------------------------------
-# endpoints: (publish, spin, close) of one mode, transport and message
+# endpoints: (publish, serve, close) of one mode, transport and message
+
+
+def _loop(step: Callable[[float], Any]) -> Spin:
+    """``serve`` from a step that waits up to the given seconds for data and handles it."""
+
+    def serve(done: Callable[[], bool]) -> None:
+        while not done():
+            step(0.02)
+
+    return serve
 
 
 def _posekit_endpoints(transport: str, mode: str, message: str, role: str,
@@ -163,11 +175,22 @@ def _posekit_endpoints(transport: str, mode: str, message: str, role: str,
             endpoint = node.transport.subscribe(
                 EndpointInfo(topic, cls, keep_all, node.get_name(), node.get_namespace(),
                              node.get_logger()), callback)
-            return None, time.sleep, lambda: (endpoint.destroy(), ctx.shutdown())[1]
+            return None, _loop(time.sleep), lambda: (endpoint.destroy(), ctx.shutdown())[1]
         node.create_subscription(cls, topic, callback, keep_all)
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
-        return None, executor.spin_once, ctx.shutdown
+
+        def serve(done: Callable[[], bool]) -> None:
+            # executor.spin(), as a user calls it (rclpy.spin); a watcher thread ends it
+            def watch() -> None:
+                while not done():
+                    time.sleep(0.02)
+                executor.shutdown()
+
+            threading.Thread(target=watch, daemon=True).start()
+            executor.spin()
+
+        return None, serve, ctx.shutdown
     pub = node.create_publisher(cls, topic, keep_all)
     msg = _posekit_message(message)
     stamp = msg.header.stamp
@@ -207,7 +230,7 @@ def _zenoh_raw_endpoints(message: str, role: str, endpoint: str,
             on_stamp(stamp.sec, stamp.nanosec)
 
         sub = session.declare_subscriber(key, callback)
-        return None, time.sleep, lambda: (sub.undeclare(), session.close())[1]
+        return None, _loop(time.sleep), lambda: (sub.undeclare(), session.close())[1]
     pub = session.declare_publisher(key, reliability=zenoh.Reliability.RELIABLE,
                                     congestion_control=zenoh.CongestionControl.BLOCK)
     msg, time_cls = _rosbags_message(message)
@@ -271,7 +294,7 @@ def _cyclone_endpoints(mode: str, message: str, role: str,
                 if m.sample_info.valid_data:
                     on_stamp(m.header.stamp.sec, m.header.stamp.nanosec)
 
-        return None, spin, lambda: None
+        return None, _loop(spin), lambda: None
     writer = DataWriter(participant, topic, qos)
     _wait_matched(lambda: len(writer.get_matched_subscriptions()))
     if mode == "raw":
@@ -333,7 +356,7 @@ def _rclpy_endpoints(message: str, role: str,
         assert on_stamp is not None
         node.create_subscription(cls, TOPICS[message], lambda m: on_stamp(
             m.header.stamp.sec, m.header.stamp.nanosec), qos)
-        return None, lambda s: rclpy.spin_once(node, timeout_sec=s), rclpy.shutdown
+        return None, _loop(lambda s: rclpy.spin_once(node, timeout_sec=s)), rclpy.shutdown
     pub = node.create_publisher(cls, TOPICS[message], qos)
     msg = cls()
     if message == "tf":
@@ -382,23 +405,34 @@ def child_sub(transport: str, mode: str, message: str, endpoint: str) -> None:
     lat: list[int] = []
     now_wall, now_mono = time.time_ns, time.monotonic_ns
 
+    cpu_first = [0.0]  # process CPU time at the first message
+
     def on_stamp(sec: int, nsec: int) -> None:
         t = now_wall()
+        if not recv:
+            cpu_first[0] = time.process_time()
         recv.append(now_mono())
         lat.append(t - (sec * 1_000_000_000 + nsec))
 
-    _, spin, close = _endpoints(transport, mode, message, "sub", endpoint, on_stamp)
-    assert spin is not None
+    _, serve, close = _endpoints(transport, mode, message, "sub", endpoint, on_stamp)
+    assert serve is not None
     print("ready", flush=True)
     give_up = time.monotonic() + FIRST_MESSAGE_TIMEOUT_S
-    while not recv and time.monotonic() < give_up:
-        spin(0.02)
-    cpu0, last = time.process_time(), (len(recv), time.monotonic())
-    while time.monotonic() - last[1] < IDLE_END_S:
-        spin(0.02)
-        if len(recv) != last[0]:
-            last = (len(recv), time.monotonic())
-    cpu = time.process_time() - cpu0
+    state = {"count": 0, "since": 0.0}
+
+    def done() -> bool:
+        """Idle for IDLE_END_S after the first message (or no message at all)."""
+        now = time.monotonic()
+        if not state["since"]:
+            if not recv and now < give_up:
+                return False
+            state["since"] = now
+        if len(recv) != state["count"]:
+            state.update(count=len(recv), since=now)
+        return now - state["since"] >= IDLE_END_S
+
+    serve(done)
+    cpu = time.process_time() - cpu_first[0]
     close()
     out: dict[str, Any] = {"count": len(recv), "cpu_s": cpu}
     if len(recv) >= 2:
