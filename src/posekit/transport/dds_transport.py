@@ -747,6 +747,11 @@ class DdsTransport(Transport):
         """Every publisher on ``topic`` (node, type, type hash, QoS, GID)."""
         return self._graph_endpoints(topic, EntityKind.PUBLISHER)
 
+    def publisher_qos_profiles(self, topic: str) -> list[QoSProfile]:
+        """The QoS each publisher on ``topic`` announced on the graph."""
+        return [e.qos.to_profile() for e in self.get_publishers_info_by_topic(topic)
+                if e.qos is not None]
+
     def get_subscriptions_info_by_topic(self, topic: str) -> list[DdsEndpoint]:
         """Every subscription on ``topic``."""
         return self._graph_endpoints(topic, EntityKind.SUBSCRIPTION)

@@ -469,6 +469,11 @@ class ZenohTransport(Transport):
         """Every publisher announced on ``topic`` (node, type, hash, QoS, GID source)."""
         return self._graph.publishers(topic)
 
+    def publisher_qos_profiles(self, topic: str) -> list[QoSProfile]:
+        """The QoS each publisher on ``topic`` announced on the graph."""
+        return [e.qos.to_profile() for e in self.get_publishers_info_by_topic(topic)
+                if e.qos is not None]
+
     def get_subscriptions_info_by_topic(self, topic: str) -> list[TokenInfo]:
         """Every subscription announced on ``topic``."""
         return self._graph.subscriptions(topic)

@@ -31,6 +31,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 from posekit.msgs.cdr import type_hash_rihs01
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 __all__ = [
     "ATTACHMENT_SIZE",
@@ -172,6 +173,18 @@ class WireQoS:
     def reliable(self) -> bool:
         """True unless BEST_EFFORT."""
         return self.reliability != 2
+
+    def to_profile(self) -> QoSProfile:
+        """The rclpy-style profile of this QoS (history, depth, reliability, durability)."""
+        keep_all = self.history == 2
+        return QoSProfile(
+            history=HistoryPolicy.KEEP_ALL if keep_all else HistoryPolicy.KEEP_LAST,
+            depth=0 if keep_all else max(1, self.depth),
+            reliability=ReliabilityPolicy.RELIABLE if self.reliable
+            else ReliabilityPolicy.BEST_EFFORT,
+            durability=DurabilityPolicy.TRANSIENT_LOCAL if self.transient_local
+            else DurabilityPolicy.VOLATILE,
+        )
 
 
 DEFAULT_WIRE_QOS = WireQoS()
