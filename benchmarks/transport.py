@@ -379,7 +379,8 @@ def _rclpy_endpoints(message: str, role: str,
 
 def _endpoints(transport: str, mode: str, message: str, role: str, endpoint: str,
                on_stamp: OnStamp | None = None) -> tuple[Publish | None, Spin | None, Close]:
-    if mode in ("posekit", "transport"):
+    if mode in ("posekit", "transport", "before"):
+        mode = "posekit" if mode == "before" else mode
         return _posekit_endpoints(transport, mode, message, role, on_stamp)
     if mode == "rclpy":
         return _rclpy_endpoints(message, role, on_stamp)
@@ -473,13 +474,16 @@ def child_pub(transport: str, mode: str, message: str, endpoint: str, phase: str
 
 
 def run_pair(transport: str, mode: str, message: str, phase: str, count: int,
-             domain_id: int) -> dict[str, Any]:
+             domain_id: int, before_src: str | None = None) -> dict[str, Any]:
     """One publisher process and one subscriber process of ``mode``: the subscriber's
-    figures plus the publisher's CPU per message."""
+    figures plus the publisher's CPU per message. Mode ``before`` is ``posekit`` importing
+    posekit from ``before_src`` (another checkout's ``src``)."""
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(("ZENOH_", "ROS_", "RMW_", "POSEKIT_", "CYCLONEDDS_"))}
     env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONUNBUFFERED="1")
+    if mode == "before" and before_src:
+        env["PYTHONPATH"] = os.path.abspath(before_src)
     python = os.path.join(ROS2_VENV, "bin", "python") if mode == "rclpy" else sys.executable
     me = [python, os.path.abspath(__file__), "--child"]
     router = None
@@ -528,10 +532,16 @@ def _spread(values: list[float], fmt: str) -> str:
     return f"{format(med, fmt)} ({format(min(values), fmt)}-{format(max(values), fmt)})"
 
 
+def _cpu_per_msg(figures: dict[str, dict[str, Any]]) -> float:
+    """The subscriber process's CPU µs (all threads) per message received in the burst."""
+    tput = figures["throughput"]
+    return float(tput["cpu_s"]) * 1e6 / max(1, int(tput["count"]))
+
+
 def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int],
            rounds: list[dict[str, dict[str, dict[str, Any]]]]) -> None:
     """One table per transport and message: each mode's median (range) over the rounds,
-    then posekit's ratios to raw taken within each round."""
+    then posekit's ratios to raw taken within each round (> 1: posekit costs more)."""
     burst, n_lat = sizes
     print(f"\n== {transport}, {message} ({TYPES[message]}); throughput: burst of {burst}; "
           f"latency: {n_lat} msgs at {LATENCY_RATE_HZ:.0f} Hz; {len(rounds)} round(s): "
@@ -544,8 +554,7 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
                 if key in r.get(mode, {}).get(phase, {})]
 
     for mode in modes:
-        cpu = [r[mode]["throughput"]["cpu_s"] * 1e6 / max(1, r[mode]["throughput"]["count"])
-               for r in rounds if mode in r]
+        cpu = [_cpu_per_msg(r[mode]) for r in rounds if mode in r]
         counts = {r[mode]["throughput"]["count"] for r in rounds if mode in r}
         short = "" if counts <= {burst} else f"  received {sorted(counts)} of {burst}"
         print(f"{mode:<10}{_spread(col(mode, 'throughput', 'rate'), ',.0f'):>26}"
@@ -556,13 +565,14 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
     for mode in [m for m in modes if m not in ("raw",)]:
         both = [r for r in rounds if mode in r and "raw" in r]
         tput = [r["raw"]["throughput"]["rate"] / r[mode]["throughput"]["rate"] for r in both]
+        cpu_ratio = [_cpu_per_msg(r[mode]) / _cpu_per_msg(r["raw"]) for r in both]
         p50 = [r[mode]["latency"]["p50"] / r["raw"]["latency"]["p50"] for r in both]
         best_t = (max(col("raw", "throughput", "rate"))
                   / max(col(mode, "throughput", "rate")))
         best_l = min(col(mode, "latency", "p50")) / min(col("raw", "latency", "p50"))
         print(f"  {mode} / raw, per round: time per message {_spread(tput, '.2f')}, median "
-              f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}"
-              "  (<= 1.10: within 1.1x of raw)")
+              f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}; "
+              f"receive CPU per message {_spread(cpu_ratio, '.2f')}")
 
 
 def main() -> None:
@@ -575,6 +585,9 @@ def main() -> None:
                         help="skip the transport-layer-alone mode")
     parser.add_argument("--references", action="store_true",
                         help="DDS: add the real rclpy (Fast DDS) and cyclonedds' Python API")
+    parser.add_argument("--before", metavar="SRC",
+                        help="add mode 'before': posekit imported from SRC, another checkout's "
+                             "src directory (e.g. git worktree add /tmp/before <commit>)")
     parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -597,6 +610,7 @@ def main() -> None:
     domain = 180
     for transport in transports:
         modes = ["raw", "posekit"] + ([] if args.no_transport_mode else ["transport"])
+        modes += ["before"] if args.before else []
         if args.references and transport == "dds":
             modes += ["cyclone", "rclpy"]
         for message in messages:
@@ -611,7 +625,7 @@ def main() -> None:
                             n = min(n, RCLPY_BURST)
                         domain = 180 + (domain - 179) % 50  # each pair on its own domain
                         this[mode][phase] = run_pair(transport, mode, message, phase, n,
-                                                     domain)
+                                                     domain, args.before)
                 rounds.append(this)
                 print(f"   round {i + 1}: " + ", ".join(
                     f"{m} {this[m]['throughput'].get('rate', 0):,.0f}/s "
