@@ -34,7 +34,8 @@ Phases:
   (received - 1) / (last receive - first receive), measured in the subscriber; the CPU
   time of each process (all threads) per message.
 * latency: one message per millisecond; one-way latency = receive wall clock minus the
-  ``header.stamp`` written just before publishing (same host, same clock). p50 / p99.
+  ``header.stamp`` written just before publishing (same host, same clock). p50 / p99 of
+  all but the first 5 % (warm-up: discovery, reliable repairs of the first samples).
 
 Each round runs every mode once per message and phase, in alternating order from round to
 round, so a burst of load from other processes falls on all modes alike. Ratios are taken
@@ -58,6 +59,8 @@ from typing import Any
 
 LATENCY_RATE_HZ = 1000.0
 IDLE_END_S = 0.6
+#: The first 1/WARM_UP_SHARE of the latency phase's messages are not counted.
+WARM_UP_SHARE = 20
 FIRST_MESSAGE_TIMEOUT_S = 30.0
 ROS2_VENV = os.environ.get(
     "POSEKIT_ROS2_VENV",
@@ -438,6 +441,7 @@ def child_sub(transport: str, mode: str, message: str, endpoint: str) -> None:
     out: dict[str, Any] = {"count": len(recv), "cpu_s": cpu}
     if len(recv) >= 2:
         out["rate"] = (len(recv) - 1) / ((recv[-1] - recv[0]) * 1e-9)
+    lat = lat[len(lat) // WARM_UP_SHARE:]  # discovery and first-sample repairs excluded
     if lat:
         lat.sort()
         out.update(p50=lat[len(lat) // 2], p99=lat[int(len(lat) * 0.99)])
