@@ -468,9 +468,11 @@ def child_pub(transport: str, mode: str, message: str, endpoint: str, phase: str
             next_at += period
             while time.perf_counter() < next_at:  # sub-ms pacing: sleep is too coarse
                 pass
-    time.sleep(1.0)  # what is still queued reaches the subscriber before the session closes
-    close()
     print(json.dumps({"send_cpu_us": 1e6 * cpu / count}), flush=True)
+    # Stay connected until the subscriber is done (the parent closes our stdin then):
+    # what is still queued for a slower subscriber must not be dropped by closing.
+    sys.stdin.read()
+    close()
 
 
 # ---------------------------------------------------------------------------------------
@@ -508,14 +510,25 @@ def run_pair(transport: str, mode: str, message: str, phase: str, count: int,
                 raise RuntimeError(f"{transport} {mode} subscriber did not start")
             pub = subprocess.Popen(
                 [*me, "pub", transport, mode, message, endpoint, phase, str(count)],
-                env=env, stdout=subprocess.PIPE, text=True)
-            pub_out, _ = pub.communicate(timeout=180)
-            if pub.returncode != 0:
-                raise RuntimeError(f"{transport} {mode} publisher failed ({pub.returncode})")
-            line = sub.stdout.readline()
-            sub.wait(timeout=60)
+                env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+            assert pub.stdin is not None
+            assert pub.stdout is not None
+            # the publisher's figures once it has sent everything, the subscriber's once
+            # the stream went idle; then the publisher may disconnect
+            give_up = threading.Timer(300, lambda: [p.kill() for p in (pub, sub) if p])
+            give_up.start()
+            try:
+                pub_line = pub.stdout.readline()
+                line = sub.stdout.readline()
+                pub.stdin.close()
+                pub.wait(timeout=60)
+                sub.wait(timeout=60)
+            finally:
+                give_up.cancel()
+            if not pub_line or not line:
+                raise RuntimeError(f"{transport} {mode}: a child ended without its figures")
             result = dict(json.loads(line))
-            result.update(json.loads(pub_out.strip().splitlines()[-1]))
+            result.update(json.loads(pub_line))
             return result
         finally:
             for proc in (pub, sub):
