@@ -29,9 +29,10 @@ from posekit.msgs.sensor_msgs import Image
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.bus import snapshot
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
+from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 # CPU time of this process: on the shared 2-core machine other processes steal the CPU, and
 # wall-clock rates then measure the load, not the code. (Single-threaded, so this is the

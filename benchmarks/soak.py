@@ -237,14 +237,15 @@ def flood(seconds: float) -> dict[str, Any]:
 
 
 def scenario(seconds: float) -> dict[str, Any]:
-    from posekit.robot.scenarios import start_scenario
-    from posekit.runtime.executors import SimulatedTimeExecutor
+    import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
+    from posekit.launch.scenarios import start_scenario
     from posekit.runtime.logging import LogRecord, add_sink, remove_sink, set_logger_level
+    from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
     set_logger_level("random_mover", 30)  # its 1 Hz odometry INFO line is not the subject
     lines: list[LogRecord] = []
     add_sink(lines.append)
-    run = start_scenario("random_mover", record=False)
+    run = start_scenario("random_mover")
     executor = run.executor
     assert isinstance(executor, SimulatedTimeExecutor)
     track = RssTrack(seconds)

@@ -23,11 +23,11 @@ from collections.abc import Callable
 import cv2
 import numpy as np
 
-from posekit.vision.box_model import box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.evaluation import accuracy_grid
 from posekit.vision.render import BoxRenderer
+from posekit.worlds import box_pose_matrix
 
 BOX_WORLD = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
              box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
@@ -175,7 +175,7 @@ def bench_pipeline(seconds: float, repeats: int) -> float:
     plus raw OpenCV detectMarkers + solvePnP on it, one pass after each pipeline run.
     """
     import posekit.vision.scenarios  # noqa: F401 - registers the scenarios
-    from posekit.robot.scenarios import run_scenario
+    from posekit.launch.scenarios import run_scenario
 
     best_wall, best_cpu, sim = math.inf, math.inf, 0.0
     frames = 0
@@ -215,7 +215,7 @@ def bench_pipeline(seconds: float, repeats: int) -> float:
             poses.clear()
             w0, c0 = time.perf_counter(), time.process_time()
             result = run_scenario("dynamic_detector_listener", until_sim_time=seconds,
-                                  record=False, on_start=[record_poses])
+                                  on_start=[record_poses])
             wall, cpu = time.perf_counter() - w0, time.process_time() - c0
             sim = result.sim_time
             frames = result.node("dynamic_detector").frames_processed

@@ -3,7 +3,7 @@
 * A deterministic hypothesis profile sized for a 2-core CI machine.
 * ``ctx``: a fresh, initialised runtime :class:`~posekit.runtime.context.Context` per test
   (transport from $POSEKIT_TRANSPORT, default in-process), shut down afterwards.
-* ``executor``: a :class:`~posekit.runtime.executors.SimulatedTimeExecutor` on ``ctx``
+* ``executor``: a :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` on ``ctx``
   without a /clock publisher (stepped sim time).
 * every test: ``POSEKIT_ZENOH_ROUTER`` on a free loopback port of its own.
 * ``logs``: every :class:`~posekit.runtime.logging.LogRecord` emitted during the test.
@@ -21,8 +21,8 @@ from hypothesis import HealthCheck, settings
 
 if TYPE_CHECKING:
     from posekit.runtime.context import Context
-    from posekit.runtime.executors import SimulatedTimeExecutor
     from posekit.runtime.logging import LogRecord
+    from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 settings.register_profile(
     "posekit",
@@ -56,7 +56,7 @@ def ctx() -> Iterator[Context]:
 
 @pytest.fixture
 def executor(ctx: Context) -> Iterator[SimulatedTimeExecutor]:
-    from posekit.runtime.executors import SimulatedTimeExecutor
+    from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
     ex = SimulatedTimeExecutor(context=ctx, publish_clock=False)
     yield ex

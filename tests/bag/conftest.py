@@ -22,10 +22,10 @@ from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import Image, Imu
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import qos_profile_sensor_data
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
+from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 
 #: Sim time at which the test systems start (s): not zero, so start/offset bugs show.
 START_S = 1000.25

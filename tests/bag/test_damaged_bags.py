@@ -20,8 +20,8 @@ import pytest
 from posekit.bag import BagError, Player, Recorder
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 MESSAGES = 600
 CHUNKS = 12

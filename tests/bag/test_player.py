@@ -22,11 +22,12 @@ from posekit.bag import (
 from posekit.msgs.rosgraph_msgs import Clock
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
+from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile
-from posekit.runtime.tf2_ros import TransformListener
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.tf2 import Buffer
+from posekit.tf2_ros import TransformListener
 from posekit.time import Time
 
 PAIRS = [("odom", "base_link"), ("odom", "laser"), ("odom", "camera"), ("laser", "camera")]
@@ -246,3 +247,15 @@ def test_bad_input(tmp_path: Path, recorded: Any, ctx: Context) -> None:
     assert issubclass(BagFormatError, Exception)
     # The recorded bag is untouched by failed players.
     assert sum(1 for _ in read_messages(recorded.path)) == sum(recorded.counts.values())
+
+
+def test_bag_clock_follows_rate_pause_and_rate_changes_without_jumps() -> None:
+    # Closed form: bag time = anchor + elapsed wall time * rate, frozen while paused.
+    clock = player_module._BagClock(wall=10.0, bag=1_000_000_000, rate=2.0)
+    assert clock.at(10.5, paused=False, rate=2.0) == 2_000_000_000
+    assert clock.at(11.0, paused=True, rate=2.0) == 3_000_000_000  # paused where it was...
+    assert clock.at(12.0, paused=True, rate=2.0) == 3_000_000_000
+    assert clock.at(12.5, paused=False, rate=2.0) == 3_000_000_000  # ...resumes from there
+    assert clock.at(13.0, paused=False, rate=2.0) == 4_000_000_000
+    assert clock.at(14.0, paused=False, rate=0.5) == 6_000_000_000  # re-anchored, no jump
+    assert clock.at(16.0, paused=False, rate=0.5) == 7_000_000_000

@@ -26,9 +26,9 @@ from posekit.bag import (
 )
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 START_NS = 1_000_250_000_000  # conftest.START_NS: the talkers' start time
 

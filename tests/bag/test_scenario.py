@@ -13,14 +13,15 @@ from mcap_ros2.decoder import DecoderFactory
 from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_typestore
 
+import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
 from posekit.bag import Player, attach_recorder, bag_info, read_messages, record_scenario
+from posekit.launch.scenarios import start_scenario
 from posekit.msgs.nav_msgs import Odometry
-from posekit.robot.scenarios import start_scenario
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformListener
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.tf2 import Buffer
+from posekit.tf2_ros import TransformListener
 from posekit.time import Time
 
 SECONDS = 2.0
@@ -42,7 +43,7 @@ def _lookup_table(buffer: Buffer, frames: list[str], times_ns: list[int]) -> lis
 
 def test_p_controller_run_recorded_read_back_and_replayed(tmp_path: Path,
                                                           same_message: Any) -> None:
-    run = start_scenario("p_controller", record=False)
+    run = start_scenario("p_controller")
     executor = run.executor
     assert isinstance(executor, SimulatedTimeExecutor)
     live_node = Node("live_listener", context=run.context)

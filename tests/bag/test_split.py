@@ -22,8 +22,8 @@ from rosbags.typesys import Stores, get_typestore
 from posekit.bag import BagOptionError, Recorder, bag_info, format_info
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 SEC = 1_000_000_000
 

@@ -17,9 +17,10 @@ from typing import Any
 
 import pytest
 
+import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
 from posekit.cli import action_cmd
 from posekit.cli.main import main as posekit_main
-from posekit.robot.scenarios import start_scenario
+from posekit.launch.scenarios import start_scenario
 
 NAV = "posekit_interfaces/action/NavigateToPose"
 
@@ -27,7 +28,7 @@ NAV = "posekit_interfaces/action/NavigateToPose"
 @pytest.fixture(scope="module")
 def live() -> Iterator[Any]:
     run = start_scenario("p_controller", {"goal_x": 0.0, "goal_y": 0.0, "goal_yaw": 0.0},
-                         record=False, realtime=True)
+                         realtime=True)
     stop = threading.Event()
 
     def spin() -> None:

@@ -133,7 +133,7 @@ import sys, time
 from posekit.runtime.context import Context
 from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformListener
+from posekit.tf2_ros import TransformListener
 from posekit.tf2 import Buffer
 from posekit.time import Time
 ctx = Context(); ctx.init()
@@ -239,7 +239,7 @@ import math, time
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.runtime.context import Context
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformBroadcaster
+from posekit.tf2_ros import TransformBroadcaster
 ctx = Context(); ctx.init()
 node = Node("odom_broadcaster", context=ctx)
 br = TransformBroadcaster(node)

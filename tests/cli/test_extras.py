@@ -59,8 +59,8 @@ def test_vision_scenarios_name_their_extra(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str],
 ) -> None:
     import posekit.vision.scenarios  # noqa: F401 - registers them
-    from posekit.demos.scenarios import SCENARIO_EXTRAS, scenario_names
-    from posekit.robot.scenarios import get_scenario
+    from posekit.demos.scenarios import SCENARIO_EXTRAS
+    from posekit.launch.scenarios import get_scenario, scenario_names
 
     vision = {n for n in scenario_names()
               if get_scenario(n).factory.__module__ == "posekit.vision.scenarios"}

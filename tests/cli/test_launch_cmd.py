@@ -31,11 +31,11 @@ def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, s
 
 
 def spy_scenario(monkeypatch: pytest.MonkeyPatch) -> dict[str, Any]:
-    """Record what run_scenario receives (the real one still runs)."""
-    import posekit.demos.scenarios as scenarios
+    """Record what run_robot_scenario receives (the real one still runs)."""
+    import posekit.robot.scenarios as scenarios
 
     seen: dict[str, Any] = {}
-    real = scenarios.run_scenario
+    real = scenarios.run_robot_scenario
 
     def spy(name: str, params: Any, **kwargs: Any) -> Any:
         seen.update(name=name, params=dict(params), **kwargs)
@@ -43,7 +43,7 @@ def spy_scenario(monkeypatch: pytest.MonkeyPatch) -> dict[str, Any]:
         seen["k_rho"] = result.node("p_controller").get_parameter("k_rho").value
         return result
 
-    monkeypatch.setattr(scenarios, "run_scenario", spy)
+    monkeypatch.setattr(scenarios, "run_robot_scenario", spy)
     return seen
 
 
@@ -108,7 +108,7 @@ def test_show_args_lists_parameters_with_defaults(capsys: pytest.CaptureFixture[
 def test_lecture_launch_lines_resolve() -> None:
     import posekit.demos.scenarios  # noqa: F401
     from posekit.demos.lecture import resolve_launch
-    from posekit.robot.scenarios import ScenarioError, get_scenario
+    from posekit.launch.scenarios import ScenarioError, get_scenario
 
     lecture = {
         "rosbot_gazebo empty_world.launch.py": "empty_world",
@@ -137,16 +137,16 @@ def test_lecture_launch_lines_resolve() -> None:
 
 def test_world_launch_has_the_robot_and_its_cameras() -> None:
     import posekit.demos.scenarios  # noqa: F401
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
-    run = start_scenario("aruco_box_camera_world", {}, 0, record=False)
+    run = start_scenario("aruco_box_camera_world", {}, 0)
     try:
         names = {n.get_name() for n in run.nodes}
     finally:
         run.shutdown()
     assert names == {"world_simulation", "wheel_odometry", "ekf_node", "oak_camera",
                      "overhead_camera"}
-    run = start_scenario("husarion_world", {}, 0, record=False)  # its own walls
+    run = start_scenario("husarion_world", {}, 0)  # its own walls
     try:
         assert {n.get_name() for n in run.nodes} == {
             "world_simulation", "wheel_odometry", "ekf_node", "oak_camera"}

@@ -20,8 +20,8 @@ from posekit.cli.main import main
 from posekit.msgs.geometry_msgs import PoseStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 pytest.importorskip("matplotlib")
 

@@ -33,9 +33,9 @@ def expected_graph(scenario: str) -> tuple[set[str], set[str]]:
     """(node names, topic names) of ``scenario`` as ``posekit launch`` runs it, built here on
     the isolated in-process bus."""
     import posekit.demos.scenarios  # noqa: F401 - registers every scenario
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
-    run = start_scenario(scenario, {}, 0, record=False, publish_clock=True,
+    run = start_scenario(scenario, {}, 0, publish_clock=True,
                          transport="inprocess")
     try:
         run.executor.run_until(0.1)  # creates the /clock publisher

@@ -59,6 +59,8 @@ ISSUE_TYPES = [
     "sensor_msgs/msg/Imu",
     "sensor_msgs/msg/JointState",
     "sensor_msgs/msg/LaserScan",
+    "sensor_msgs/msg/PointCloud2",
+    "sensor_msgs/msg/PointField",
     "tf2_msgs/msg/TFMessage",
     "rosgraph_msgs/msg/Clock",
     "rcl_interfaces/msg/ParameterValue",

@@ -9,7 +9,7 @@ import pytest
 
 from posekit.robot.nodes import OdometryRecording
 from posekit.robot.plot import PlotError, errors_against_truth, plot_odometry, plot_odometry_file
-from posekit.robot.scenarios import run_scenario
+from posekit.robot.scenarios import run_robot_scenario
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -67,7 +67,7 @@ def test_plot_errors_are_named(tmp_path) -> None:
 
 
 def test_p_controller_scenario_can_write_the_plot_at_the_end(tmp_path) -> None:
-    result = run_scenario(
+    result = run_robot_scenario(
         "p_controller", seed=0, until_sim_time=3.0, plot_path=tmp_path / "pc.png"
     )
     assert result.plot_path == tmp_path / "pc.png"

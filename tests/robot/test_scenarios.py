@@ -1,6 +1,6 @@
-"""Named scenarios through the node layer: the P controller reaches the course goal, seeds
-reproduce every message, the EKF beats wheel odometry on the random mover, TF lookups during
-a run, and the registry / parameter routing API."""
+"""The robot's named scenarios through the node layer: the P controller reaches the course
+goal, seeds reproduce every message, the EKF beats wheel odometry on the random mover, TF
+lookups during a run, and the registry / parameter routing API on the robot's nodes."""
 
 from __future__ import annotations
 
@@ -13,17 +13,15 @@ import pytest
 
 from posekit.launch import LaunchDescription
 from posekit.launch import Node as LaunchNode
-from posekit.robot.nodes import PControllerNode
-from posekit.robot.scenarios import (
-    DEFAULT_GOAL,
+from posekit.launch.scenarios import (
     ScenarioError,
     get_scenario,
     register_scenario,
-    robot_nodes,
-    run_scenario,
     scenario_names,
     scenario_node,
 )
+from posekit.robot.nodes import PControllerNode
+from posekit.robot.scenarios import DEFAULT_GOAL, robot_nodes, run_robot_scenario
 from posekit.runtime.node import Node
 from posekit.tf2_ros import Buffer, TransformException, TransformListener
 from posekit.time import Time
@@ -42,7 +40,7 @@ def _row_at(rows: np.ndarray, t: float) -> np.ndarray:
 
 
 def test_p_controller_reaches_the_course_goal_and_stops() -> None:
-    result = run_scenario("p_controller", seed=0, until_sim_time=26.0)
+    result = run_robot_scenario("p_controller", seed=0, until_sim_time=26.0)
     t_goal = result.goal_reached_time
     assert t_goal is not None
     assert 15.0 < t_goal < 26.0
@@ -68,9 +66,9 @@ def test_p_controller_reaches_the_course_goal_and_stops() -> None:
 
 
 def test_same_seed_gives_identical_messages_and_another_seed_does_not() -> None:
-    a = run_scenario("p_controller", seed=3, until_sim_time=12.0)
-    b = run_scenario("p_controller", seed=3, until_sim_time=12.0)
-    c = run_scenario("p_controller", seed=4, until_sim_time=12.0)
+    a = run_robot_scenario("p_controller", seed=3, until_sim_time=12.0)
+    b = run_robot_scenario("p_controller", seed=3, until_sim_time=12.0)
+    c = run_robot_scenario("p_controller", seed=4, until_sim_time=12.0)
     assert a.recording is not None
     assert b.recording is not None
     assert c.recording is not None
@@ -84,7 +82,7 @@ def test_same_seed_gives_identical_messages_and_another_seed_does_not() -> None:
 
 
 def test_random_mover_filtered_beats_wheel_odometry_over_120_s() -> None:
-    result = run_scenario("random_mover", seed=0, until_sim_time=120.0)
+    result = run_robot_scenario("random_mover", seed=0, until_sim_time=120.0)
     assert result.recording is not None
     errors = result.recording.final_errors()
     wheel_pos, wheel_yaw = errors["wheels"]
@@ -126,7 +124,7 @@ class _TfProbe(Node):
 
 
 def test_transform_listener_lookups_during_a_run() -> None:
-    result = run_scenario(
+    result = run_robot_scenario(
         "p_controller",
         seed=1,
         until_sim_time=6.0,
@@ -161,15 +159,15 @@ def test_registry_and_errors() -> None:
     with pytest.raises(ScenarioError, match="already registered"):
         register_scenario("p_controller", lambda params, seed: LaunchDescription())
     with pytest.raises(ScenarioError, match=re.escape("unknown parameter(s) ['k_rhoo']")):
-        run_scenario("p_controller", {"k_rhoo": 1.0}, until_sim_time=0.1)
+        run_robot_scenario("p_controller", {"k_rhoo": 1.0}, until_sim_time=0.1)
     with pytest.raises(ScenarioError, match=r"cannot start.*k_rho"):
-        run_scenario("p_controller", {"k_rho": "fast"}, until_sim_time=0.1)
+        run_robot_scenario("p_controller", {"k_rho": "fast"}, until_sim_time=0.1)
     with pytest.raises(ScenarioError, match="unknown world"):
-        run_scenario("empty_world", {"world": "no_such_world"}, until_sim_time=0.1)
+        run_robot_scenario("empty_world", {"world": "no_such_world"}, until_sim_time=0.1)
 
 
 def test_parameter_routing_until_sim_time_and_the_empty_world() -> None:
-    result = run_scenario(
+    result = run_robot_scenario(
         "p_controller",
         {"p_controller.k_rho": 0.2, "goal_x": 2.0, "world": "aruco_box_world"},
         until_sim_time=1.0,
@@ -181,7 +179,7 @@ def test_parameter_routing_until_sim_time_and_the_empty_world() -> None:
     assert result.node("world_simulation").world.name == "aruco_box_world"
     assert result.sim_time == pytest.approx(1.0)
 
-    idle = run_scenario("empty_world", seed=2, until_sim_time=3.0)
+    idle = run_robot_scenario("empty_world", seed=2, until_sim_time=3.0)
     assert idle.recording is not None
     for name in ("ground_truth", "wheels"):
         assert np.all(idle.recording.series[name][:, 1:3] == 0.0)
@@ -191,7 +189,7 @@ def test_parameter_routing_until_sim_time_and_the_empty_world() -> None:
 
 def test_realtime_paces_to_the_wall_clock() -> None:
     t0 = time.perf_counter()
-    result = run_scenario("empty_world", until_sim_time=0.3, realtime=True, record=False)
+    result = run_robot_scenario("empty_world", until_sim_time=0.3, realtime=True, record=False)
     assert time.perf_counter() - t0 >= 0.29
     assert result.wall_time >= 0.29
 
@@ -206,6 +204,6 @@ def test_other_teams_can_register_scenarios() -> None:
         )
 
     register_scenario("test_only_scenario", mine, description="test", replace=True)
-    result = run_scenario("test_only_scenario", {"goal_yaw": 0.5}, until_sim_time=0.5)
+    result = run_robot_scenario("test_only_scenario", {"goal_yaw": 0.5}, until_sim_time=0.5)
     assert result.node("world_simulation").world.name == "aruco_box_camera_world"
     assert result.node("p_controller").controller.goal == pytest.approx((1.0, 0.0, 0.5))

@@ -32,9 +32,10 @@ from posekit.runtime.action import (
     qos_profile_action_status_default,
 )
 from posekit.runtime.context import Context
-from posekit.runtime.executors import MultiThreadedExecutor, SimulatedTimeExecutor
+from posekit.runtime.executors import MultiThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.task import Future
 
 S = GoalStatus

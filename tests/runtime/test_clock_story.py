@@ -16,10 +16,10 @@ from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
 from posekit.runtime import time_source
 from posekit.runtime.bus import InProcessBus
 from posekit.runtime.context import Context
-from posekit.runtime.executors import ClockConflictError, SimulatedTimeExecutor
 from posekit.runtime.logging import LogRecord
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
+from posekit.runtime.sim_executor import ClockConflictError, SimulatedTimeExecutor
 from posekit.runtime.transport import register_transport
 
 

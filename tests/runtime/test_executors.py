@@ -8,12 +8,9 @@ import time
 from posekit.msgs.std_msgs import String
 from posekit.runtime.callback_groups import ReentrantCallbackGroup
 from posekit.runtime.context import Context
-from posekit.runtime.executors import (
-    MultiThreadedExecutor,
-    SimulatedTimeExecutor,
-    SingleThreadedExecutor,
-)
+from posekit.runtime.executors import MultiThreadedExecutor, SingleThreadedExecutor
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.task import Future
 
 

@@ -17,13 +17,9 @@ import pytest
 
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.runtime.context import Context
-from posekit.runtime.executors import (
-    Executor,
-    MultiThreadedExecutor,
-    SimulatedTimeExecutor,
-    SingleThreadedExecutor,
-)
+from posekit.runtime.executors import Executor, MultiThreadedExecutor, SingleThreadedExecutor
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.task import Future
 from posekit.tf2.buffer import Buffer
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.logging import (
     LoggingSeverity,
     RcutilsLogger,
@@ -13,6 +12,7 @@ from posekit.runtime.logging import (
     set_logger_level,
 )
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 
 def test_line_format() -> None:

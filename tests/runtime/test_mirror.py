@@ -309,9 +309,9 @@ def test_a_mirrored_scenario_runs_exactly_as_the_isolated_one(router: str) -> No
     """Oracle: the isolated run of the same scenario and seed, message for message."""
     import numpy as np
 
-    from posekit.robot.scenarios import run_scenario
+    from posekit.robot.scenarios import run_robot_scenario
 
-    runs = [run_scenario("p_controller", {}, seed=2, until_sim_time=8.0, transport=t,
+    runs = [run_robot_scenario("p_controller", {}, seed=2, until_sim_time=8.0, transport=t,
                          publish_clock=t != "inprocess")
             for t in ("inprocess", "inprocess+zenoh")]
     isolated, mirrored = (r.recording for r in runs)

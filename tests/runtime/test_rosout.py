@@ -21,11 +21,11 @@ from posekit.msgs.rcl_interfaces import Log
 from posekit.msgs.std_msgs import String
 from posekit.runtime.bus import InProcessBus
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.logging import LoggingSeverity, RcutilsLogger
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from posekit.runtime.rosout import qos_profile_rosout_default
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
 from posekit.time import Duration
 

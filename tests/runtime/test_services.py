@@ -15,13 +15,10 @@ import pytest
 
 from posekit.msgs.std_srvs import Empty, SetBool, Trigger
 from posekit.runtime.callback_groups import ReentrantCallbackGroup
-from posekit.runtime.executors import (
-    MultiThreadedExecutor,
-    SimulatedTimeExecutor,
-    SingleThreadedExecutor,
-)
+from posekit.runtime.executors import MultiThreadedExecutor, SingleThreadedExecutor
 from posekit.runtime.names import InvalidServiceNameException
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import TopicTypeMismatchError
 
 

@@ -11,9 +11,9 @@ from posekit.msgs.geometry_msgs import Twist
 from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
 from posekit.msgs.std_msgs import Float64
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SimulatedTimeExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.task import Future
 from posekit.time import Time
 
@@ -260,8 +260,8 @@ def test_paced_run_falling_behind_logs_its_real_time_factor_once(ctx, logs) -> N
     measured real-time factor below the target."""
     import time as _time
 
-    from posekit.runtime.executors import SimulatedTimeExecutor
     from posekit.runtime.node import Node
+    from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
     executor = SimulatedTimeExecutor(context=ctx, real_time_factor=10.0, publish_clock=False)
     node = Node("slow", context=ctx)

@@ -356,7 +356,7 @@ INDEPENDENT_TF_READER = textwrap.dedent('''
 def test_late_independent_reader_gets_tf_static_from_posekit(
         monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     from posekit.msgs.geometry_msgs import TransformStamped
-    from posekit.runtime.tf2_ros import StaticTransformBroadcaster
+    from posekit.tf2_ros import StaticTransformBroadcaster
 
     domain = dds_domain(monkeypatch)
     context = dds_context()

@@ -16,7 +16,7 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import Image
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformBroadcaster
+from posekit.tf2_ros import TransformBroadcaster
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_FLAGS = [
@@ -127,14 +127,14 @@ def support() -> SimpleNamespace:
 def scenario_viewer() -> Iterator[Any]:
     """The P-controller scenario paced to the wall clock plus :class:`CameraTestNode`, with a
     viewer attached in process on a free port (``server.url``, ``server.tap``)."""
+    import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
     from posekit.cli.view_cmd import attach_to_run
     from posekit.launch import Node as LaunchNode
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
     run = start_scenario(
         "p_controller",
         realtime=True,
-        record=False,
         extra_nodes=[LaunchNode(CameraTestNode, name="viewer_test_camera")],
     )
     server = attach_to_run(run, port=0)

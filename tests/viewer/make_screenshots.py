@@ -21,8 +21,9 @@ import time
 from pathlib import Path
 from typing import Any
 
+import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
 from posekit.cli.view_cmd import attach_to_run
-from posekit.robot.scenarios import start_scenario
+from posekit.launch.scenarios import start_scenario
 
 FLAGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--use-gl=angle", "--use-angle=swiftshader",
@@ -55,11 +56,11 @@ def shoot(run: Any, out: Path, seconds: float, query: str = "") -> None:
 def main(argv: list[str]) -> int:
     out = Path(argv[0]) if argv else Path(__file__).parents[2] / "docs" / "images"
     out.mkdir(parents=True, exist_ok=True)
-    run = start_scenario("p_controller", realtime=True, record=False)
+    run = start_scenario("p_controller", realtime=True)
     shoot(run, out / "viewer_p_controller.png", 14.0, "?camera=-0.5,-2.5,4.2&target=2.6,2.4,0")
     import posekit.vision.scenarios  # noqa: F401 - registers the ArUco scenarios
 
-    run = start_scenario("dynamic_detector", realtime=True, record=False)
+    run = start_scenario("dynamic_detector", realtime=True)
     shoot(run, out / "viewer_aruco.png", 5.0, "?camera=-0.9,-1.5,1.3&target=1.5,0.1,0.15")
     return 0
 

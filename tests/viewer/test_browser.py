@@ -7,10 +7,9 @@ screenshot. Everything shares one scenario and one browser to stay well under a 
 
 from __future__ import annotations
 
-import base64
 import math
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from types import SimpleNamespace
 from typing import Any
 
@@ -21,41 +20,10 @@ pytestmark = pytest.mark.slow  # real processes, sessions or a browser
 
 cv2 = pytest.importorskip("cv2")
 
-BACKGROUND = np.array([58, 48, 48])  # the scene's clear colour 0x30303a as BGR
+from _support.browser import canvas_pixels, debug, drawn_fraction, wait_for  # noqa: E402
+
 ROBOT_FRAMES = {"odom", "base_link", "body_link", "imu_link", "fl_wheel_link", "rr_wheel_link",
                 "oak_rgb_camera_optical_frame"}
-
-
-def wait_for(predicate: Callable[[], Any], timeout: float = 10.0, what: str = "") -> Any:
-    end = time.monotonic() + timeout
-    while True:
-        value = predicate()
-        if value:
-            return value
-        if time.monotonic() > end:
-            raise AssertionError(f"timed out after {timeout} s waiting for {what}")
-        time.sleep(0.05)
-
-
-def canvas_pixels(page: Any, selector: str) -> np.ndarray:
-    """The canvas content as a BGR array, from ``canvas.toDataURL()`` in the page."""
-    url = page.evaluate(f"document.querySelector('{selector}').toDataURL('image/png')")
-    assert url.startswith("data:image/png;base64,")
-    data = np.frombuffer(base64.b64decode(url.split(",", 1)[1]), np.uint8)
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR)
-    assert image is not None
-    assert image.size
-    return image
-
-
-def drawn_fraction(image: np.ndarray) -> float:
-    """Share of pixels that differ from the clear colour."""
-    diff = np.abs(image.astype(int) - BACKGROUND).max(axis=2)
-    return float((diff > 12).mean())
-
-
-def debug(page: Any, key: str) -> Any:
-    return page.evaluate(f"window.posekitViewer && window.posekitViewer.{key}")
 
 
 @pytest.fixture(scope="module")
@@ -515,10 +483,10 @@ def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
     import threading
 
     from posekit.cli.view_cmd import attach_to_run
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
     pytest.importorskip("posekit.vision.scenarios")  # registers the ArUco scenarios
-    run = start_scenario("dynamic_detector", realtime=True, record=False)
+    run = start_scenario("dynamic_detector", realtime=True)
     server = attach_to_run(run, port=0)
     spinner = threading.Thread(target=run.executor.spin, daemon=True)
     spinner.start()

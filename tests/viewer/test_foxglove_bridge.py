@@ -28,7 +28,7 @@ from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
 from posekit.runtime.executors import SingleThreadedExecutor  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
-from posekit.runtime.tf2_ros import (  # noqa: E402
+from posekit.tf2_ros import (  # noqa: E402
     StaticTransformBroadcaster,
     TransformBroadcaster,
 )
@@ -236,13 +236,14 @@ def test_bad_arguments() -> None:
 
 
 def test_cli_bridge_serves_the_p_controller_scenario_on_sim_time() -> None:
+    import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
     from posekit.cli.view_cmd import _parser, _sim_clock, _start_foxglove, main
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
     assert main(["--foxglove", "--foxglove-port", "70000"]) == 2
     ns = _parser().parse_args(["--foxglove", "--foxglove-port", "0"])
     assert _parser().parse_args([]).foxglove_port == 8766  # the documented default
-    run = start_scenario("p_controller", record=False)
+    run = start_scenario("p_controller")
     bridge = None
     try:
         run.executor.run_for(1.0)
@@ -387,5 +388,81 @@ def test_other_subprotocols_and_foreign_hosts_are_refused(system: System) -> Non
             async with session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
                                           headers={"Origin": own}) as ws:
                 assert ws.protocol == FOXGLOVE_SUBPROTOCOL
+
+    asyncio.run(go())
+
+
+def test_laser_scan_and_point_cloud_decode_from_the_advertised_schema(system: System) -> None:
+    """LaserScan and PointCloud2 (a best-effort publisher, as sensor drivers use) reach a
+    client on channels whose ros2msg schema decodes them: mcap-ros2-support builds its
+    decoder from the advertised schema text alone, as Foxglove does."""
+    import numpy as np
+    from mcap_ros2._dynamic import generate_dynamic
+
+    from posekit.msgs.point_cloud2 import create_cloud
+    from posekit.msgs.sensor_msgs import LaserScan, PointCloud2
+    from posekit.msgs.std_msgs import Header
+    from posekit.runtime.qos import qos_profile_sensor_data
+
+    scan_pub = system.node.create_publisher(LaserScan, "/scan", 10)
+    cloud_pub = system.node.create_publisher(PointCloud2, "/points", qos_profile_sensor_data)
+    scan = LaserScan()
+    scan.header.frame_id = "laser"
+    scan.angle_min, scan.angle_max, scan.angle_increment = -1.5, 1.5, 0.75
+    scan.range_min, scan.range_max = 0.05, 30.0
+    scan.ranges = np.array([1.25, np.inf, 2.5, -np.inf, 0.5], dtype=np.float32)
+    scan.intensities = np.array([10, 0, 20, 0, 30], dtype=np.float32)
+    xyz = np.array([[1.0, 2.0, 3.0], [-0.5, 0.25, 4.0]], dtype=np.float32)
+    cloud = create_cloud(Header(frame_id="oak_rgb_camera_optical_frame"), xyz)
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+        ) as ws:
+            channels = await _advertised(ws, {"/scan", "/points"})
+            decoded: dict[str, Any] = {}
+            for sub_id, (topic, msg, pub) in enumerate(
+                    [("/scan", scan, scan_pub), ("/points", cloud, cloud_pub)], start=10):
+                ch = channels[topic]
+                assert (ch["encoding"], ch["schemaEncoding"]) == ("cdr", "ros2msg")
+                await _subscribe(ws, ch["id"], sub_id)
+                await asyncio.sleep(0.05)  # let the server register the subscription
+                pub.publish(msg)
+                _, payload = await _message(ws, sub_id)
+                decoder = generate_dynamic(ch["schemaName"], ch["schema"])[ch["schemaName"]]
+                decoded[topic] = decoder(payload)
+            got_scan, got_cloud = decoded["/scan"], decoded["/points"]
+            assert channels["/scan"]["schemaName"] == "sensor_msgs/msg/LaserScan"
+            assert channels["/points"]["schemaName"] == "sensor_msgs/msg/PointCloud2"
+            assert got_scan.header.frame_id == "laser"
+            np.testing.assert_array_equal(np.asarray(got_scan.ranges, np.float32), scan.ranges)
+            np.testing.assert_array_equal(np.asarray(got_scan.intensities, np.float32),
+                                          scan.intensities)
+            assert got_scan.angle_increment == 0.75
+            assert [(f.name, f.offset, f.datatype, f.count) for f in got_cloud.fields] == [
+                ("x", 0, 7, 1), ("y", 4, 7, 1), ("z", 8, 7, 1)]
+            assert (got_cloud.width, got_cloud.height, got_cloud.point_step) == (2, 1, 12)
+            points = np.frombuffer(bytes(got_cloud.data), np.float32).reshape(2, 3)
+            np.testing.assert_array_equal(points, xyz)
+
+    asyncio.run(go())
+
+
+def test_a_topic_whose_publishers_leave_is_unadvertised(system: System) -> None:
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+        ) as ws:
+            pub = system.node.create_publisher(Odometry, "/odometry/wheels", 10)
+            channels = await _advertised(ws, {"/odometry/wheels"})
+            system.node.destroy_publisher(pub)
+            channel_id = channels["/odometry/wheels"]["id"]
+            while True:  # the background refresh notices within a few periods
+                msg = await asyncio.wait_for(ws.receive(), 5.0)
+                if msg.type == aiohttp.WSMsgType.TEXT:
+                    data = json.loads(msg.data)
+                    if data["op"] == "unadvertise" and channel_id in data["channelIds"]:
+                        break
+            assert "/odometry/wheels" not in system.bridge.topics()
 
     asyncio.run(go())

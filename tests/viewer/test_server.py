@@ -22,7 +22,7 @@ from posekit.msgs.image import numpy_to_image  # noqa: E402
 from posekit.msgs.sensor_msgs import Image  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
-from posekit.runtime.tf2_ros import TransformBroadcaster  # noqa: E402
+from posekit.tf2_ros import TransformBroadcaster  # noqa: E402
 from posekit.viewer import ViewerError  # noqa: E402
 from posekit.viewer.server import ViewerServer, _Client  # noqa: E402
 from posekit.viewer.taps import ViewerTap  # noqa: E402

@@ -19,7 +19,7 @@ from posekit.msgs.sensor_msgs import Image
 from posekit.runtime.context import Context
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 from posekit.viewer.taps import TRAIL_POSITION_TOLERANCE_M, ViewerTap
 
 NS = 1_000_000_000

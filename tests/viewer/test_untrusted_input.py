@@ -27,7 +27,7 @@ from posekit.msgs.geometry_msgs import TransformStamped  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
-from posekit.runtime.tf2_ros import (  # noqa: E402
+from posekit.tf2_ros import (  # noqa: E402
     StaticTransformBroadcaster,
     TransformBroadcaster,
 )

@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import json
 import urllib.request
+from typing import Any
 
 import pytest
 
 pytest.importorskip("aiohttp")
 
+import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
 from posekit.cli.view_cmd import attach_to_run, find_world, main
-from posekit.robot.scenarios import start_scenario
+from posekit.launch.scenarios import start_scenario
 
 pytestmark = pytest.mark.slow  # real processes, sessions or a browser
 
@@ -26,8 +28,20 @@ def test_bad_arguments_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
         main(["--help"])
 
 
+def test_a_config_that_is_not_a_saved_view_stops_with_one_line(
+    tmp_path: Any, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "view.json"
+    bad.write_text('{"something": "else"}')
+    assert main(["--scenario", "p_controller", "--port", "0", "--config", str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert "not a posekit view configuration" in err
+    assert len(err.strip().splitlines()) == 1
+    assert "Traceback" not in err
+
+
 def test_attach_to_a_stepped_run_uses_its_world_and_sim_time() -> None:
-    run = start_scenario("empty_world", {"world": "aruco_box_world"}, record=False)
+    run = start_scenario("empty_world", {"world": "aruco_box_world"})
     try:
         assert find_world(run) == "aruco_box_world"
         server = attach_to_run(run, port=0)

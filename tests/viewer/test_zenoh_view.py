@@ -13,7 +13,7 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.runtime.context import Context
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 from posekit.viewer.taps import ViewerTap
 
 pytestmark = pytest.mark.slow  # real processes, sessions or a browser
@@ -72,9 +72,9 @@ def test_viewer_over_zenoh_learns_the_world_from_the_simulator_parameter() -> No
     aiohttp = pytest.importorskip("aiohttp")
     import threading
 
-    from posekit.robot.worlds import load_world
     from posekit.runtime.executors import SingleThreadedExecutor
     from posekit.viewer import attach_viewer
+    from posekit.worlds import load_world
 
     sim_ctx, viewer_ctx = Context(), Context()
     sim_ctx.init(transport="zenoh")

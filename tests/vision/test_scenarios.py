@@ -9,7 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation as R
 
 import posekit.vision.scenarios  # noqa: F401 - registers the scenarios
-from posekit.robot.scenarios import ScenarioError, run_scenario, scenario_names
+from posekit.launch.scenarios import ScenarioError, run_scenario, scenario_names
 from posekit.time import Time
 
 # docs/specs/rosbot_and_worlds.md: aruco_box_world front markers; aruco_box_camera_world top marker
@@ -26,7 +26,7 @@ def test_the_four_scenarios_are_registered() -> None:
 
 
 def test_static_detector_box_in_odom_within_3_cm() -> None:
-    result = run_scenario("static_aruco_detector", until_sim_time=0.5, record=False)
+    result = run_scenario("static_aruco_detector", until_sim_time=0.5)
     det = result.node("static_aruco_detector")
     assert det.tf_published
     t = det.published_transform
@@ -49,7 +49,7 @@ def test_static_detector_box_in_odom_within_3_cm() -> None:
 
 
 def test_kdl_chain_demo_matches_the_direct_lookup() -> None:
-    result = run_scenario("kdl_chain_demo", until_sim_time=2.0, record=False)
+    result = run_scenario("kdl_chain_demo", until_sim_time=2.0)
     demo = result.node("kdl_chain_demo")
     assert demo.compositions == 2
     direct = demo.buffer.lookup_transform("odom", "static_aruco_box", Time()).transform
@@ -66,7 +66,7 @@ def test_kdl_chain_demo_matches_the_direct_lookup() -> None:
 
 
 def test_dynamic_pipeline_sees_markers_2_4_5_within_5_cm() -> None:
-    result = run_scenario("dynamic_detector_listener", until_sim_time=3.0, record=False)
+    result = run_scenario("dynamic_detector_listener", until_sim_time=3.0)
     listener = result.node("aruco_marker_listener")
     assert set(listener.positions) == set(FRONT_MARKERS)
     for frame, truth in FRONT_MARKERS.items():
@@ -86,7 +86,7 @@ def test_dynamic_pipeline_sees_markers_2_4_5_within_5_cm() -> None:
 
 def test_scenario_parameters_reach_the_nodes() -> None:
     result = run_scenario("dynamic_detector", {"marker_size": 0.194, "p_controller.goal_x": 0.0},
-                          until_sim_time=0.1, record=False)
+                          until_sim_time=0.1)
     assert result.node("dynamic_detector").get_parameter("marker_size").value == 0.194
     with pytest.raises(ScenarioError, match="unknown parameter"):
         run_scenario("static_aruco_detector", {"no_such_parameter": 1}, until_sim_time=0.1)
@@ -97,7 +97,7 @@ def test_image_saver_hook_and_camera_noise(tmp_path) -> None:
 
     hooks = [lambda run: attach_image_saver(run, tmp_path, period=0.05)]
     result = run_scenario("dynamic_detector", {"oak_camera.noise_sigma": 3.0},
-                          until_sim_time=0.2, record=False, on_start=hooks)
+                          until_sim_time=0.2, on_start=hooks)
     saver = result.node("image_saver")
     names = sorted(p.name for p in saver.saved)
     # frames at 1/30 s steps, at least 0.05 s apart, then the last one at shutdown

@@ -23,7 +23,15 @@ from posekit.bag._storage import check_bag_dir, open_reader
 from posekit.bag.errors import BagFormatError
 from posekit.runtime.qos import QoSProfile
 
-__all__ = ["BagInfo", "TopicInfo", "bag_info", "format_info", "is_service_event_topic"]
+__all__ = [
+    "SERVICE_EVENT_SUFFIX",
+    "BagInfo",
+    "TopicInfo",
+    "bag_info",
+    "format_info",
+    "is_service_event_topic",
+    "is_service_event_type",
+]
 
 _INDENT = 19  # width of the longest label, "Topic information: "
 
@@ -217,7 +225,7 @@ def format_info(info: BagInfo, *, verbose: bool = False) -> str:
     lines.extend(pad + t for t in topic_lines[1:])
     lines.append(f"{'Service:':<{_INDENT}}{len(services)}")
     service_lines = [
-        f"Service: {t.name.removesuffix(_SERVICE_EVENT_SUFFIX)} | "
+        f"Service: {t.name.removesuffix(SERVICE_EVENT_SUFFIX)} | "
         f"Type: {t.msgtype.removesuffix('_Event')} | Event Count: {t.message_count} | "
         f"Serialization Format: {t.serialization_format}"
         for t in services
@@ -227,12 +235,17 @@ def format_info(info: BagInfo, *, verbose: bool = False) -> str:
     return "\n".join(lines) + "\n"
 
 
-_SERVICE_EVENT_SUFFIX = "/_service_event"
+#: What service introspection appends to a service name for its event topic.
+SERVICE_EVENT_SUFFIX = "/_service_event"
+
+
+def is_service_event_type(msgtype: str) -> bool:
+    """rosbag2's test for a service event type: a ``/srv/`` type ending ``_Event``."""
+    return len(msgtype) > len("_Event") and "/srv/" in msgtype and msgtype.endswith("_Event")
 
 
 def is_service_event_topic(name: str, msgtype: str) -> bool:
     """rosbag2's test for a service event topic (``/srv/`` type ending ``_Event`` on a topic
     ending ``/_service_event``)."""
-    return (len(name) > len(_SERVICE_EVENT_SUFFIX) and name.endswith(_SERVICE_EVENT_SUFFIX)
-            and len(msgtype) > len("_Event") and "/srv/" in msgtype
-            and msgtype.endswith("_Event"))
+    return (len(name) > len(SERVICE_EVENT_SUFFIX) and name.endswith(SERVICE_EVENT_SUFFIX)
+            and is_service_event_type(msgtype))

@@ -53,24 +53,30 @@ import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import Any, cast
 
-from posekit.bag._qos import offered_qos_profiles, recording_qos, to_rosbags_qos
+from posekit.bag._qos import to_rosbags_qos
 from posekit.bag._split import SplitWriter
 from posekit.bag._storage import SUPPORTED_VERSIONS
 from posekit.bag.errors import BagOptionError
+from posekit.bag.info import (
+    SERVICE_EVENT_SUFFIX,
+    is_service_event_topic,
+    is_service_event_type,
+)
+from posekit.msgs.errors import UnknownMessageTypeError
+from posekit.msgs.registry import normalize_type_name
 from posekit.runtime.context import Context
-from posekit.runtime.executors import Executor, SimulatedTimeExecutor
+from posekit.runtime.executors import Executor
 from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node
+from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped, is_hidden_topic
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
+from posekit.runtime.transport import EndpointInfo, MessageSink, SubscriptionEndpoint
 
 __all__ = ["Recorder", "attach_recorder", "record_scenario"]
 
 _STAMPS = ("receive", "header")
-
-
-def _is_hidden(topic: str) -> bool:
-    return any(token.startswith("_") for token in topic.split("/") if token)
 
 
 def _header_stamp_ns(msg: Any) -> int | None:
@@ -85,13 +91,65 @@ def _header_stamp_ns(msg: Any) -> int | None:
     return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
 
 
+#: Graph checks in a row without a publisher before a topic's subscription is let go.
+_GRACE_REFRESHES = 10
+
+
+def _recordable_class(type_name: str) -> type:
+    """The class of a type the recorder can write: a message type with a ROS 2 definition,
+    or the event type of a posekit service (``pkg/srv/Name_Event``). LookupError else."""
+    from posekit.msgs.cdr import get_typestore, serializable_type
+
+    if is_service_event_type(type_name):
+        cls = get_typestore().types.get(type_name)
+        if cls is None:
+            raise LookupError(f"type {type_name!r} is not a service posekit knows")
+        return cast(type, cls)
+    try:
+        return serializable_type(type_name)[1]
+    except (LookupError, ValueError) as exc:
+        raise LookupError(f"type {type_name!r} has no ROS 2 message definition posekit can "
+                          f"serialize ({exc})") from None
+
+
+def _definition(type_name: str) -> dict[str, Any]:
+    """``add_connection`` keywords giving a topic's MCAP schema: the ``ros2msg`` text with
+    dependencies (from the typestore) for messages; for a service event type the schema
+    rosbag2 Jazzy writes (its ``LocalMessageDefinitionSource``): an ``SRV:`` delimiter, the
+    service's ``.srv`` text (request ``---`` response) and its message dependencies."""
+    from posekit.msgs._srv_defs import service_definition_text
+    from posekit.msgs.cdr import get_typestore
+
+    store = get_typestore()
+    if not is_service_event_type(type_name):
+        return {"typestore": store}
+    service = type_name.removesuffix("_Event")
+    return {"msgdef": service_definition_text(service), "rihs01": store.hash_rihs01(type_name)}
+
+
+class _NodeSubscription(SubscriptionEndpoint):
+    """A node's subscription seen as the transport endpoint the observer manages."""
+
+    def __init__(self, node: Node, subscription: Any) -> None:
+        self._node = node
+        self._subscription = subscription
+
+    def destroy(self) -> None:
+        self._node.destroy_subscription(self._subscription)
+
+    @property
+    def publisher_count(self) -> int:
+        return int(self._subscription.get_publisher_count())
+
+
 class Recorder:
     """A node that records topics into a new rosbag2 directory (see the module docstring).
 
     Args:
         output: directory to create; must not exist (bags are never overwritten).
         topics: topic names to record (relative names are made absolute); None or empty
-            records every topic discovered in the graph.
+            (and no ``regex``, ``services`` or ``all_services``) records every topic
+            discovered in the graph.
         context: context of the recorder node (default: the default context).
         node_name: name of the recorder node.
         version: metadata.yaml version, 9 (default) or 8.
@@ -110,6 +168,15 @@ class Recorder:
         transport: transport name for the node (default: the context's).
         flush_period: wall seconds between forced chunk writes (None: only when a chunk is
             full, as rosbags does).
+        services: services whose events to record (``<service>/_service_event``; their
+            servers or clients must have introspection on, see
+            :meth:`posekit.runtime.services.Service.configure_introspection`).
+        all_services: record the events of every service (``--all-services``).
+        exclude_services: services never recorded (with ``all_services`` or ``regex``).
+        all_topics: record every (non-hidden) topic; default: when no other selection is
+            given.
+        topic_types: also record every topic of these types (``pkg/msg/Name``).
+        exclude_topic_types: never record topics of these types.
 
     Raises:
         BagExistsError: ``output`` exists.
@@ -135,6 +202,12 @@ class Recorder:
         max_bag_size: int = 0,
         max_bag_duration: float = 0.0,
         flush_period: float | None = 1.0,
+        services: Sequence[str] | None = None,
+        all_services: bool = False,
+        exclude_services: Sequence[str] = (),
+        all_topics: bool | None = None,
+        topic_types: Sequence[str] = (),
+        exclude_topic_types: Sequence[str] = (),
     ) -> None:
         if version not in SUPPORTED_VERSIONS:
             raise BagOptionError(
@@ -167,12 +240,30 @@ class Recorder:
 
         self.node = Node(node_name, context=context, transport=transport)
         try:
-            self._explicit: list[str] | None = (
-                [self.node.resolve_topic_name(t) for t in topics] if topics else None
-            )
+            self._explicit = {self.node.resolve_topic_name(t) for t in topics or ()}
+            self._services = {
+                self.node.resolve_service_name(s).removesuffix(SERVICE_EVENT_SUFFIX)
+                + SERVICE_EVENT_SUFFIX for s in services or ()
+            }
+            self._exclude_services = {
+                self.node.resolve_service_name(s).removesuffix(SERVICE_EVENT_SUFFIX)
+                + SERVICE_EVENT_SUFFIX for s in exclude_services
+            }
         except Exception as exc:
             self.node.destroy_node()
-            raise BagOptionError(f"invalid topic name in {list(topics or [])}: {exc}") from exc
+            raise BagOptionError(
+                f"invalid topic or service name in {[*(topics or []), *(services or [])]}: "
+                f"{exc}") from exc
+        self._all_services = all_services
+        try:
+            self._types = {normalize_type_name(t) for t in topic_types}
+            self._exclude_types = {normalize_type_name(t) for t in exclude_topic_types}
+        except (ValueError, LookupError, UnknownMessageTypeError) as exc:
+            self.node.destroy_node()
+            raise BagOptionError(f"invalid topic type: {exc}") from None
+        self._all_topics = (not (self._explicit or self._services or all_services
+                                 or self._types or self._regex is not None)
+                            if all_topics is None else all_topics)
         self._exclude = {self.node.resolve_topic_name(t) for t in exclude}
         self._include_hidden = include_hidden
         self._use_header = stamp == "header"
@@ -188,14 +279,20 @@ class Recorder:
         self._flush_period = flush_period
         self._last_flush = time.monotonic()
         self._flush_storage(close_chunk=False)  # the file header is on disk from the start
-        self._connections: dict[str, Any] = {}
-        self._skipped: set[str] = set()
+        self._connections: dict[str, tuple[Any, str]] = {}
         #: Messages written per topic.
         self.counts: dict[str, int] = {}
         #: Messages that could not be serialized, per topic (each logged).
         self.errors: dict[str, int] = {}
         self._closed = False
         self._timer = None
+        self._observer = TopicObserver(
+            self.node.transport, self._sink_for, select=self._wanted,
+            on_skipped=self._on_skipped, node_name=self.node.get_name(),
+            node_namespace=self.node.get_namespace(), depth=None, resolve=_recordable_class,
+            grace_refreshes=_GRACE_REFRESHES, logger=self.node.get_logger(),
+            subscribe=self._node_subscription,
+        )
         self.discover()
         if discovery_period is not None:
             self._timer = self.node.create_timer(discovery_period, self._on_timer)
@@ -234,67 +331,72 @@ class Recorder:
     @property
     def topics(self) -> list[str]:
         """Topics subscribed so far."""
-        return sorted(self._connections)
+        with self._lock:
+            return sorted(self._connections)
 
-    def _wanted(self, topic: str) -> bool:
+    def _wanted(self, topic: str, type_name: str) -> bool:
+        """rosbag2 Jazzy's topic filter (``TopicFilter::take_topic``) over our options."""
+        if is_service_event_topic(topic, type_name):
+            if not (self._all_services or self._services or self._regex is not None):
+                return False
+            service = topic.removesuffix(SERVICE_EVENT_SUFFIX)
+            if not self._all_services and topic not in self._services and (
+                    self._regex is None or not self._regex.search(service)):
+                return False
+            if topic in self._exclude_services:
+                return False
+            return not (self._exclude_regex is not None and self._exclude_regex.search(service))
+        if not (self._all_topics or self._explicit or self._types or self._regex is not None):
+            return False
+        if not self._all_topics and topic not in self._explicit and (
+                type_name not in self._types) and (
+                self._regex is None or not self._regex.search(topic)):
+            return False
+        if type_name in self._exclude_types:
+            return False
+        if topic in self._exclude and topic not in self._explicit:
+            return False
         if self._exclude_regex is not None and self._exclude_regex.search(topic):
             return False
-        if self._explicit is not None and topic in self._explicit:
-            return True
-        if (self._explicit is not None or self._regex is not None) and (
-                self._regex is None or not self._regex.search(topic)):
-            return False  # a selection was given and this topic is not in it
-        if topic in self._exclude:
-            return False
-        return self._include_hidden or not _is_hidden(topic)
+        return self._include_hidden or topic in self._explicit or not is_hidden_topic(topic)
 
     def discover(self) -> list[str]:
-        """Subscribe to wanted topics that appeared in the graph; returns the new ones."""
+        """Subscribe to wanted topics that appeared in the graph (and let go of those whose
+        publishers left); returns the new ones."""
         if self._closed:
             return []
-        added: list[str] = []
-        for topic, type_names in self.node.get_topic_names_and_types():
-            if topic in self._connections or topic in self._skipped or not self._wanted(topic):
-                continue
-            if self._subscribe(topic, type_names[0] if type_names else ""):
-                added.append(topic)
-        return added
+        return self._observer.refresh()
 
-    def _subscribe(self, topic: str, type_name: str) -> bool:
-        from posekit.msgs.cdr import get_typestore, serializable_type
-        from posekit.runtime.transport import TopicTypeMismatchError
+    def _node_subscription(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        """A subscription of the recorder node: messages are written by its executor, at
+        the node clock's time of delivery (sim time under a SimulatedTimeExecutor)."""
+        return _NodeSubscription(
+            self.node, self.node.create_subscription(info.msg_type, info.topic, sink, info.qos))
 
-        logger = self.node.get_logger()
-        try:
-            type_name, msg_class = serializable_type(type_name)
-        except (LookupError, ValueError):
-            self._skipped.add(topic)
-            logger.warning(
-                f"not recording '{topic}': type {type_name!r} has no ROS 2 message "
-                "definition posekit can serialize"
-            )
-            return False
-        offered = offered_qos_profiles(self.node, topic)
+    def _on_skipped(self, topic: str, reason: str) -> None:
+        self.node.get_logger().warning(f"not recording '{topic}': {reason}")
+
+    def _sink_for(self, observed: ObservedTopic) -> Callable[[Any], None]:
+        """Open (or reuse) the bag connection of a topic the observer starts observing."""
+        topic, type_name = observed.name, observed.type_name
         with self._lock:
-            connection = self._writer.add_connection(
-                topic,
-                type_name,
-                typestore=get_typestore(),
-                offered_qos_profiles=[to_rosbags_qos(p) for p in offered],
-            )
-            self._connections[topic] = connection
-            self.counts[topic] = 0
-        try:
-            self.node.create_subscription(
-                msg_class, topic, self._make_callback(topic, type_name, connection),
-                recording_qos(offered),
-            )
-        except TopicTypeMismatchError as exc:
-            self._skipped.add(topic)
-            logger.warning(f"not recording '{topic}': {exc}")
-            return False
-        logger.info(f"Subscribed to topic '{topic}'")
-        return True
+            if self._closed:
+                raise TopicSkipped("the recorder is closed")
+            known = self._connections.get(topic)
+            if known is not None and known[1] != type_name:
+                raise TopicSkipped(f"its type changed from {known[1]} to {type_name}; a bag "
+                                   "topic has one type")
+            if known is None:
+                connection = self._writer.add_connection(
+                    topic, type_name, **_definition(type_name),
+                    offered_qos_profiles=[to_rosbags_qos(p) for p in observed.offered],
+                )
+                self._connections[topic] = (connection, type_name)
+                self.counts[topic] = 0
+            else:
+                connection = known[0]
+        self.node.get_logger().info(f"Subscribed to topic '{topic}'")
+        return self._make_callback(topic, type_name, connection)
 
     def _make_callback(self, topic: str, type_name: str,
                        connection: Any) -> Callable[[Any], None]:
@@ -313,7 +415,8 @@ class Recorder:
             try:
                 data = to_cdr(msg, type_name)
             except MessageError as exc:
-                self.errors[topic] = self.errors.get(topic, 0) + 1
+                with self._lock:
+                    self.errors[topic] = self.errors.get(topic, 0) + 1
                 self.node.get_logger().error(f"dropped a message on '{topic}': {exc}")
                 return
             with self._lock:
@@ -345,6 +448,7 @@ class Recorder:
                 return dict(self.counts)
             self._closed = True
         try:
+            self._observer.close()
             self.node.destroy_node()
         finally:
             with self._lock:
@@ -407,17 +511,19 @@ def record_scenario(
 ) -> dict[str, int]:
     """Run the named robot scenario for ``duration`` simulated seconds while recording.
 
-    Starts it with :func:`posekit.robot.scenarios.start_scenario` (its nodes on a
+    Starts it with :func:`posekit.launch.scenarios.start_scenario` (its nodes on a
     SimulatedTimeExecutor, nothing run yet), attaches a :class:`Recorder` before the first
     step, runs, finishes the bag and shuts the scenario down. ``params``/``seed`` are the
     scenario's; ``options`` are :class:`Recorder`'s keyword arguments. Returns the messages
     written per topic.
     """
-    from posekit.robot import scenarios  # robot layer: only needed for this helper
+    # Only needed for this helper: the framework, and the robot's scenarios registered in it.
+    import posekit.robot.scenarios  # noqa: F401
+    from posekit.launch.scenarios import start_scenario
 
     if not duration >= 0.0:
         raise BagOptionError(f"duration must be >= 0 s, got {duration}")
-    run = scenarios.start_scenario(scenario, params, seed, record=False)
+    run = start_scenario(scenario, params, seed)
     try:
         recorder = attach_recorder(run, output, topics, **options)
         executor = run.executor

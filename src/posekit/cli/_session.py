@@ -15,9 +15,10 @@ from types import TracebackType
 from typing import Any
 
 from posekit.runtime.context import Context
-from posekit.runtime.executors import SingleThreadedExecutor, graph_clock_publishers
+from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import Parameter
+from posekit.runtime.sim_executor import graph_clock_publishers
 from posekit.runtime.transport import ENV_TRANSPORT
 
 __all__ = ["TRANSPORT_CHOICES", "ToolSession", "add_sim_time_args", "add_transport_option",
@@ -79,7 +80,7 @@ class ToolSession:
 
     def listen_tf(self, buffer: Any) -> None:
         """Fill ``buffer`` from /tf and /tf_static with tf2_ros's QoS."""
-        from posekit.runtime.tf2_ros import TransformListener
+        from posekit.tf2_ros import TransformListener
 
         self._listener = TransformListener(buffer, self.node)
 

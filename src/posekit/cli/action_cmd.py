@@ -184,7 +184,7 @@ def main_send_goal(argv: Sequence[str], *, context: Any = None, out: TextIO | No
         if not sent.done():
             err.write(f"no goal response within {ns.timeout:g} s\n")
             return 1
-        handle = sent.result()
+        handle: Any = sent.result()
         if not handle.accepted:
             out.write("Goal was rejected.\n")
             return 0

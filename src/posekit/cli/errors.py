@@ -42,9 +42,9 @@ def _user_error_types() -> tuple[type[BaseException], ...]:
     from posekit.geometry.errors import GeometryError
     from posekit.msgs.errors import MessageError
     from posekit.runtime.arguments import RCLError
-    from posekit.runtime.executors import ClockConflictError
     from posekit.runtime.names import NameValidationError
     from posekit.runtime.parameters import ParameterException
+    from posekit.runtime.sim_executor import ClockConflictError
     from posekit.runtime.transport import (
         ServicesNotSupportedError,
         TopicTypeMismatchError,
@@ -59,8 +59,8 @@ def _user_error_types() -> tuple[type[BaseException], ...]:
     ]
     for module, name in (
         ("posekit.bag.errors", "BagError"),
-        ("posekit.robot.scenarios", "ScenarioError"),
-        ("posekit.robot.worlds", "WorldError"),
+        ("posekit.launch.scenarios", "ScenarioError"),
+        ("posekit.worlds", "WorldError"),
         ("posekit.robot.plot", "PlotError"),
         ("posekit.viewer.errors", "ViewerError"),
         ("posekit.vision.errors", "VisionError"),

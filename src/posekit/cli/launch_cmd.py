@@ -167,7 +167,7 @@ def _scenario_arguments(name: str, params: dict[str, Any], seed: int) -> list[tu
                                                                                     str]]:
     """Every parameter the scenario's nodes declare (``node.name`` where defaults differ)."""
     from posekit.launch import start
-    from posekit.robot.scenarios import get_scenario
+    from posekit.launch.scenarios import get_scenario
     from posekit.runtime.context import Context
 
     run = start(get_scenario(name).factory(params, seed), context=Context(),
@@ -202,7 +202,8 @@ def main(argv: Sequence[str]) -> int:
 
 def _main(argv: list[str]) -> int:
     if "--list" in argv:
-        from posekit.demos.scenarios import get_scenario, scenario_names
+        import posekit.demos.scenarios  # registers every scenario
+        from posekit.launch.scenarios import get_scenario, scenario_names
 
         for name in scenario_names():
             sys.stdout.write(f"{name:<38}{get_scenario(name).description}\n")
@@ -237,7 +238,7 @@ def _main(argv: list[str]) -> int:
 
     import posekit.demos.scenarios  # noqa: F401 - registers every scenario
     from posekit.demos.lecture import resolve_launch
-    from posekit.robot.scenarios import ScenarioError
+    from posekit.launch.scenarios import ScenarioError
 
     try:
         name = resolve_launch(words)
@@ -252,8 +253,8 @@ def _main(argv: list[str]) -> int:
 
 def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
                      transport: str, network: str | None) -> int:
-    from posekit.demos.scenarios import get_scenario, run_scenario
-    from posekit.robot.scenarios import ScenarioError
+    from posekit.launch.scenarios import ScenarioError, get_scenario
+    from posekit.robot.scenarios import run_robot_scenario
 
     seed = ns.seed or 0
     if get_scenario(name).follows_clock:
@@ -270,7 +271,7 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
     servers: list[Any] = []
     try:
         # A viewer is for watching: pace the run to the wall clock.
-        result = run_scenario(
+        result = run_robot_scenario(
             name, params, seed=seed, until_sim_time=ns.until_sim_time,
             realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
             transport=transport, record=ns.plot is not None,  # odometry kept only for the plot
@@ -297,9 +298,9 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
 def _follow(ns: argparse.Namespace, name: str, params: dict[str, Any], seed: int,
             transport: str) -> int:
     """A demo against a running world: its nodes follow that world's /clock."""
-    from posekit.robot.scenarios import start_scenario
+    from posekit.launch.scenarios import start_scenario
 
-    run = start_scenario(name, params, seed, record=False, transport=transport)
+    run = start_scenario(name, params, seed, transport=transport)
     _run_started(ns, run, before=_wait_for_clock)
     return 0
 

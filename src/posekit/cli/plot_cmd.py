@@ -57,9 +57,10 @@ def main_odometry(argv: Sequence[str]) -> int:
         else:
             path = plot_odometry_file(recording, ns.output)
     else:
-        from posekit.demos.scenarios import run_scenario
+        import posekit.demos.scenarios  # noqa: F401 - registers every scenario
+        from posekit.robot.scenarios import run_robot_scenario
 
-        result = run_scenario(ns.scenario, seed=ns.seed, until_sim_time=ns.until_sim_time,
+        result = run_robot_scenario(ns.scenario, seed=ns.seed, until_sim_time=ns.until_sim_time,
                               plot_path=ns.output)
         assert result.plot_path is not None
         path = result.plot_path

@@ -28,7 +28,7 @@ def main(argv: Sequence[str]) -> int:
         sys.stdout.write(_usage() + __doc__.split("\n\n", 1)[1])
         return 0
     from posekit.demos.lecture import EXECUTABLES, resolve_run
-    from posekit.robot.scenarios import ScenarioError
+    from posekit.launch.scenarios import ScenarioError
 
     if args and args[0] == "--list":
         for (package, executable), target in sorted(EXECUTABLES.items()):

@@ -99,12 +99,48 @@ def chain_as_vector(parents: dict[str, str], target: str, source: str) -> list[s
     return chain
 
 
+def _wait_for_chain(session: Any, buffer: Any, frame_a: str, frame_b: str,
+                    timeout_s: float | None, err: TextIO) -> None:
+    """Spin until ``frame_a -> frame_b`` can be looked up, logging why not once a second
+    (as tf2_monitor); CliError after ``timeout_s`` (None: wait until it can)."""
+    from posekit.time import Time
+
+    deadline = None if timeout_s is None else time.monotonic() + timeout_s
+    last_log = -1e9
+    while True:
+        ok, reason = buffer.can_transform_core(frame_a, frame_b, Time())
+        if ok:
+            return
+        if deadline is not None and time.monotonic() > deadline:
+            raise CliError(f"timed out waiting for transform {frame_a} -> {frame_b}: {reason}")
+        if time.monotonic() - last_log >= 1.0:
+            session.node.get_logger().info(
+                f"Waiting for transform {frame_a} ->  {frame_b}: {reason}")
+            if last_log < 0:
+                hint_if_alone(session, err)
+            last_log = time.monotonic()
+        session.spin_for(0.1)
+
+
+def _frame_lines(delays: dict[str, deque[float]], chain: list[str] | None) -> list[str]:
+    """The report's ``Frame: ...`` lines, sorted by frame (only the chain's, if given)."""
+    lines = []
+    for frame in sorted(delays):
+        if chain is not None and frame not in chain:
+            continue
+        values = delays[frame]
+        lines.append(f"Frame: {frame}, published by {AUTHORITY}, Average Delay: "
+                     f"{_num(sum(values) / len(values))}, Max Delay: "
+                     f"{_num(max(0.0, *values))}")
+    return lines
+
+
 def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
          err: TextIO | None = None, timeout_s: float | None = None) -> int:
     """Run tf2_monitor; ``timeout_s`` (tests) bounds the wait for the chain."""
     from posekit.msgs.tf2_msgs import TFMessage
-    from posekit.runtime.tf2_ros import DynamicListenerQoS, StaticListenerQoS
     from posekit.tf2 import Buffer
+    from posekit.tf2_ros import DynamicListenerQoS, StaticListenerQoS
     from posekit.time import Time
 
     out = out or sys.stdout
@@ -155,22 +191,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         session.node.create_subscription(TFMessage, "/tf_static", on_tf, StaticListenerQoS())
         chain: list[str] = []
         if specific:
-            deadline = None if timeout_s is None else time.monotonic() + timeout_s
-            last_log = -1e9
-            while True:
-                ok, reason = buffer.can_transform_core(frame_a, frame_b, Time())
-                if ok:
-                    break
-                if deadline is not None and time.monotonic() > deadline:
-                    raise CliError(f"timed out waiting for transform {frame_a} -> {frame_b}: "
-                                   f"{reason}")
-                if time.monotonic() - last_log >= 1.0:
-                    session.node.get_logger().info(
-                        f"Waiting for transform {frame_a} ->  {frame_b}: {reason}")
-                    if last_log < 0:
-                        hint_if_alone(session, err)
-                    last_log = time.monotonic()
-                session.spin_for(0.1)
+            _wait_for_chain(session, buffer, frame_a, frame_b, timeout_s, err)
             chain = chain_as_vector(parents_from_buffer(buffer), frame_b, frame_a)
             out.write(f"Gathering data on {frame_a} -> {frame_b} for 10 seconds...\n")
         else:
@@ -198,13 +219,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
             else:
                 lines.append("RESULTS: for all Frames")
             lines += ["", "Frames:"]
-            for frame in sorted(delays):
-                if specific and frame not in chain:
-                    continue
-                values = delays[frame]
-                lines.append(f"Frame: {frame}, published by {AUTHORITY}, Average Delay: "
-                             f"{_num(sum(values) / len(values))}, Max Delay: "
-                             f"{_num(max(0.0, *values))}")
+            lines += _frame_lines(delays, chain if specific else None)
             out.write("\n".join(lines) + "\n")
             out.flush()
             err.write("\nAll Broadcasters:\n")

@@ -66,7 +66,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
     t = make_transform(argv)
 
     from posekit.cli._session import ToolSession
-    from posekit.runtime.tf2_ros import StaticTransformBroadcaster
+    from posekit.tf2_ros import StaticTransformBroadcaster
 
     suffix = "".join(random.choices(string.ascii_letters + string.digits, k=16))
     tr, rot = t.transform.translation, t.transform.rotation

@@ -31,17 +31,16 @@ from collections.abc import Mapping
 from typing import Any
 
 from posekit.launch import LaunchDescription
-from posekit.robot.headless import sub_seeds
-from posekit.robot.nodes import PControllerNode, RandomMoverNode
-from posekit.robot.scenarios import (
-    DEFAULT_GOAL,
+from posekit.launch.scenarios import (
     ScenarioError,
     get_scenario,
     register_scenario,
-    robot_nodes,
     scenario_names,
     scenario_node,
 )
+from posekit.robot.headless import sub_seeds
+from posekit.robot.nodes import PControllerNode, RandomMoverNode
+from posekit.robot.scenarios import DEFAULT_GOAL, robot_nodes
 from posekit.runtime.logging import get_logger
 
 try:  # the ArUco worlds (OpenCV), registered first so that the aliases below find them

@@ -70,7 +70,7 @@ class DemoReport:
 
 
 def _true_marker_positions() -> dict[int, list[tuple[float, float, float]]]:
-    from posekit.robot.worlds import load_world, marker_poses
+    from posekit.worlds import load_world, marker_poses
 
     out: dict[int, list[tuple[float, float, float]]] = {}
     for m in marker_poses(load_world(WORLD)):
@@ -90,7 +90,7 @@ def run_demo(
     lines to it as they happen (the nodes' other log lines are kept off the console; warnings
     and errors are collected in ``other_warnings``)."""
     import posekit.demos.scenarios  # noqa: F401 - registers the vision scenarios
-    from posekit.robot.scenarios import run_scenario
+    from posekit.launch.scenarios import run_scenario
     from posekit.runtime.logging import LoggingSeverity, LogRecord, add_sink, remove_sink
     from posekit.vision.nodes import image_saver_entry
 
@@ -111,7 +111,7 @@ def run_demo(
     wall0 = time.perf_counter()
     try:
         with contextlib.redirect_stderr(io.StringIO()):
-            result = run_scenario(SCENARIO, seed=seed, until_sim_time=seconds, record=False,
+            result = run_scenario(SCENARIO, seed=seed, until_sim_time=seconds,
                                   extra_nodes=[saver])
     finally:
         remove_sink(on_record)

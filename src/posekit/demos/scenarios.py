@@ -1,5 +1,6 @@
-"""Every named scenario: importing this registers the robot's and the vision demos' scenarios;
-:func:`include_scenario` puts one into a launch file."""
+"""Every named scenario: importing this registers the robot's, the vision demos' and the
+lecture's two-terminal scenarios in :mod:`posekit.launch.scenarios` (look them up and run
+them there); :func:`include_scenario` puts one into a launch file."""
 
 from __future__ import annotations
 
@@ -8,15 +9,9 @@ from collections.abc import Mapping
 from typing import Any
 
 from posekit.launch import Node
-from posekit.robot.scenarios import get_scenario, run_scenario, scenario_names
+from posekit.launch.scenarios import get_scenario
 
-__all__ = [
-    "SCENARIO_EXTRAS",
-    "get_scenario",
-    "include_scenario",
-    "run_scenario",
-    "scenario_names",
-]
+__all__ = ["SCENARIO_EXTRAS", "include_scenario"]
 
 #: Scenarios that need an optional extra (registered only when it is installed), so that a
 #: missing one is named before anything runs.

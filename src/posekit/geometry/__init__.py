@@ -1,6 +1,7 @@
 """posekit.geometry: rotations, rigid transforms and planar poses (numpy only).
 
-The bottom layer of posekit; it imports nothing else from the package. Public API:
+Its only posekit import is :mod:`posekit.msgs` (the layer below), done inside the conversion
+functions that build messages, so ``import posekit.geometry`` loads numpy alone. Public API:
 
 * :class:`Rotation` - SO(3), scipy-like (one or a batch), plus ROS ``from_rpy``/``as_rpy``
   and the lecture's world/body composition helpers.

@@ -24,14 +24,10 @@ from typing import Any
 
 from posekit.launch.description import LaunchDescription, LaunchDescriptionError
 from posekit.runtime.context import Context
-from posekit.runtime.executors import (
-    Executor,
-    MultiThreadedExecutor,
-    SimulatedTimeExecutor,
-    SingleThreadedExecutor,
-)
+from posekit.runtime.executors import Executor, MultiThreadedExecutor, SingleThreadedExecutor
 from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.parameters import parse_parameter_value
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.time_source import CLOCK_TOPIC
 
 __all__ = [

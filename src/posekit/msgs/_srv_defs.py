@@ -14,6 +14,7 @@ from typing import Any
 
 __all__ = [
     "SERVICE_DEFINITIONS",
+    "service_definition_text",
     "service_message_definitions",
     "service_typedefs",
     "typedefs_from_texts",
@@ -81,6 +82,41 @@ def service_message_definitions(
             f"{srv}_Event event_message\n"
         ),
     }
+
+
+_DELIMITER = "=" * 80 + "\n"
+
+
+def service_definition_text(srv: str) -> str:
+    """The complete definition of service ``srv`` as rosbag2 Jazzy stores it in a bag's
+    schema for the service's event topic (rosbag2_cpp's ``LocalMessageDefinitionSource``):
+    an 80-``=`` line, ``SRV: pkg/srv/Name``, the ``.srv`` text (request, ``---``,
+    response), then every message it uses, each after an 80-``=`` line and ``MSG: name``
+    (sorted by name, each once; nested ones after their user)."""
+    from posekit.msgs.cdr import get_typestore
+
+    request, response = SERVICE_DEFINITIONS[srv]
+    text = (request + "---\n" + response).replace("/msg/", "/")
+    out = f"{_DELIMITER}SRV: {srv}\n{text}"
+    deps = sorted({word for line in text.splitlines()
+                   if "/" in (word := line.split(" ", 1)[0].split("[", 1)[0])})
+    seen: set[str] = set()
+    store = get_typestore()
+    for dep in deps:
+        if dep in seen:
+            continue
+        pkg, name = dep.split("/")
+        full, _ = store.generate_msgdef(f"{pkg}/msg/{name}", ros_version=2)
+        own, *nested = full.split(_DELIMITER)
+        seen.add(dep)
+        out += f"\n{_DELIMITER}MSG: {dep}\n{own.rstrip(chr(10))}\n"
+        for block in nested:
+            header, _, body = block.partition("\n")
+            nested_name = header.removeprefix("MSG: ")
+            if nested_name not in seen:
+                seen.add(nested_name)
+                out += f"\n{_DELIMITER}{header}\n{body.rstrip(chr(10))}\n"
+    return out
 
 
 def service_typedefs(srv: str) -> dict[str, Any]:

@@ -14,9 +14,10 @@ How the two libraries meet (no per-message conversion step):
 * deserialization builds posekit's classes directly: the private typestore's class table
   points at posekit's dataclasses, whose positional field order equals the ROS order.
   Types posekit does not define (any other Jazzy type) decode to rosbags' classes.
-* a message whose last field is a byte sequence (``sensor_msgs/Image``) is serialized as
-  the rosbags encoding of its small prefix plus one ``bytes.join`` with the pixel buffer:
-  a single copy of the payload (measured in ``benchmarks/runtime_cdr.py``).
+* a message whose last field is a byte sequence (``sensor_msgs/Image``), or whose byte
+  sequence is followed only by one-byte fields (``sensor_msgs/PointCloud2``'s ``is_dense``),
+  is serialized as the rosbags encoding of the rest plus one ``bytes.join`` with the
+  payload: a single copy of it (measured in ``benchmarks/runtime_cdr.py``).
 
 Decoded array fields (``Image.data``, covariances, ``CameraInfo.k``...) are zero-copy
 numpy views into ``data``: read-only when ``data`` is ``bytes``. Copy them to modify.
@@ -53,6 +54,8 @@ __all__ = [
 CDR_HEADER_LE = b"\x00\x01\x00\x00"
 
 _EMPTY_U8 = np.zeros(0, dtype=np.uint8)
+#: ROS base types of exactly one byte (CDR alignment 1).
+_ONE_BYTE = ("bool", "uint8", "int8", "byte", "char", "octet")
 _U32 = struct.Struct("<I")
 _SER_ERRORS = (struct.error, TypeError, ValueError, AttributeError, OverflowError, IndexError)
 _deser_errors: tuple[type[BaseException], ...] = (
@@ -92,6 +95,7 @@ class _Codec:
     plan: _Plan | None
     fast_ok: Callable[[Any], bool] | None  # True when every array field is already CDR-ready
     tail_field: str | None  # last field, when it is an unbounded uint8/byte/char sequence
+    tail_after: int = 0  # one-byte fields after the tail sequence (PointCloud2.is_dense)
 
 
 def get_typestore() -> Any:
@@ -113,22 +117,22 @@ def get_typestore() -> Any:
 
 
 def serializable_type(type_name: str) -> tuple[str, type]:
-    """``(normalized name, posekit class)`` of a type that has both a posekit message class
-    and a ROS 2 definition (so it can be serialized, recorded or advertised with a schema).
+    """``(normalized name, class)`` of a message type with a ROS 2 definition (so it can be
+    serialized, recorded or advertised with a schema): posekit's class when posekit defines
+    the type, else the class of rosbags' Jazzy typestore (``sensor_msgs/msg/PointCloud2``).
 
     Raises LookupError (or ValueError for a malformed name) otherwise. Types derived from
     services and actions (``pkg/srv/...``, ``pkg/action/...``, e.g. an action's feedback
     topic) are refused too: rosbags writes message-definition text for ``pkg/msg/`` names only.
     """
-    from posekit.msgs.registry import get_message_class, normalize_type_name
+    from posekit.msgs.registry import find_message_class, normalize_type_name
 
     name = normalize_type_name(type_name)
     if name.split("/")[1] != "msg":
         raise LookupError(f"{name}: no message-definition text for service or action types")
-    msg_class = get_message_class(name)
     if name not in get_typestore().fielddefs:
-        raise LookupError(name)
-    return name, msg_class
+        raise LookupError(f"{name}: no ROS 2 Jazzy definition known")
+    return name, find_message_class(name)
 
 def _build_store() -> Any:
     from rosbags.typesys import Stores
@@ -222,7 +226,12 @@ def _codec(typename: str) -> _Codec:
         msgdef = store.get_msgdef(typename)
         plan = _make_plan(store, typename, {})
         tail: str | None = None
-        fields = msgdef.fields
+        after = 0
+        fields = list(msgdef.fields)
+        # Trailing one-byte scalars (alignment 1, no padding) may follow the byte sequence.
+        while fields and fields[-1][1][0] == Nodetype.BASE and fields[-1][1][1][0] in _ONE_BYTE:
+            fields.pop()
+            after += 1
         if fields:
             name, desc = fields[-1]
             if (
@@ -241,6 +250,7 @@ def _codec(typename: str) -> _Codec:
             plan,
             _compile_fast_check(plan) if plan is not None else None,
             tail,
+            after if tail is not None else 0,
         )
         _codecs[typename] = codec
     return codec
@@ -362,7 +372,8 @@ def to_cdr(msg: Any, msg_type: str | None = None) -> bytes:
         CdrError: a field does not fit its ROS type (the message names which).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
-    codec = _class_codecs.get(type(msg)) if msg_type is None else None
+    # Fast paths: the message's class, or a type name already in its full form.
+    codec = _class_codecs.get(type(msg)) if msg_type is None else _codecs.get(msg_type)
     if codec is None:
         name = _resolve_name(msg_type) if msg_type is not None else _resolve_name(type(msg))
         codec = _codecs.get(name) or _codec(name)
@@ -471,7 +482,10 @@ def _to_cdr_tail(msg: Any, codec: _Codec, store: Any) -> bytes:
     raw[1] = 1
     codec.serialize(memoryview(raw)[4:], 0, head_msg, store)
     count = tail.shape[0] if isinstance(tail, np.ndarray) else len(tail)
-    _U32.pack_into(raw, size - 4, count)
+    split = size - codec.tail_after  # the one-byte fields after the sequence follow it
+    _U32.pack_into(raw, split - 4, count)
+    if codec.tail_after:
+        return b"".join((memoryview(raw)[:split], tail, memoryview(raw)[split:]))
     return b"".join((raw, tail))
 
 

@@ -1,8 +1,10 @@
-"""sensor_msgs: Image, CameraInfo, Imu, JointState, LaserScan, RegionOfInterest.
+"""sensor_msgs: Image, CameraInfo, Imu, JointState, LaserScan, PointCloud2, PointField,
+RegionOfInterest.
 
 Bulk fields are numpy arrays, never per-element Python lists: ``Image.data`` is a 1-D uint8
 array (or bytes), covariances and the camera matrices are float64 arrays of the ROS length,
-``LaserScan.ranges`` and ``intensities`` are float32 arrays.
+``LaserScan.ranges`` and ``intensities`` are float32 arrays, ``PointCloud2.data`` a uint8
+array (:mod:`posekit.msgs.point_cloud2` reads and builds clouds as numpy structured arrays).
 """
 
 from __future__ import annotations
@@ -17,7 +19,16 @@ from posekit.msgs._base import array_aware_eq
 from posekit.msgs.geometry_msgs import Quaternion, Vector3
 from posekit.msgs.std_msgs import Header
 
-__all__ = ["CameraInfo", "Image", "Imu", "JointState", "LaserScan", "RegionOfInterest"]
+__all__ = [
+    "CameraInfo",
+    "Image",
+    "Imu",
+    "JointState",
+    "LaserScan",
+    "PointCloud2",
+    "PointField",
+    "RegionOfInterest",
+]
 
 
 def _f64(n: int) -> npt.NDArray[np.float64]:
@@ -133,4 +144,44 @@ class LaserScan:
     ranges: npt.NDArray[np.float32] = field(default_factory=_empty_f32)
     intensities: npt.NDArray[np.float32] = field(default_factory=_empty_f32)
     __msgtype__: ClassVar[str] = "sensor_msgs/msg/LaserScan"
+    __eq__ = array_aware_eq
+
+
+@dataclass(slots=True)
+class PointField:
+    """sensor_msgs/msg/PointField: one field of a point: ``name``, byte ``offset`` in the
+    point, ``datatype`` (one of the constants below) and ``count`` elements."""
+
+    INT8: ClassVar[int] = 1
+    UINT8: ClassVar[int] = 2
+    INT16: ClassVar[int] = 3
+    UINT16: ClassVar[int] = 4
+    INT32: ClassVar[int] = 5
+    UINT32: ClassVar[int] = 6
+    FLOAT32: ClassVar[int] = 7
+    FLOAT64: ClassVar[int] = 8
+
+    name: str = ""
+    offset: int = 0
+    datatype: int = 0
+    count: int = 0
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/PointField"
+
+
+@dataclass(slots=True, eq=False)
+class PointCloud2:
+    """sensor_msgs/msg/PointCloud2: ``height`` rows of ``width`` points (``height`` 1 for an
+    unordered cloud), each ``point_step`` bytes laid out by ``fields``; ``row_step`` bytes per
+    row; ``is_dense`` false when some points are invalid (NaN)."""
+
+    header: Header = field(default_factory=Header)
+    height: int = 0
+    width: int = 0
+    fields: list[PointField] = field(default_factory=list)
+    is_bigendian: bool = False
+    point_step: int = 0
+    row_step: int = 0
+    data: npt.NDArray[np.uint8] = field(default_factory=_empty_u8)
+    is_dense: bool = False
+    __msgtype__: ClassVar[str] = "sensor_msgs/msg/PointCloud2"
     __eq__ = array_aware_eq

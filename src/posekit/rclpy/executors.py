@@ -4,9 +4,9 @@ from posekit.runtime.executors import (
     Executor,
     ExternalShutdownException,
     MultiThreadedExecutor,
-    SimulatedTimeExecutor,
     SingleThreadedExecutor,
 )
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 __all__ = [
     "Executor",

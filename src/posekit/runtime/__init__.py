@@ -1,7 +1,8 @@
-"""posekit's rclpy-style runtime: contexts, nodes, executors, clocks, QoS, the in-process bus
-and tf2_ros's broadcasters and listener. See docs/runtime.md.
+"""posekit's rclpy-style runtime: contexts, nodes, executors, clocks, QoS and the in-process
+bus. See docs/runtime.md.
 
-The rclpy-named facades (:mod:`posekit.rclpy`, :mod:`posekit.tf2_ros`) re-export from here.
+The rclpy-named facade :mod:`posekit.rclpy` re-exports from here; :mod:`posekit.tf2_ros`
+(the listener and broadcasters) is built on it, one layer up.
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ from posekit.runtime.executors import (
     Executor,
     Future,
     MultiThreadedExecutor,
-    SimulatedTimeExecutor,
     SingleThreadedExecutor,
     spin,
     spin_once,
@@ -27,6 +27,7 @@ from posekit.runtime.qos import (
     ReliabilityPolicy,
     qos_profile_sensor_data,
 )
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 __all__ = [
     "Clock",

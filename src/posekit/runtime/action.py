@@ -283,7 +283,7 @@ class ActionServer:
         self._result_timeout_ns = round(result_timeout * 1e9)
         self._lock = threading.RLock()
         self._goals: dict[bytes, ServerGoalHandle] = {}
-        self._results: dict[bytes, Future] = {}
+        self._results: dict[bytes, Future[Any]] = {}
         impl = action_type.Impl
         names = action_topic_names(action_name)
         group = callback_group or node.default_callback_group
@@ -481,11 +481,11 @@ class ClientGoalHandle:
         """The last known action_msgs/GoalStatus STATUS_* value."""
         return self._status
 
-    def cancel_goal_async(self) -> Future:
+    def cancel_goal_async(self) -> Future[Any]:
         """Ask the server to cancel; the Future completes with the CancelGoal response."""
         return self._client._cancel_goal_async(self)
 
-    def get_result_async(self) -> Future:
+    def get_result_async(self) -> Future[Any]:
         """The Future of the GetResult response (``.status``, ``.result``)."""
         return self._client._get_result_async(self)
 
@@ -574,7 +574,7 @@ class ActionClient:
         return True
 
     def send_goal_async(self, goal: Any, feedback_callback: Callable[[Any], Any] | None = None,
-                        goal_uuid: UUID | None = None) -> Future:
+                        goal_uuid: UUID | None = None) -> Future[Any]:
         """Send ``goal``; the Future completes with a :class:`ClientGoalHandle` (check
         ``accepted``). ``feedback_callback(feedback_message)`` gets this goal's feedback."""
         if not isinstance(goal, self._action_type.Goal):
@@ -587,9 +587,9 @@ class ActionClient:
         if feedback_callback is not None:
             with self._lock:
                 self._feedback_callbacks[key] = feedback_callback
-        result = Future()
+        result: Future[Any] = Future()
 
-        def on_response(future: Future) -> None:
+        def on_response(future: Future[Any]) -> None:
             if future.cancelled() or future.exception() is not None:
                 result.set_exception(future.exception() or RuntimeError("goal request dropped"))
                 return
@@ -612,24 +612,25 @@ class ActionClient:
         The node must be spun in another thread."""
         future = self.send_goal_async(goal, **kwargs)
         future.wait()
-        handle = future.result()
+        handle: Any = future.result()
         if not handle.accepted:
             return None
         return handle.get_result()
 
-    def _get_result_async(self, handle: ClientGoalHandle) -> Future:
+    def _get_result_async(self, handle: ClientGoalHandle) -> Future[Any]:
         request = self._action_type.Impl.GetResultService.Request(goal_id=handle.goal_id)
         future = self._get_result.call_async(request)
 
-        def done(f: Future) -> None:
+        def done(f: Future[Any]) -> None:
             if f.exception() is None and not f.cancelled():
-                handle._status = f.result().status
+                response: Any = f.result()
+                handle._status = response.status
                 self._forget(handle)
 
         future.add_done_callback(done)
         return future
 
-    def _cancel_goal_async(self, handle: ClientGoalHandle) -> Future:
+    def _cancel_goal_async(self, handle: ClientGoalHandle) -> Future[Any]:
         request = CancelGoal.Request(goal_info=GoalInfo(goal_id=handle.goal_id))
         return self._cancel.call_async(request)
 

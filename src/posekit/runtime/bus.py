@@ -68,6 +68,7 @@ import numpy as np
 from posekit.runtime.qos import (
     DurabilityPolicy,
     QoSCompatibility,
+    QoSProfile,
     check_qos_compatibility,
 )
 from posekit.runtime.transport import (
@@ -646,6 +647,12 @@ class InProcessBus(Transport):
     def count_subscribers(self, topic: str) -> int:
         t = self._topics.get(topic)
         return len(t.subscriptions) if t is not None else 0
+
+    def publisher_qos_profiles(self, topic: str) -> list[QoSProfile]:
+        """The profile each publisher on ``topic`` was created with."""
+        with self._lock:
+            t = self._topics.get(topic)
+            return [p.info.qos for p in t.publishers] if t is not None else []
 
     def close(self) -> None:
         with self._lock:

@@ -4,7 +4,7 @@
 * ``Clock(clock_type=ClockType.STEADY_TIME)``: monotonic time.
 * :class:`ROSClock` (``ClockType.ROS_TIME``, what ``node.get_clock()`` returns): system time
   until ROS time is activated (``use_sim_time``), then the last time received on ``/clock``
-  (or set by a :class:`~posekit.runtime.executors.SimulatedTimeExecutor`); 0 before the first.
+  (or set by a :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor`); 0 before the first.
 
 Jump callbacks (``create_jump_callback``) fire on a ROS clock when the simulated time moves by
 more than a threshold (backwards: ``delta <= min_backward``, a negative Duration; forwards:

@@ -132,6 +132,10 @@ class Subscription:
         self.qos_profile = qos
         self.callback_group = callback_group
         self.queue: deque[tuple[int, Any]] = deque(maxlen=qos.queue_limit)
+        #: The node's hand-off to its executor (posekit's, not rclpy API).
+        self.handoff = node.handoff
+        #: What an executor's error report calls this callback.
+        self.callback_description = f"subscription callback on '{topic}'"
         self._seq = node.context.seq
         self._endpoint: SubscriptionEndpoint | None = None
         self.destroyed = False
@@ -149,11 +153,9 @@ class Subscription:
                 publication_sequence_number=0, reception_sequence_number=0))
         seq = next(self._seq)
         self.queue.append((seq, msg))
-        executor = self._node._executor
-        if executor is not None:  # inlined Executor._message_ready (hot path)
-            executor._fifo.append((seq, self))
-            if executor._waiting:
-                executor._wake_event.set()
+        inbox = self.handoff.inbox
+        if inbox is not None:
+            inbox.put(seq, self)
 
     @property
     def topic_name(self) -> str:
@@ -191,6 +193,9 @@ class Timer:
     period from the new time.
     """
 
+    #: What an executor's error report calls this callback.
+    callback_description = "timer callback"
+
     def __init__(
         self,
         node: Node,
@@ -208,10 +213,14 @@ class Timer:
         self.clock = clock
         self.callback_group = callback_group
         self.seq = next(node.context.seq)
+        #: The node's hand-off to its executor (posekit's, not rclpy API).
+        self.handoff = node.handoff
         self._canceled = not autostart
         now = clock.now_ns()
-        self._last_ns = now
-        self._next_ns = now + self._period_ns
+        #: Clock time (ns) of the last call (or the start); read-only for users.
+        self.last_call_ns = now
+        #: Clock time (ns) of the next call; read-only for users.
+        self.next_call_ns = now + self._period_ns
         self.destroyed = False
 
     @property
@@ -224,11 +233,6 @@ class Timer:
         self._period_ns = int(value)
         self.reset()
 
-    @property
-    def next_call_ns(self) -> int:
-        """Clock time (ns) of the next call."""
-        return self._next_ns
-
     def is_canceled(self) -> bool:
         """True after cancel()."""
         return self._canceled
@@ -236,21 +240,20 @@ class Timer:
     def cancel(self) -> None:
         """Stop calling until reset()."""
         self._canceled = True
+        self.handoff.timers_changed()
 
     def reset(self) -> None:
         """Restart: next call one period from now."""
         now = self.clock.now_ns()
         self._canceled = False
-        self._last_ns = now
-        self._next_ns = now + self._period_ns
-        executor = self._node._executor
-        if executor is not None:
-            executor._timer_changed(self)
+        self.last_call_ns = now
+        self.next_call_ns = now + self._period_ns
+        self.handoff.timers_changed()
 
     def _check_jump(self, now: int) -> None:
-        if now < self._last_ns:
-            self._last_ns = now
-            self._next_ns = now + self._period_ns
+        if now < self.last_call_ns:  # the clock jumped back: restart the period
+            self.last_call_ns = now
+            self.next_call_ns = now + self._period_ns
 
     def is_ready(self) -> bool:
         """Whether the next call is due."""
@@ -258,7 +261,7 @@ class Timer:
             return False
         now = self.clock.now_ns()
         self._check_jump(now)
-        return now >= self._next_ns
+        return now >= self.next_call_ns
 
     def time_until_next_call(self) -> int | None:
         """Nanoseconds until the next call (<= 0 if due), None if canceled."""
@@ -266,16 +269,18 @@ class Timer:
             return None
         now = self.clock.now_ns()
         self._check_jump(now)
-        return self._next_ns - now
+        return self.next_call_ns - now
 
     def time_since_last_call(self) -> int:
         """Nanoseconds since the last call (or the start)."""
-        return self.clock.now_ns() - self._last_ns
+        return self.clock.now_ns() - self.last_call_ns
 
-    def _mark_called(self) -> None:
+    def mark_called(self) -> None:
+        """An executor took this timer's call now: the next call moves one period on (to
+        the first one after now, skipping missed periods)."""
         now = self.clock.now_ns()
-        self._last_ns = now
-        nxt = self._next_ns + self._period_ns
+        self.last_call_ns = now
+        nxt = self.next_call_ns + self._period_ns
         if nxt <= now and self._period_ns > 0:
             missed = (now - nxt) // self._period_ns + 1
             nxt += missed * self._period_ns
@@ -283,7 +288,7 @@ class Timer:
             # "As often as possible": ready again as soon as the clock moves (a frozen sim
             # clock would otherwise re-fire it forever within one step).
             nxt = now + 1
-        self._next_ns = nxt
+        self.next_call_ns = nxt
 
     def destroy(self) -> bool:
         """Same as ``node.destroy_timer(self)``."""

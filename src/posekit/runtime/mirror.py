@@ -48,7 +48,7 @@ from collections import deque
 from typing import Any
 
 from posekit.runtime.bus import snapshot
-from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
@@ -287,6 +287,9 @@ class MirroredTransport(Transport):
 
     def count_subscribers(self, topic: str) -> int:
         return self.network.count_subscribers(topic)
+
+    def publisher_qos_profiles(self, topic: str) -> list[QoSProfile] | None:
+        return self.network.publisher_qos_profiles(topic)
 
     def get_node_names(self) -> list[str]:
         """Fully qualified node names on the network graph."""

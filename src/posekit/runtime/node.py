@@ -26,6 +26,7 @@ from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCall
 from posekit.runtime.clock import Clock, ROSClock
 from posekit.runtime.context import Context, NotInitializedException, get_default_context
 from posekit.runtime.entities import Publisher, Subscription, Timer
+from posekit.runtime.inbox import Handoff
 from posekit.runtime.logging import RcutilsLogger
 from posekit.runtime.names import (
     RemapRule,
@@ -189,7 +190,10 @@ class Node:
             self._transport = self._context.transport(transport)
         self._transport.declare_node(self._name, self._namespace)
 
-        self._executor: Executor | None = None
+        self._time_source = TimeSource(self)
+        #: The hand-off between this node's entities and its executor (posekit's, not rclpy
+        #: API; see :mod:`posekit.runtime.inbox`).
+        self.handoff = Handoff(self, self._queued_entities, self._time_source)
         self._publishers: list[Publisher] = []
         self._subscriptions: list[Subscription] = []
         self._timers: list[Timer] = []
@@ -210,7 +214,6 @@ class Node:
             ParameterEvent, "/parameter_events", qos_profile_parameter_events
         )
         self._parameters.on_event = self._publish_parameter_event
-        self._time_source = TimeSource(self)
         self._time_source.attach_clock(self._clock)
         self._parameters.add_post_set(self._on_parameters_set)
         self._parameters.add_on_set(self._check_use_sim_time)
@@ -235,14 +238,16 @@ class Node:
     @property
     def executor(self) -> Executor | None:
         """The executor the node was added to, if any."""
-        return self._executor
+        executor: Executor | None = self.handoff.executor
+        return executor
 
     @executor.setter
     def executor(self, new_executor: Executor | None) -> None:
-        if new_executor is self._executor:
+        current = self.executor
+        if new_executor is current:
             return
-        if self._executor is not None:
-            self._executor.remove_node(self)
+        if current is not None:
+            current.remove_node(self)
         if new_executor is not None:
             new_executor.add_node(self)
 
@@ -367,8 +372,7 @@ class Node:
             self._subscriptions.remove(sub)
             raise
         sub._attach(endpoint)
-        if self._executor is not None:
-            self._executor._node_changed(self)
+        self.handoff.entities_changed()
         return sub
 
     def create_timer(
@@ -402,8 +406,7 @@ class Node:
             autostart,
         )
         self._timers.append(timer)
-        if self._executor is not None:
-            self._executor._node_changed(self)
+        self.handoff.entities_changed()
         return timer
 
     def create_rate(self, frequency: float, clock: Clock | None = None) -> Rate:
@@ -526,8 +529,7 @@ class Node:
         if subscription in self._subscriptions:
             self._subscriptions.remove(subscription)
             subscription._destroy()
-            if self._executor is not None:
-                self._executor._node_changed(self)
+            self.handoff.entities_changed()
             return True
         return False
 
@@ -536,8 +538,7 @@ class Node:
         if timer in self._timers:
             self._timers.remove(timer)
             timer.destroyed = True
-            if self._executor is not None:
-                self._executor._node_changed(self)
+            self.handoff.entities_changed()
             return True
         return False
 
@@ -570,8 +571,9 @@ class Node:
         """Destroy every entity and leave the executor; the node is unusable afterwards."""
         if self._destroyed:
             return True
-        if self._executor is not None:
-            self._executor.remove_node(self)
+        executor = self.executor
+        if executor is not None:
+            executor.remove_node(self)
         for pub in list(self._publishers):
             self.destroy_publisher(pub)
         for sub in list(self._subscriptions):
@@ -586,7 +588,7 @@ class Node:
         if self._rosout is not None:
             self._rosout.destroy()
         self._transport.undeclare_node(self._name, self._namespace)
-        self._destroyed = True
+        self._destroyed = self.handoff.destroyed = True
         return True
 
     # -- graph ------------------------------------------------------------------------
@@ -650,8 +652,7 @@ class Node:
         for p in params:
             if p.name == "use_sim_time":
                 self._time_source.ros_time_is_active = bool(p.value)
-                if self._executor is not None:  # its timers may change clocks of record
-                    self._executor._node_changed(self)
+                self.handoff.entities_changed()  # its timers may change clocks of record
 
     def declare_parameter(
         self,

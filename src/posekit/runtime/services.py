@@ -9,7 +9,7 @@ executor instead).
 
 A client's ``call_async(request)`` returns a :class:`~posekit.runtime.task.Future`. The
 response is queued for the client's node's executor, which completes the future there (as
-rclpy does), so under :class:`~posekit.runtime.executors.SimulatedTimeExecutor` a request,
+rclpy does), so under :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` a request,
 its handling and its response happen in a reproducible order. ``call(request)`` blocks:
 
 * in a thread that is not spinning the node's executor, it waits for another thread (or
@@ -19,11 +19,26 @@ its handling and its response happen in a reproducible order. ``call(request)`` 
   keeps running that executor's other ready callbacks until the response arrives, so a
   server on another node of the same executor is served. A server in the caller's own
   mutually exclusive callback group cannot run meanwhile: pass ``timeout_sec``.
+
+Service introspection (ROS 2 Jazzy's, off by default as in rclpy):
+``configure_introspection(clock, qos, ServiceIntrospectionState.CONTENTS)`` on a Service or a
+Client publishes a ``<srv>_Event`` message (``service_msgs/msg/ServiceEventInfo info``,
+``request[<=1]``, ``response[<=1]``) on the hidden topic ``<service>/_service_event`` for each
+step of a call: a client's REQUEST_SENT and RESPONSE_RECEIVED, a server's REQUEST_RECEIVED
+(when its executor takes the request, as ``rcl_take_request``) and RESPONSE_SENT. ``info``
+holds the event type, the ``clock``'s time, the client's 16-byte id and the request's
+sequence number; METADATA leaves ``request``/``response`` empty, CONTENTS includes them, OFF
+removes the event publisher. A client numbers its requests 1, 2, ... and carries a random
+id; posekit's transports do not tell a server who called, so a server's events carry a
+zero client id and number the requests it took 1, 2, ... This is what ``ros2 bag record
+--services`` / ``posekit bag record --services`` record.
 """
 
 from __future__ import annotations
 
+import enum
 import inspect
+import os
 import threading
 import time
 import traceback
@@ -44,7 +59,82 @@ if TYPE_CHECKING:
     from posekit.runtime.executors import Executor
     from posekit.runtime.node import Node
 
-__all__ = ["Client", "Service"]
+__all__ = ["Client", "Service", "ServiceIntrospectionState"]
+
+#: What service introspection appends to a service name for its event topic (rcl's
+#: ``RCL_SERVICE_INTROSPECTION_TOPIC_POSTFIX``).
+SERVICE_EVENT_SUFFIX = "/_service_event"
+
+
+class ServiceIntrospectionState(enum.IntEnum):
+    """How much a service or client publishes about its calls (rclpy's enum)."""
+
+    OFF = 0
+    METADATA = 1
+    CONTENTS = 2
+
+
+class _EventType(enum.IntEnum):
+    """``service_msgs/msg/ServiceEventInfo`` event types."""
+
+    REQUEST_SENT = 0
+    REQUEST_RECEIVED = 1
+    RESPONSE_SENT = 2
+    RESPONSE_RECEIVED = 3
+
+
+class _Introspection:
+    """The event publisher of one service or client (see the module docstring)."""
+
+    def __init__(self, node: Node, srv_type: Any, service_name: str, clock: Any,
+                 qos: QoSProfile, state: ServiceIntrospectionState) -> None:
+        from posekit.msgs._service import service_type_name
+        from posekit.msgs.cdr import get_typestore
+
+        type_name = service_type_name(srv_type)
+        types = get_typestore().types
+        self._event_cls = types[f"{type_name}_Event"]
+        self._info_cls = types["service_msgs/msg/ServiceEventInfo"]
+        self._clock = clock
+        self.state = state
+        self.publisher = node.create_publisher(
+            self._event_cls, service_name + SERVICE_EVENT_SUFFIX, qos)
+
+    def publish(self, event_type: _EventType, client_gid: bytes, sequence_number: int,
+                request: Any = None, response: Any = None) -> None:
+        import numpy as np
+
+        contents = self.state == ServiceIntrospectionState.CONTENTS
+        info = self._info_cls(
+            event_type=int(event_type),
+            stamp=self._clock.now().to_msg(),
+            client_gid=np.frombuffer(client_gid, dtype=np.uint8).copy(),
+            sequence_number=int(sequence_number),
+        )
+        self.publisher.publish(self._event_cls(
+            info=info,
+            request=[request] if contents and request is not None else [],
+            response=[response] if contents and response is not None else [],
+        ))
+
+
+def _configure(current: _Introspection | None, node: Node, srv_type: Any, name: str,
+               clock: Any, qos: QoSProfile,
+               state: ServiceIntrospectionState | int) -> _Introspection | None:
+    """The introspection a ``configure_introspection`` call leaves in place."""
+    state = ServiceIntrospectionState(int(state))
+    if state == ServiceIntrospectionState.OFF:
+        if current is not None:
+            node.destroy_publisher(current.publisher)
+        return None
+    if current is not None:
+        current.state = state
+        current._clock = clock
+        return current
+    return _Introspection(node, srv_type, name, clock, qos, state)
+
+
+_NO_CLIENT = bytes(16)
 
 _spinning = threading.local()
 
@@ -75,6 +165,7 @@ class _Queued:
         self.callback_description = what
         self.queue: deque[tuple[int, Any]] = deque(maxlen=limit)
         self.destroyed = False
+        self.handoff = node.handoff
         self._seq = node.context.seq
 
     def enqueue(self, payload: Any) -> None:
@@ -82,9 +173,9 @@ class _Queued:
             return
         seq = next(self._seq)
         self.queue.append((seq, payload))
-        executor = self._node._executor
-        if executor is not None:
-            executor._message_ready(seq, self)  # type: ignore[arg-type]
+        inbox = self.handoff.inbox
+        if inbox is not None:
+            inbox.put(seq, self)
 
 
 class Service:
@@ -116,6 +207,15 @@ class Service:
             f"service callback of '{srv_name}'", qos.queue_limit,
         )
         self._endpoint: ServiceServerEndpoint | None = None
+        self._introspection: _Introspection | None = None
+        self._taken = 0  # requests taken, numbering the server's introspection events
+
+    def configure_introspection(self, clock: Any, service_event_qos_profile: QoSProfile,
+                                introspection_state: ServiceIntrospectionState | int) -> None:
+        """Publish (or stop publishing) this server's service events (module docstring)."""
+        self._introspection = _configure(
+            self._introspection, self._node, self.srv_type, self._srv_name, clock,
+            service_event_qos_profile, introspection_state)
 
     def _attach(self, endpoint: ServiceServerEndpoint) -> None:
         self._endpoint = endpoint
@@ -126,9 +226,15 @@ class Service:
 
     def _handle(self, payload: tuple[Any, ResponseSink]) -> None:
         request, respond = payload
+        introspection = self._introspection
+        if introspection is not None:
+            self._taken += 1
+            sequence = self._taken
+            introspection.publish(_EventType.REQUEST_RECEIVED, _NO_CLIENT, sequence, request)
+            respond = self._introspected(respond, sequence)
         result = self.callback(request, self.srv_type.Response())
         if inspect.iscoroutine(result):
-            executor = self._node._executor
+            executor = self._node.executor
             if executor is None:  # cannot happen from the executor; be safe
                 result.close()
                 return
@@ -137,7 +243,17 @@ class Service:
             return
         self._send(result, respond)
 
-    def _finish(self, future: Future, respond: ResponseSink) -> None:
+    def _introspected(self, respond: ResponseSink, sequence: int) -> ResponseSink:
+        def send(response: Any) -> None:
+            introspection = self._introspection
+            if introspection is not None:
+                introspection.publish(_EventType.RESPONSE_SENT, _NO_CLIENT, sequence,
+                                      response=response)
+            respond(response)
+
+        return send
+
+    def _finish(self, future: Future[Any], respond: ResponseSink) -> None:
         exc = future.exception()
         if exc is not None:
             tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
@@ -198,20 +314,29 @@ class Client:
         self.callback_group = callback_group
         self._endpoint = endpoint
         self._lock = threading.Lock()
-        self._pending: dict[int, Future] = {}
+        self._pending: dict[int, Future[Any]] = {}
         self._next_id = 1
         self._queued = _Queued(
             node, srv_name, callback_group, self._complete,
             f"client response of '{srv_name}'",
         )
         self._destroyed = False
+        self._introspection: _Introspection | None = None
+        self._gid = os.urandom(16)  # this client's id in its introspection events
+
+    def configure_introspection(self, clock: Any, service_event_qos_profile: QoSProfile,
+                                introspection_state: ServiceIntrospectionState | int) -> None:
+        """Publish (or stop publishing) this client's service events (module docstring)."""
+        self._introspection = _configure(
+            self._introspection, self._node, self.srv_type, self._srv_name, clock,
+            service_event_qos_profile, introspection_state)
 
     @property
     def service_name(self) -> str:
         """Fully qualified (expanded, remapped) service name."""
         return self._srv_name
 
-    def _send(self, request: Any, direct: bool) -> Future:
+    def _send(self, request: Any, direct: bool) -> Future[Any]:
         if self._destroyed:
             raise RuntimeError(f"client of '{self._srv_name}' has been destroyed")
         if not isinstance(request, self.srv_type.Request):
@@ -219,18 +344,21 @@ class Client:
                 f"Request must be instance of '{self.srv_type.Request.__name__}', "
                 f"got '{type(request).__name__}'"
             )
-        future = Future()
+        future: Future[Any] = Future()
         with self._lock:
             request_id = self._next_id
             self._next_id += 1
             self._pending[request_id] = future
 
         def on_response(response: Any) -> None:
-            if direct or self._node._executor is None:
+            if direct or self._node.executor is None:
                 self._complete((request_id, response))
             else:
                 self._queued.enqueue((request_id, response))
 
+        introspection = self._introspection
+        if introspection is not None:
+            introspection.publish(_EventType.REQUEST_SENT, self._gid, request_id, request)
         self._endpoint.send_request(request, on_response)
         return future
 
@@ -238,10 +366,16 @@ class Client:
         request_id, response = payload
         with self._lock:
             future = self._pending.pop(request_id, None)
-        if future is not None and not future.done():
+        if future is None:
+            return
+        introspection = self._introspection
+        if introspection is not None:
+            introspection.publish(_EventType.RESPONSE_RECEIVED, self._gid, request_id,
+                                  response=response)
+        if not future.done():
             future.set_result(response)
 
-    def call_async(self, request: Any) -> Future:
+    def call_async(self, request: Any) -> Future[Any]:
         """Send ``request``; the Future completes with the response (on the executor)."""
         return self._send(request, direct=False)
 
@@ -262,7 +396,7 @@ class Client:
             return None
         return future.result()
 
-    def remove_pending_request(self, future: Future) -> None:
+    def remove_pending_request(self, future: Future[Any]) -> None:
         """Forget a pending request; its response, if it comes, is dropped."""
         with self._lock:
             for request_id, pending in list(self._pending.items()):

@@ -7,7 +7,7 @@ second simulation or a stray ``topic pub /clock`` cannot move this node's time. 
 followed source falls silent for :data:`SOURCE_SILENCE_S` wall seconds (a simulation that
 was stopped and started again), the next source that speaks is followed instead (logged).
 
-A node on a :class:`~posekit.runtime.executors.SimulatedTimeExecutor` is *driven*: the
+A node on a :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` is *driven*: the
 executor sets its time at every step, and the node does not follow (nor receive) ``/clock``
 at all, so nothing outside the simulation can disturb the simulation's own nodes.
 """

@@ -24,8 +24,10 @@ Contract for implementations:
   and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
   in-process bus ignores it (everything on it is local). This is what
   :class:`posekit.runtime.mirror.MirroredTransport` builds on.
+* ``publisher_qos_profiles(topic)`` (optional) lists the QoS each publisher on a topic
+  offers, None when the transport cannot tell.
 * ``crosses_processes`` says whether the endpoints are visible to other processes (a network
-  transport). A :class:`~posekit.runtime.executors.SimulatedTimeExecutor` publishes
+  transport). A :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` publishes
   ``/clock`` exactly when one of its nodes sits on such a transport.
 * ``subscribe_with_source(info, sink)`` is ``subscribe`` whose sink also gets an opaque id of
   the sending publisher (bytes, e.g. rmw_zenoh's GID) or None when the transport cannot tell;
@@ -247,6 +249,13 @@ class Transport(ABC):
     @abstractmethod
     def count_subscribers(self, topic: str) -> int:
         """Subscriptions on a fully qualified topic."""
+
+    def publisher_qos_profiles(self, topic: str) -> list[QoSProfile] | None:
+        """The QoS each publisher on ``topic`` offers (one profile per publisher, as far as
+        the graph tells: reliability, durability, history and depth), or None when this
+        transport cannot tell (default). Passive observers subscribe with a profile every
+        offer matches (:mod:`posekit.runtime.observe`)."""
+        return None
 
     #: Whether :meth:`create_service_server` / :meth:`create_service_client` work.
     supports_services: bool = False

@@ -12,11 +12,17 @@ imported only when a bridge starts; without it :meth:`FoxgloveBridge.start` rais
 :class:`~posekit.viewer.errors.ViewerError` saying what to install.
 
 Like :class:`~posekit.viewer.taps.ViewerTap` it listens on a transport without a node in any
-executor, and subscribes only to topics that have a publisher. Every topic whose type has a
-ROS 2 definition becomes one Foxglove channel with schema encoding ``ros2msg`` (the
-definition text with its dependencies, the format ROS 2's MCAP writer uses) and message
-encoding ``cdr``, so Foxglove decodes posekit's messages natively. Messages are logged with
-``log_time`` from the same clock as ``time``.
+executor, through :class:`posekit.runtime.observe.TopicObserver`: it subscribes only to
+topics that have a publisher, with a QoS every publisher matches (best effort as soon as one
+publisher is, transient local when all are: latched ``/tf_static`` and
+``/robot_description``), and a topic whose publishers leave is unadvertised (its channel
+closed) and advertised again if it comes back. Every topic whose type has a ROS 2 Jazzy
+definition (posekit's messages, and any other Jazzy message such as
+``sensor_msgs/msg/PointCloud2``) becomes one Foxglove channel with schema encoding
+``ros2msg`` (the definition text with its dependencies, the format ROS 2's MCAP writer uses)
+and message encoding ``cdr``, so Foxglove decodes the messages natively (``LaserScan`` and
+``PointCloud2`` go to its 3D and plot panels as from a ROS 2 system). Messages are logged
+with ``log_time`` from the same clock as ``time``.
 
 Both WebSocket subprotocols are accepted: ``foxglove.sdk.v1`` (the Foxglove app, foxglove-sdk)
 and ``foxglove.websocket.v1`` (older clients and the open-source Lichtblick fork; the protocol
@@ -49,12 +55,13 @@ from typing import Any
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.logging import RcutilsLogger, get_logger
-from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped
+from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
+    MessageSink,
     PublisherEndpoint,
-    SubscriptionEndpoint,
     TopicTypeMismatchError,
     Transport,
 )
@@ -78,9 +85,6 @@ _MAX_CLIENT_CHANNELS = 32
 _PUBLISH_QOS = QoSProfile(depth=10)
 _STATIC_TOPIC = "/tf_static"
 _NODE_NAME = "posekit_foxglove_bridge"
-# Best effort + volatile matches every publisher; /tf_static needs transient local.
-_ANY_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
-_STATIC_QOS = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 def _import_foxglove() -> Any:
@@ -148,8 +152,11 @@ class FoxgloveBridge:
         self._front: _SubprotocolFront | None = None
         self._lock = threading.Lock()
         self._channels: dict[str, Any] = {}
-        self._endpoints: dict[str, SubscriptionEndpoint] = {}
-        self._skipped: dict[str, str] = {}
+        self._observer = TopicObserver(
+            transport, self._sink_for, on_removed=self._remove_channel,
+            on_skipped=self._log_skip, node_name=_NODE_NAME, depth=10,
+            resolve=_channel_class, logger=self.logger,
+        )
         self._static: dict[str, Any] = {}  # child frame -> newest static TransformStamped
         self._fox: Any = None
         self._context: Any = None
@@ -244,12 +251,10 @@ class FoxgloveBridge:
         self._stop.set()
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=5.0)
+        self._observer.close()
         with self._lock:
-            endpoints: list[SubscriptionEndpoint | PublisherEndpoint] = [
-                *self._endpoints.values(), *(p for p, _ in self._publishers.values())
-            ]
+            endpoints = [p for p, _ in self._publishers.values()]
             channels = list(self._channels.values())
-            self._endpoints.clear()
             self._channels.clear()
             self._publishers.clear()
         if self._front is not None:
@@ -281,27 +286,14 @@ class FoxgloveBridge:
 
     def skipped(self) -> dict[str, str]:
         """Topics not served, with the reason."""
-        with self._lock:
-            return dict(self._skipped)
+        return self._observer.skipped
 
     def refresh(self) -> list[str]:
-        """Serve topics that appeared since the last call; returns the topics added."""
+        """Serve topics that appeared since the last call (and unadvertise those whose
+        publishers left); returns the topics added."""
         if self._closed or self._server is None:
             return []
-        try:
-            names_and_types = self.transport.get_topic_names_and_types()
-        except Exception as exc:  # a failing graph query must not kill the bridge
-            self.logger.warning(f"foxglove bridge: graph query failed: {exc}")
-            return []
-        added = []
-        for topic, types in names_and_types:
-            with self._lock:
-                known = topic in self._channels or topic in self._skipped
-            if known or self.transport.count_publishers(topic) <= 0:
-                continue
-            if self._add_topic(topic, types[0] if types else ""):
-                added.append(topic)
-        return added
+        return self._observer.refresh()
 
     def _background(self) -> None:
         """Send ``time`` every 0.1 s while no /clock drives it; refresh topics periodically."""
@@ -395,42 +387,36 @@ class FoxgloveBridge:
             self._warn("foxglove bridge: dropped a client message",
                        f"{type(exc).__name__}: {exc}")
 
-    def _skip(self, topic: str, reason: str) -> bool:
-        with self._lock:
-            self._skipped[topic] = reason
+    def _log_skip(self, topic: str, reason: str) -> None:
         self.logger.warning(f"foxglove bridge: not serving '{topic}': {reason}")
-        return False
 
-    def _add_topic(self, topic: str, type_name: str) -> bool:
-        from posekit.msgs.cdr import get_typestore, serializable_type
+    def _sink_for(self, observed: ObservedTopic) -> MessageSink:
+        """Advertise a channel for a topic the observer starts observing."""
+        from posekit.msgs.cdr import get_typestore
 
+        type_name = observed.type_name
         try:
-            type_name, msg_class = serializable_type(type_name)
             definition, _ = get_typestore().generate_msgdef(type_name, ros_version=2)
-        except (LookupError, ValueError, UnknownMessageTypeError):
-            return self._skip(topic, f"type {type_name!r} has no ROS 2 message definition")
+        except (LookupError, ValueError, AssertionError) as exc:
+            raise TopicSkipped(f"type {type_name!r} has no ROS 2 message definition "
+                               f"({exc})") from None
         fox = self._fox
         schema = fox.Schema(name=type_name, encoding="ros2msg", data=definition.encode())
         channel = fox.Channel(
-            topic, schema=schema, message_encoding="cdr", context=self._context
+            observed.name, schema=schema, message_encoding="cdr", context=self._context
         )
-        qos = _STATIC_QOS if topic == _STATIC_TOPIC else _ANY_QOS
-        info = EndpointInfo(topic, msg_class, qos, _NODE_NAME, "/", self.logger)
         with self._lock:
-            self._channels[topic] = channel
-        try:
-            endpoint = self.transport.subscribe(info, self._make_sink(topic, type_name, channel))
-        except TopicTypeMismatchError as exc:
-            with self._lock:
-                self._channels.pop(topic, None)
+            self._channels[observed.name] = channel
+        return self._make_sink(observed.name, type_name, channel)
+
+    def _remove_channel(self, topic: str) -> None:
+        """Unadvertise the channel of a topic no longer observed."""
+        with self._lock:
+            channel = self._channels.pop(topic, None)
+            if topic == _STATIC_TOPIC:
+                self._static.clear()
+        if channel is not None:
             channel.close()
-            return self._skip(topic, str(exc))
-        with self._lock:
-            if self._closed:  # stop() ran meanwhile
-                endpoint.destroy()
-                return False
-            self._endpoints[topic] = endpoint
-        return True
 
     def _make_sink(self, topic: str, type_name: str, channel: Any) -> Callable[[Any], None]:
         from posekit.msgs.cdr import to_cdr
@@ -467,6 +453,17 @@ class FoxgloveBridge:
         if channel is None or not transforms or self._closed:
             return
         channel.log(to_cdr(TFMessage(transforms=transforms)), log_time=self.now_ns())
+
+
+def _channel_class(type_name: str) -> type:
+    """The class of a type the bridge can serve (a message type with a ROS 2 definition)."""
+    from posekit.msgs.cdr import serializable_type
+
+    try:
+        return serializable_type(type_name)[1]
+    except (LookupError, ValueError, UnknownMessageTypeError) as exc:
+        raise LookupError(f"type {type_name!r} has no ROS 2 message definition ({exc})") \
+            from None
 
 
 class _SubprotocolFront:

@@ -22,6 +22,12 @@ polygon, so boxes partly behind the camera are drawn correctly; faces entirely b
 dropped. Lighting: per face, ``ambient + diffuse * max(0, n·(-sun))`` (directional sun of the
 course worlds), black cells at a fixed fraction of the white level.
 
+Walls: a world's walls (vertical faces from the ground to their height, seen from both sides)
+are drawn flat-shaded (``wall_albedo`` times the face light) where they are nearer than every
+box, by the inverse-depth z-buffer of :func:`posekit.robot.depth.rasterize`: a wall hides the
+boxes, ground and sky behind it, a box in front of a wall is drawn over it. Wall edges are
+not anti-aliased (pixel-centre coverage).
+
 Output: ``numpy.ndarray`` of shape ``(H, W, 3)``, dtype uint8, encoding **rgb8** (the scene is
 grey, so rgb8 and bgr8 hold the same bytes).
 """
@@ -37,9 +43,11 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from posekit.vision.box_model import ARUCO_BOX, ArucoBoxModel, BoxFace, marker_corners_local
+from posekit.robot.depth import SceneQuads, rasterize
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.errors import CameraModelError
+from posekit.worlds import ARUCO_BOX, ArucoBoxModel, BoxFace, marker_corners_local
+from posekit.worlds.obstacles import WallSegments
 
 __all__ = ["BoxRenderer", "VisibleMarker", "marker_texture", "render_boxes"]
 
@@ -170,6 +178,8 @@ class BoxRenderer:
         ground_level: grey level of the ground plane (0-255), ``None`` for no ground.
         sky_level: grey level above the horizon.
         cell_px: texels per marker cell at the finest texture level.
+        walls: the world's walls (see the module doc), ``None`` for none.
+        wall_albedo: brightness of a wall lit like a box face's white, fraction (0-1].
     """
 
     def __init__(
@@ -186,6 +196,8 @@ class BoxRenderer:
         ground_level: float | None = 105.0,
         sky_level: float = 190.0,
         cell_px: int = 64,
+        walls: WallSegments | None = None,
+        wall_albedo: float = 0.9,
     ) -> None:
         if not isinstance(supersample, int) or supersample < 1:
             raise CameraModelError(f"supersample must be a positive int, got {supersample!r}")
@@ -216,6 +228,8 @@ class BoxRenderer:
             for face in model.faces
         }
         self._T_box_marker = [(face, model.T_box_marker(face)) for face in model.faces]
+        self._wall_quads = SceneQuads.walls(walls) if walls is not None else SceneQuads.empty()
+        self.wall_albedo = float(wall_albedo)
 
     # -- geometry ----------------------------------------------------------------------------
 
@@ -379,6 +393,26 @@ class BoxRenderer:
         cv2.multiply(roi, cv2.bitwise_not(cover), dst=roi, scale=1.0 / 255.0)
         cv2.add(roi, grey, dst=roi)
 
+    def _draw_walls(self, canvas: U8Array, cam: PinholeCamera, T_wo: F64Array,
+                    boxes: Sequence[F64Array]) -> None:
+        """Paint the wall pixels nearer than any box face (z-buffers of walls and boxes)."""
+        quads = self._wall_quads
+        w_wall, idx = rasterize(cam, T_wo, quads, max_depth=cam.far)
+        if not np.any(idx >= 0):
+            return
+        w_box = np.zeros_like(w_wall)
+        if boxes:
+            half = 0.5 * self.model.size
+            box_quads = SceneQuads.boxes(np.stack(boxes), np.full((len(boxes), 3), half))
+            rasterize(cam, T_wo, box_quads, max_depth=cam.far, inverse_depth=w_box)
+        wall_px = w_wall > w_box
+        # Each face lit on the side the camera sees: normal flipped towards the camera.
+        towards = np.einsum("nk,nk->n", quads.normals, T_wo[:3, 3] - quads.corners[:, 0])
+        normals = quads.normals * np.where(towards >= 0.0, 1.0, -1.0)[:, None]
+        light = self.ambient + self.diffuse * np.maximum(0.0, normals @ self._to_sun)
+        grey = np.clip(np.rint(255.0 * self.wall_albedo * np.minimum(light, 1.0)), 0, 255)
+        canvas[wall_px] = grey.astype(np.uint8)[idx[wall_px]]
+
     def render(
         self, T_world_optical: npt.ArrayLike, boxes_T_world_box: Sequence[npt.ArrayLike]
     ) -> U8Array:
@@ -409,6 +443,8 @@ class BoxRenderer:
                 if float(T_om[:3, 2] @ T_om[:3, 3]) >= 0.0:
                     continue
                 self._draw_face(canvas, cam, face, T_om, T_wm[:3, 2])
+        if len(self._wall_quads):
+            self._draw_walls(canvas, cam, T_wo, boxes)
         if self.supersample > 1:
             canvas = np.asarray(
                 cv2.resize(canvas, (self.camera.width, self.camera.height),

@@ -42,8 +42,9 @@ from collections.abc import Mapping
 from typing import Any
 
 from posekit.launch import LaunchDescription, Node
+from posekit.launch.scenarios import register_scenario, scenario_node
 from posekit.robot.nodes import PControllerNode
-from posekit.robot.scenarios import register_scenario, robot_nodes, scenario_node
+from posekit.robot.scenarios import robot_nodes
 from posekit.vision.nodes import (
     ArucoMarkerListener,
     DynamicDetector,

@@ -13,12 +13,13 @@ from typing import Any
 
 import pytest
 
+import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
+from posekit.launch.scenarios import start_scenario
 from posekit.msgs.action_msgs import CancelGoal, GoalStatus
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.posekit_interfaces import NavigateToPose
 from posekit.robot._msgutil import yaw_quaternion
-from posekit.robot.scenarios import start_scenario
 from posekit.runtime.action import ActionClient
 from posekit.runtime.node import Node
 
@@ -69,7 +70,7 @@ class Operator:
 
 @pytest.fixture
 def operator() -> Iterator[Operator]:
-    run = start_scenario("p_controller", IDLE, record=False)
+    run = start_scenario("p_controller", IDLE)
     try:
         yield Operator(run)
     finally:

@@ -14,7 +14,7 @@ from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import StaticListenerQoS
+from posekit.tf2_ros import StaticListenerQoS
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.nodes import OakCameraNode, OverheadCameraNode
 from posekit.vision.nodes._common import stamp_msg

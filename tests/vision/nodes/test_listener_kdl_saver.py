@@ -14,7 +14,7 @@ from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import Image
 from posekit.msgs.std_msgs import Header
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
 from posekit.time import Time
 from posekit.vision.nodes import ArucoMarkerListener, ImageSaver, KdlChainDemo
 from posekit.vision.nodes._common import stamp_msg, transform_msg

@@ -26,7 +26,7 @@ from posekit.robot.ekf import Ekf2D
 from posekit.robot.nodes._util import declare, period_ns
 from posekit.robot.params import DEFAULT_EKF, EkfParams
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformBroadcaster
+from posekit.tf2_ros import TransformBroadcaster
 
 __all__ = ["EkfNode"]
 

@@ -93,7 +93,7 @@ class PControllerNode(Node):
         self.create_timer(1.0 / params.rate_hz, self._on_tick)
         # The running navigate_to_pose goal and the future its execute callback awaits
         # ("reached", "canceled" or "preempted"), completed by the control tick.
-        self._action_goal: tuple[ServerGoalHandle, Future] | None = None
+        self._action_goal: tuple[ServerGoalHandle, Future[Any]] | None = None
         self._last_rho = 0.0
         #: The navigate_to_pose server (None on a transport without services, e.g. DDS).
         self.navigate_action = ActionServer(
@@ -164,7 +164,7 @@ class PControllerNode(Node):
         self.goal_reached_ns = None
         self._phase = Phase.IDLE
         self.get_logger().info(f"navigate_to_pose goal: x={x:.2f}, y={y:.2f}, yaw={yaw:.2f}")
-        done = Future()
+        done: Future[Any] = Future()
         self._action_goal = (goal_handle, done)
         outcome = await done
         if outcome == "reached":

@@ -42,7 +42,7 @@ from posekit.robot.nodes._util import (
 from posekit.robot.odometry import WheelOdometry
 from posekit.robot.params import DEFAULT_DRIVE, WHEEL_JOINT_NAMES, DriveParams
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformBroadcaster
+from posekit.tf2_ros import TransformBroadcaster
 
 __all__ = ["WheelOdometryNode"]
 

@@ -15,6 +15,12 @@ topic                      type                        content
 ``scan``                   sensor_msgs/LaserScan       frame ``laser``, 10 Hz, 3000 beams, the
                                                        world's boxes and walls (only while
                                                        subscribed)
+``oak/stereo/depth``       sensor_msgs/Image           OAK-D depth, ``32FC1`` metres, 1280x720,
+                                                       30 Hz, 1-12 m, frame
+                                                       ``oak_rgb_camera_optical_frame`` (only
+                                                       while subscribed)
+``oak/stereo/depth/points`` sensor_msgs/PointCloud2    the same frame as an organised cloud
+                                                       (x, y, z, rgb; only while subscribed)
 ``/robot_description``     std_msgs/String             the URDF, once, KEEP_LAST 1 TRANSIENT_LOCAL
                                                        (latched, as robot_state_publisher)
 ``/tf_static``             tf2_msgs/TFMessage          robot's fixed frames + the world's statics
@@ -53,6 +59,9 @@ Parameters (controller names as the course's ``controllers.yaml``; *posekit* one
 world's boxes with ``collision`` stop the robot's body, see :mod:`posekit.robot.contact`).
 The LiDAR model and its sources are in :mod:`posekit.robot.lidar`; a scan is computed only
 when ``scan`` has a subscriber, and its noise depends on the seed and the scan time only.
+The depth camera (:mod:`posekit.robot.depth`; *posekit* parameter ``depth_rate``, 30.0 Hz)
+renders a frame only when its image or its cloud has a subscriber, from the true pose at the
+last physics step (at most one update period old), with noise from the seed and the frame time.
 """
 
 from __future__ import annotations
@@ -61,14 +70,22 @@ from collections import deque
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from posekit.geometry import Rotation, Transform
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
-from posekit.msgs.sensor_msgs import Imu, JointState, LaserScan
-from posekit.msgs.std_msgs import String
+from posekit.msgs.sensor_msgs import Image, Imu, JointState, LaserScan, PointCloud2
+from posekit.msgs.std_msgs import Header, String
 from posekit.robot._msgutil import covariance_from_diagonal, yaw_quaternion
 from posekit.robot.contact import Contact
+from posekit.robot.depth import (
+    DEFAULT_DEPTH,
+    DepthCamera,
+    DepthParams,
+    depth_cloud,
+    depth_image_msg,
+)
 from posekit.robot.description import (
     T_base_frame,
     robot_description_urdf,
@@ -82,7 +99,6 @@ from posekit.robot.imu import ImuModel
 from posekit.robot.kinematics import wrap_angle
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
 from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns, stamp_msg
-from posekit.robot.obstacles import BoxObstacles, WallSegments
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -91,16 +107,19 @@ from posekit.robot.params import (
     ImuParams,
     SlipParams,
 )
-from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
 __all__ = ["MAX_KEPT_REJECTIONS", "WorldSimulation"]
 
 #: Mixed with the run seed to give the LiDAR its own noise stream.
 _LIDAR_STREAM = 0x5CA2
+#: ... and the depth camera its own.
+_DEPTH_STREAM = 0xDE97
 
 #: Rejected /cmd_vel messages kept in :attr:`WorldSimulation.rejected` (the newest ones).
 MAX_KEPT_REJECTIONS = 100
@@ -157,6 +176,7 @@ class WorldSimulation(Node):
         publish_world_statics = bool(declare(self, "publish_world_static_transforms", True))
         lidar_rate = float(declare(self, "lidar_rate", DEFAULT_LIDAR.rate_hz))
         contact_enabled = bool(declare(self, "contact", True))
+        depth_rate = float(declare(self, "depth_rate", DEFAULT_DEPTH.rate_hz))
 
         #: The loaded world (WorldError from the loader names the problem).
         self.world: World = load_world(world_name)
@@ -193,6 +213,11 @@ class WorldSimulation(Node):
             walls=WallSegments.from_world(self.world),
         )
         self._T_base_laser = T_base_frame(self.lidar.params.frame_id)
+        depth_seed = int(np.random.SeedSequence([seed, _DEPTH_STREAM]).generate_state(1)[0])
+        #: The simulated OAK-D depth camera (boxes, walls and the ground).
+        self.depth_camera = DepthCamera(self.world, DepthParams(rate_hz=depth_rate),
+                                        seed=depth_seed)
+        self._T_base_depth = T_base_frame(self.depth_camera.params.frame_id)
         #: ``(t_ns, reason)`` of the last :data:`MAX_KEPT_REJECTIONS` rejected /cmd_vel
         #: messages (a peer can send any number); :attr:`rejected_count` counts them all.
         self.rejected: deque[tuple[int, str]] = deque(maxlen=MAX_KEPT_REJECTIONS)
@@ -208,6 +233,8 @@ class WorldSimulation(Node):
         self._imu_pub = self.create_publisher(Imu, "imu/data", 10)
         self._truth_pub = self.create_publisher(Odometry, "ground_truth/odom", 10)
         self._scan_pub = self.create_publisher(LaserScan, "scan", 10)
+        self._depth_pub = self.create_publisher(Image, "oak/stereo/depth", 10)
+        self._points_pub = self.create_publisher(PointCloud2, "oak/stereo/depth/points", 10)
         self._tf = TransformBroadcaster(self)
         self._tf_static = StaticTransformBroadcaster(self)
 
@@ -243,6 +270,8 @@ class WorldSimulation(Node):
             outputs.setdefault(n * self._period_ns, []).append(publish)
         for out_period_ns, publishers in sorted(outputs.items()):
             self.create_timer(out_period_ns / NS, self._make_output_callback(publishers))
+        # The depth rate (30 Hz) need not divide the update rate: its own timer.
+        self.create_timer(1.0 / depth_rate, self._make_output_callback([self._publish_depth]))
         self.get_logger().info(
             f"world '{self.world.name}' ({len(self.world.boxes)} boxes, "
             f"{len(self.world.cameras)} cameras), ROSbot at ({sx:.2f}, {sy:.2f}, {syaw:.2f}), "
@@ -357,6 +386,26 @@ class WorldSimulation(Node):
         msg = self.lidar.to_msg(ranges)
         msg.header.stamp = stamp_msg(t_ns)
         return msg
+
+    def _publish_depth(self, now_ns: int) -> None:
+        want_image = self._depth_pub.get_subscription_count() > 0
+        want_points = self._points_pub.get_subscription_count() > 0
+        if not (want_image or want_points):
+            return  # lazy: no subscriber, no rendering
+        depth = self.depth_frame(now_ns)
+        header = Header(stamp=stamp_msg(now_ns), frame_id=self.depth_camera.params.frame_id)
+        if want_image:
+            self._depth_pub.publish_transfer(depth_image_msg(depth, header))
+        if want_points:
+            self._points_pub.publish_transfer(depth_cloud(depth, self.depth_camera.params, header))
+
+    def depth_frame(self, t_ns: int) -> npt.NDArray[np.float32]:
+        """The depth image (H, W) float32 m of the robot's current true pose at ``t_ns``."""
+        x, y, yaw = self.base.pose
+        T_world_base = Transform(Rotation.from_rpy(0.0, 0.0, yaw), (x, y, 0.0))
+        frame_index = round(t_ns * self.depth_camera.params.rate_hz / NS)
+        T = (T_world_base * self._T_base_depth).as_matrix()
+        return self.depth_camera.frame(T, frame_index)
 
     @property
     def true_pose(self) -> tuple[float, float, float]:

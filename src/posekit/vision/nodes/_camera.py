@@ -1,6 +1,7 @@
 """Shared machinery of the simulated camera nodes: a timer at the camera rate renders the
-world's boxes from the camera's optical-frame pose at the current sim time and publishes the
-image and its ``CameraInfo`` with the same stamp (as gz-sensors + ros_gz_bridge do)."""
+world's boxes and walls from the camera's optical-frame pose at the current sim time and
+publishes the image and its ``CameraInfo`` with the same stamp (as gz-sensors + ros_gz_bridge
+do)."""
 
 from __future__ import annotations
 
@@ -13,11 +14,12 @@ import numpy.typing as npt
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.std_msgs import Header
-from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.nodes._common import declare, stamp_msg
 from posekit.vision.render import BoxRenderer
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import WallSegments
 
 __all__ = ["SimulatedCamera"]
 
@@ -55,8 +57,9 @@ class SimulatedCamera(Node):
             raise ValueError(f"camera rate must be > 0 Hz, got {rate_hz}")
         self.camera = camera
         self.frame_id = frame_id
+        walls = WallSegments.from_world(self.world) if self.world.walls else None
         self._renderer = BoxRenderer(camera, supersample=self._supersample,
-                                     noise_sigma=self._noise_sigma, seed=self._seed)
+                                     noise_sigma=self._noise_sigma, seed=self._seed, walls=walls)
         self._info_msg = camera.camera_info(frame_id=frame_id)
         self._image_pub = self.create_publisher(Image, image_topic, 10)
         self._info_pub = self.create_publisher(CameraInfo, info_topic, 10)

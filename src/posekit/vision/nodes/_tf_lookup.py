@@ -11,8 +11,8 @@ from __future__ import annotations
 from typing import Any
 
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import TransformListener
 from posekit.tf2 import Buffer
+from posekit.tf2_ros import TransformListener
 from posekit.time import Duration
 from posekit.vision.nodes._common import declare
 

@@ -34,7 +34,7 @@ import numpy as np
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import Image
 from posekit.msgs.std_msgs import Header
-from posekit.runtime.tf2_ros import TransformBroadcaster
+from posekit.tf2_ros import TransformBroadcaster
 from posekit.vision.detector import MarkerDetection, draw_detections
 from posekit.vision.nodes._common import bgr_canvas, declare, transform_msg
 from posekit.vision.nodes._detector_base import ArucoDetectorNodeBase

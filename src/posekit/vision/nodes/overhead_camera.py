@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster
 from posekit.vision.camera import T_CAMERA_FRAME_OPTICAL, PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
 from posekit.vision.nodes._common import declare, rpy_pose_matrix, stamp_msg, transform_msg

@@ -24,7 +24,7 @@ from typing import Any
 
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.sensor_msgs import Image
-from posekit.runtime.tf2_ros import StaticTransformBroadcaster
+from posekit.tf2_ros import StaticTransformBroadcaster
 from posekit.vision.detector import MarkerDetection
 from posekit.vision.nodes._common import declare, stamp_msg, transform_msg
 from posekit.vision.nodes._detector_base import ArucoDetectorNodeBase

@@ -1,6 +1,9 @@
 // posekit viewer page: WebSocket client, panels and controls; the scene is drawn by
 // scene3d.js (three.js / WebGL) or, when WebGL or three.js is unavailable, scene2d.js.
-// Protocol: see src/posekit/viewer/server.py.
+// Protocol: see src/posekit/viewer/server.py. Displays added from the topic list:
+// display_manager.js and the modules in displays/.
+
+import { createDisplayManager, loadDisplayModules } from "./display_manager.js";
 
 const params = new URLSearchParams(location.search);
 const STALE_S = Number(params.get("stale") || 1.0);          // frames older than this: grey
@@ -28,6 +31,9 @@ const state = {
   dirty: true,
   fps: Number(params.get("fps") || 30),
 };
+
+// The displays added from the topic list (display_manager.js), once the modules are loaded.
+let displays = null;
 
 // RViz2's TF display options (per-frame axes and names, marker scale).
 const tfOptions = { hidden: new Set(), noName: new Set(), scale: 1.0 };
@@ -139,6 +145,7 @@ function connect() {
     if (state.fixedFrame) send({ op: "fixed_frame", frame: state.fixedFrame });
     if (state.paused) send({ op: "pause", paused: true });
     updateWatch(true);
+    if (displays) displays.onConnected();
   };
   ws.onclose = () => {
     debug.connected = false;
@@ -154,6 +161,7 @@ function connect() {
       case "odom": onOdom(msg); break;
       case "graph": onGraph(msg); break;
       case "goal_sent": debug.goalSent = msg; break;
+      case "display": if (!state.paused && displays) displays.onMessages(msg.topic, msg.messages); break;
       case "error": console.warn("viewer server:", msg.message); break;
       default: break;
     }
@@ -173,6 +181,16 @@ function onHello(msg) {
   if (scene) scene.setWorld(msg.world);
   debug.world = msg.world ? msg.world.name : null;
   fillFixedFrames([]);
+  // A configuration the server was started with (posekit view --config FILE), once, unless
+  // the URL names one.
+  if (msg.config && !params.get("view") && !state.serverConfigApplied) {
+    state.serverConfigApplied = true;
+    try {
+      applyConfig(msg.config);
+    } catch (err) {
+      showConfigError(err);
+    }
+  }
   state.dirty = true;
 }
 
@@ -195,6 +213,7 @@ function onTf(msg) {
   $("sim-time").textContent = `t = ${msg.now.toFixed(2)} s`;
   fillFixedFrames(debug.frames);
   if (scene) scene.setFrames(msg, STALE_S);
+  if (displays) displays.onFrames();
   state.dirty = true;
 }
 
@@ -328,6 +347,7 @@ function viewConfig() {
     view: scene ? scene.getView() : null,
     displays: Object.fromEntries(toggleIds().map((id) => [id.replace(/^show-/, ""), $(id).checked])),
     tf: { hidden: [...tfOptions.hidden].sort(), no_name: [...tfOptions.noName].sort(), marker_scale: tfOptions.scale },
+    topic_displays: displays ? displays.toConfig() : [],
     panels: {
       camera_topic: $("camera-topic").value || null,
       open: Object.fromEntries([...document.querySelectorAll("#panels details")].map((d) => [d.id, d.open])),
@@ -365,6 +385,10 @@ function applyConfig(cfg) {
     tfOptions.scale = tf.marker_scale;
     $("marker-scale").value = String(tf.marker_scale);
   } else if (tf.marker_scale !== undefined) problems.push("tf.marker_scale");
+  if (cfg.topic_displays !== undefined) {
+    if (displays) problems.push(...displays.fromConfig(cfg.topic_displays));
+    else problems.push("topic_displays");
+  }
   const panels = cfg.panels || {};
   for (const [id, open] of Object.entries(panels.open || {})) {
     const d = $(id);
@@ -514,15 +538,48 @@ function fillTree(tree) {
   body.replaceChildren(...rows);
 }
 
+// The topic rows are rebuilt only when the topics change (their buttons stay put); the
+// rates are updated in place.
 function fillTopics(topics) {
   const body = $("topics").tBodies[0];
-  body.replaceChildren(...topics.map((t) => {
-    const tr = document.createElement("tr");
-    tr.dataset.topic = t.name;
-    tr.append(cell(t.name), cell(t.type.replace("/msg/", "/")), cell(t.rate.toFixed(1), "num"));
-    if (t.error) tr.title = t.error;
-    return tr;
-  }));
+  const key = topics.map((t) => `${t.name} ${t.type} ${t.error || ""}`).join("\n");
+  if (body.dataset.key !== key) {
+    body.dataset.key = key;
+    body.replaceChildren(...topics.map((t) => {
+      const tr = document.createElement("tr");
+      tr.dataset.topic = t.name;
+      tr.append(cell(t.name), cell(t.type.replace("/msg/", "/")), cell("", "num"), addCell(t));
+      if (t.error) tr.title = t.error;
+      return tr;
+    }));
+  }
+  topics.forEach((t, i) => {
+    const td = body.rows[i] && body.rows[i].cells[2];
+    const text = t.rate.toFixed(1);
+    if (td && td.textContent !== text) td.textContent = text;
+  });
+}
+
+// One "+ Name" button per display module that draws the topic's type.
+function addCell(topic) {
+  const td = document.createElement("td");
+  for (const mod of displays ? displays.forType(topic.type) : []) {
+    const b = document.createElement("button");
+    b.type = "button";
+    b.className = "add-display";
+    b.dataset.addDisplay = mod.name;
+    b.textContent = `+ ${mod.name}`;
+    b.title = `add a ${mod.name} display for ${topic.name}`;
+    b.addEventListener("click", () => {
+      try {
+        displays.add(mod.name, topic.name, topic.type);
+      } catch (err) {
+        showConfigError(err);
+      }
+    });
+    td.append(b);
+  }
+  return td;
 }
 
 const isAruco = (t) => t.endsWith("aruco_detection_image");
@@ -553,6 +610,7 @@ function updateWatch(force) {
   if ($("camera-panel").open && cam) want.add(cam);
   const aruco = state.imageTopics.find(isAruco);
   if ($("aruco-panel").open && aruco) want.add(aruco);
+  if (displays) for (const t of displays.imageTopics()) want.add(t);
   const same = want.size === state.watched.size && [...want].every((t) => state.watched.has(t));
   if (same && !force) return;
   state.watched = want;
@@ -565,6 +623,7 @@ function onImage(buffer) {
   const headerLength = view.getUint32(0, false);
   const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, headerLength)));
   const blob = new Blob([new Uint8Array(buffer, 4 + headerLength)], { type: "image/jpeg" });
+  if (displays) displays.onImage(header.topic, blob, header);
   const target = isAruco(header.topic) ? "aruco" : (header.topic === $("camera-topic").value ? "camera" : null);
   if (!target) return;
   const img = $(`${target}-image`);
@@ -581,6 +640,28 @@ function onImage(buffer) {
 
 // ------------------------------------------------------------------------------ start
 await createScene();
+displays = createDisplayManager(await loadDisplayModules(), {
+  scene,
+  send,
+  requestRender: () => { state.dirty = true; },
+  fixedFrame: () => state.fixedFrame,
+  now: () => (state.lastTf ? state.lastTf.now : null),
+  panels: $("panels"),
+  list: $("display-list"),
+  watchImages: () => updateWatch(false),
+  builtin: {
+    // The TF display (tf.js) drives the toolbar's TF toggles and the marker scale.
+    tf(o) {
+      if (o.visible !== undefined) $("show-tf").checked = o.visible;
+      if (o.names !== undefined) $("show-names").checked = o.names;
+      if (o.scale !== undefined) { tfOptions.scale = o.scale; $("marker-scale").value = String(o.scale); }
+      if (scene) scene.setVisibility(visibility());
+      applyTfOptions();
+    },
+  },
+});
+debug.displays = () => displays.state();
+debug.addDisplay = (name, topic, type, options) => displays.add(name, topic, type, options);
 if (params.get("view")) {
   try {
     applyConfig(decodeConfig(params.get("view")));

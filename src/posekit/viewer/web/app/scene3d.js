@@ -164,6 +164,10 @@ export async function createScene3D(container) {
   draft.visible = false;
   scene.add(draft);
 
+  // What the displays added from the topic list draw (app/display_manager.js).
+  const displayRoot = new THREE.Group();
+  scene.add(displayRoot);
+
   const odomGroups = new Map();                 // topic -> {group, arrows: [], frame}
   let vis = {};
   let hello = null;
@@ -432,6 +436,11 @@ export async function createScene3D(container) {
   return {
     kind: "webgl",
     canvas,
+    three: THREE,
+    camera,
+    displayRoot,
+    // T_fixed_frame of a frame at the latest time (the frame's Matrix4, do not modify), or null.
+    framePose: (name) => framePose.get(name) || null,
     setFrames,
     setWorld,
     setOdometry,

@@ -9,15 +9,16 @@ import pytest
 
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.tf2_msgs import TFMessage
-from posekit.runtime.executors import SimulatedTimeExecutor, SingleThreadedExecutor
+from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
-from posekit.runtime.tf2_ros import (
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
+from posekit.tf2 import Buffer, TransformException
+from posekit.tf2_ros import (
     StaticTransformBroadcaster,
     TransformBroadcaster,
     TransformListener,
 )
-from posekit.tf2 import Buffer, TransformException
 from posekit.time import Duration, Time
 
 
@@ -123,7 +124,7 @@ def test_static_broadcaster_accumulates_and_replaces_by_child(ctx) -> None:
             for t in static.transforms] == [
         ("other_parent", "a", 4.0), ("base", "b", 2.0), ("base", "c", 3.0)]
     latched: list[TFMessage] = []
-    from posekit.runtime.tf2_ros import StaticListenerQoS
+    from posekit.tf2_ros import StaticListenerQoS
 
     late = Node("late", context=ctx)
     late.create_subscription(TFMessage, "/tf_static", latched.append, StaticListenerQoS())

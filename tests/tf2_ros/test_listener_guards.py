@@ -15,8 +15,8 @@ import pytest
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.node import Node
-from posekit.runtime.tf2_ros import DEFAULT_MAX_FRAMES, TransformListener
 from posekit.tf2 import Buffer, TransformException
+from posekit.tf2_ros.transform_listener import DEFAULT_MAX_FRAMES, TransformListener
 from posekit.time import Duration, Time
 
 NS = 1_000_000_000

@@ -1,0 +1,202 @@
+"""The hand-off between a node's entities and the executor that runs their callbacks.
+
+* :class:`Inbox` (one per executor): subscriptions, service servers and clients put an entry
+  ``(seq, entity)`` in it when a message, request or response is queued (``seq``: the
+  context-wide arrival number, which orders messages across all entities); the executor
+  takes the entries in that order. ``put`` wakes the executor when it is waiting for work;
+  ``wake`` wakes it for any other reason (a task, shutdown). Entities and nodes also report
+  changes through it: :meth:`Inbox.timers_changed` (a timer was cancelled, reset or
+  re-periodised) and :meth:`Inbox.entities_changed` (a timer, subscription, server or client
+  was created or destroyed, or ``use_sim_time`` switched).
+* :class:`Handoff` (one per node, shared by its entities): which executor and inbox the node
+  is in (None and None when in none), and what an executor may use of the node: its
+  queued entities and its time source.
+
+The payload itself stays in the entity's own queue (bounded by its QoS depth): an inbox
+entry is only a pointer, and it is stale once the entity's first queued entry has a later
+``seq`` (KEEP_LAST dropped it, or it was delivered), the entity was destroyed, or its node
+moved to another executor. The executor skips stale entries when it takes them.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import deque
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from posekit.runtime.node import Node
+    from posekit.runtime.time_source import TimeSource
+
+__all__ = ["Handoff", "Inbox", "WakeSignal"]
+
+
+class WakeSignal:
+    """``threading.Event``'s set / clear / wait on one raw lock (held = not signalled).
+
+    A waiter woken by ``Event.set`` must then re-take the event's condition lock, which
+    the setter may still hold: a second sleep and wake-up for every hand-off. A raw lock
+    wakes the waiter once and allocates nothing per wait.
+    """
+
+    __slots__ = ("_lock",)
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._lock.acquire()
+
+    def set(self) -> None:
+        """Signal (idempotent)."""
+        try:  # noqa: SIM105 - suppress() costs a context manager on the hot path
+            self._lock.release()
+        except RuntimeError:  # already signalled
+            pass
+
+    def clear(self) -> None:
+        """Unsignal."""
+        self._lock.acquire(False)
+
+    def is_set(self) -> bool:
+        """Whether signalled."""
+        return not self._lock.locked()
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Until signalled or ``timeout`` seconds passed (None: no limit); True if signalled."""
+        lock = self._lock
+        if lock.acquire(True, -1 if timeout is None else max(0.0, timeout)):
+            self.set()  # stay signalled, like an Event, until clear()
+            return True
+        return False
+
+
+def _ignore_change() -> None:
+    pass
+
+
+class Inbox:
+    """One executor's ready work in arrival order, and its wake-up (see the module docstring).
+
+    ``always_wake``: every ``put`` signals the wake-up (several threads may be waiting, as in
+    a multi-threaded executor); otherwise only while a thread waits in :meth:`wait`.
+    ``on_timers_changed`` / ``on_entities_changed``: the executor's reactions to the change
+    reports (default: ignore them).
+    """
+
+    __slots__ = ("_entries", "_on_entities_changed", "_on_timers_changed", "_signal",
+                 "_waiting", "always_wake", "take")
+
+    def __init__(
+        self,
+        *,
+        always_wake: bool = False,
+        on_timers_changed: Callable[[], None] = _ignore_change,
+        on_entities_changed: Callable[[], None] = _ignore_change,
+    ) -> None:
+        self._entries: deque[tuple[int, Any]] = deque()
+        self._signal = WakeSignal()
+        self.always_wake = always_wake
+        # True only while a thread may block in wait(): put() then signals (see wait()).
+        self._waiting = always_wake
+        self._on_timers_changed = on_timers_changed
+        self._on_entities_changed = on_entities_changed
+        #: ``take() -> (seq, entity)``: the oldest entry, removed; raises IndexError when
+        #: empty (the deque's own ``popleft``, so taking costs no extra call).
+        self.take: Callable[[], tuple[int, Any]] = self._entries.popleft
+
+    # -- entities' side -------------------------------------------------------------------
+    def put(self, seq: int, entity: Any) -> None:
+        """``entity`` queued an item with arrival number ``seq``: hand it to the executor."""
+        self._entries.append((seq, entity))
+        if self._waiting:
+            self._signal.set()
+
+    def wake(self) -> None:
+        """Interrupt a :meth:`wait` (new work that is not an entry, shutdown)."""
+        self._signal.set()
+
+    def timers_changed(self) -> None:
+        """A timer of a node in this executor moved (cancel, reset, new period)."""
+        self._on_timers_changed()
+
+    def entities_changed(self) -> None:
+        """A node in this executor gained or lost entities, or switched ``use_sim_time``."""
+        self._on_entities_changed()
+
+    # -- executor's side ------------------------------------------------------------------
+    def put_back(self, entries: list[tuple[int, Any]]) -> None:
+        """Return taken ``entries`` (oldest first) to the front, in their order."""
+        self._entries.extendleft(reversed(entries))
+
+    def extend(self, entries: Iterable[tuple[int, Any]]) -> None:
+        """Append ``entries`` (in arrival order) at the back without waking anyone."""
+        self._entries.extend(entries)
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def __bool__(self) -> bool:
+        return bool(self._entries)
+
+    def prepare_wait(self) -> None:
+        """Announce a waiter and clear the wake-up, *before* the caller's last look for
+        work: an entry put after that look then finds ``waiting`` set and signals, so no
+        wake-up is lost between the look and :meth:`wait`."""
+        self._waiting = True
+        self._signal.clear()
+
+    def wait(self, timeout: float | None) -> bool:
+        """Block until :meth:`put` / :meth:`wake` signal or ``timeout`` seconds passed."""
+        return self._signal.wait(timeout)
+
+    def end_wait(self) -> None:
+        """The waiter left: ``put`` stops signalling (unless ``always_wake``)."""
+        self._waiting = self.always_wake
+
+
+class Handoff:
+    """A node's side of the hand-off (one per node, shared by its entities).
+
+    ``executor`` / ``inbox``: the executor the node is in and its inbox (both None while the
+    node is in none); an entity with a queued item calls ``handoff.inbox.put(seq, entity)``.
+    ``queued_entities()``: the node's subscriptions, servers and clients (what an executor
+    adding the node scans for items queued before). ``time_source``: the node's
+    :class:`~posekit.runtime.time_source.TimeSource` (a stepped executor drives it).
+    """
+
+    __slots__ = ("destroyed", "executor", "inbox", "node", "queued_entities", "time_source")
+
+    def __init__(
+        self,
+        node: Node,
+        queued_entities: Callable[[], list[Any]],
+        time_source: TimeSource,
+    ) -> None:
+        self.node = node
+        self.queued_entities = queued_entities
+        self.time_source = time_source
+        self.executor: Any = None
+        self.inbox: Inbox | None = None
+        #: True once the node was destroyed.
+        self.destroyed = False
+
+    def connect(self, executor: Any, inbox: Inbox) -> None:
+        """The node joined ``executor``."""
+        self.executor, self.inbox = executor, inbox
+
+    def disconnect(self) -> None:
+        """The node left its executor."""
+        self.executor = self.inbox = None
+
+    def timers_changed(self) -> None:
+        """Report a moved timer to the executor, if any."""
+        inbox = self.inbox
+        if inbox is not None:
+            inbox.timers_changed()
+
+    def entities_changed(self) -> None:
+        """Report created/destroyed entities (or a ``use_sim_time`` switch), if in an
+        executor."""
+        inbox = self.inbox
+        if inbox is not None:
+            inbox.entities_changed()
