@@ -53,9 +53,10 @@ def test_sdist_and_wheel_carry_the_served_files_licences_and_one_version(dist: P
     (sdist,) = dist.glob("posekit-*.tar.gz")
     assert wheel.name.startswith(f"posekit-{posekit.__version__}-")
     names = set(zipfile.ZipFile(wheel).namelist())
-    # the optional extension, built here because this machine has a C compiler
-    assert any(n.startswith("posekit/tf2/_accel.") and n.endswith((".so", ".pyd"))
-               for n in names), sorted(n for n in names if "tf2" in n)
+    # the optional extensions, built here because this machine has a C compiler
+    for package in ("tf2", "geometry"):
+        assert any(n.startswith(f"posekit/{package}/_accel.") and n.endswith((".so", ".pyd"))
+                   for n in names), sorted(n for n in names if "_accel" in n)
     for rel in SERVED:
         assert f"posekit/viewer/web/{rel}" in names, rel
     assert not any("node_modules" in n for n in names)
@@ -63,7 +64,8 @@ def test_sdist_and_wheel_carry_the_served_files_licences_and_one_version(dist: P
     with tarfile.open(sdist) as tar:
         members = {m.name.split("/", 1)[1] for m in tar.getmembers() if "/" in m.name}
     for rel in ("LICENSE", "CHANGELOG.md", "pyproject.toml", "setup.py",
-                "src/posekit/tf2/_accel.c", "examples/dynamic_detector_demo.py",
+                "src/posekit/tf2/_accel.c", "src/posekit/geometry/_accel.c",
+                "examples/dynamic_detector_demo.py",
                 *(f"src/posekit/viewer/web/{r}" for r in SERVED)):
         assert rel in members, rel
 

@@ -72,7 +72,7 @@ def test_pure_python_can_be_forced() -> None:
             "print(path.accelerated, path.evaluate is path.evaluate_python)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, timeout=60,
-                         env={"POSEKIT_TF2_PURE_PYTHON": "1", "PATH": "/usr/bin:/bin"})
+                         env={"POSEKIT_PURE_PYTHON": "1", "PATH": "/usr/bin:/bin"})
     assert out.stdout.split() == ["False", "True"]
 
 

@@ -27,7 +27,7 @@ reference for every value and every error. This module is the fast way to the sa
 Where a C compiler was present at install time, :mod:`posekit.tf2._accel` provides
 :func:`evaluate`, :func:`stamped` and :func:`sample_from_msg` with the same IEEE operations
 in the same order (``tests/tf2/test_accel.py`` compares them with the Python versions bit
-for bit); it is selected at import, and ``POSEKIT_TF2_PURE_PYTHON=1`` turns it off.
+for bit); it is selected at import, and ``POSEKIT_PURE_PYTHON=1`` turns it off.
 """
 
 from __future__ import annotations
@@ -447,7 +447,7 @@ def _no_sample(msg: Any) -> None:
 
 
 def _load_accel() -> Any:
-    if os.environ.get("POSEKIT_TF2_PURE_PYTHON", "") not in ("", "0"):
+    if os.environ.get("POSEKIT_PURE_PYTHON", "") not in ("", "0"):
         return None
     try:
         from posekit.tf2 import _accel  # type: ignore[attr-defined]
