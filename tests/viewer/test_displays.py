@@ -34,7 +34,6 @@ from _support.browser import (  # noqa: E402
     set_option,
     wait_for,
 )
-from posekit.cli.interface_cmd import default_message  # noqa: E402
 from posekit.msgs.geometry_msgs import PoseStamped  # noqa: E402
 from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.msgs.registry import find_message_class  # noqa: E402

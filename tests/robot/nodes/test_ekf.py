@@ -124,7 +124,7 @@ def test_set_pose_resets_the_filter_as_robot_localization_does(ctx, executor) ->
     def pose_msg(frame: str) -> PoseWithCovarianceStamped:
         msg = PoseWithCovarianceStamped()
         msg.header.frame_id = frame
-        msg.header.stamp = stamp_msg(int(t_set * 1e9))
+        msg.header.stamp = stamp_from_ns(int(t_set * 1e9))
         msg.pose.pose.position.x, msg.pose.pose.position.y = x0, y0
         msg.pose.pose.orientation = yaw_quaternion(yaw0)
         msg.pose.covariance[0] = msg.pose.covariance[7] = 0.25
