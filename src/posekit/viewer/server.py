@@ -289,7 +289,7 @@ class ViewerServer:
         self.config = (load_view_config(config) if isinstance(config, (str, Path))
                        else None if config is None else dict(config))
         if discover_world is None:
-            discover_world = bool(getattr(tap.transport, "crosses_processes", False))
+            discover_world = tap.transport.crosses_processes
         self.discover_world = world is None and discover_world
         self._clients: set[_Client] = set()
         self._runner_thread: LoopThread | None = None
