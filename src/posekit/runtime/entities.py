@@ -272,10 +272,11 @@ class Timer:
         """Nanoseconds since the last call (or the start)."""
         return self.clock.now_ns() - self.last_call_ns
 
-    def mark_called(self) -> None:
-        """An executor took this timer's call now: the next call moves one period on (to
-        the first one after now, skipping missed periods)."""
-        now = self.clock.now_ns()
+    def mark_called(self, now_ns: int | None = None) -> None:
+        """An executor took this timer's call now (``now_ns``: the clock's time, if the
+        executor just read it): the next call moves one period on (to the first one after
+        now, skipping missed periods)."""
+        now = self.clock.now_ns() if now_ns is None else now_ns
         self.last_call_ns = now
         nxt = self.next_call_ns + self._period_ns
         if nxt <= now and self._period_ns > 0:
