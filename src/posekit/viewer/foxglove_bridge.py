@@ -37,8 +37,11 @@ simulated run) and ``clientPublish`` with message encoding ``cdr``: a client adv
 topic with a ROS 2 type (e.g. ``geometry_msgs/msg/PoseStamped`` on ``goal_pose``) and the
 bridge publishes what it sends on the transport (at most 32 client channels at a time).
 
-``/tf_static`` is latched: the bridge keeps the newest transform per child frame and
-re-sends them as one TFMessage whenever a client subscribes to ``/tf_static`` (the SDK logs
+Latched topics are re-sent to late subscribers: ``/tf_static`` keeps the newest transform per
+child frame and re-sends them as one TFMessage whenever a client subscribes to it; any other
+topic observed transient local (every publisher latches: ``/robot_description``) keeps its
+last messages (as many as its publishers keep, at most :data:`MAX_LATCHED`) and re-sends them
+to a client that subscribes (the SDK logs
 to every subscriber of a channel, so earlier subscribers get the same static transforms
 again, which is harmless).
 """
@@ -49,6 +52,7 @@ import asyncio
 import contextlib
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any
 
@@ -56,7 +60,7 @@ from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.logging import RcutilsLogger, get_logger
 from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped
-from posekit.runtime.qos import QoSProfile
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
@@ -84,6 +88,8 @@ _TIME_PERIOD_S = 0.1
 _MAX_CLIENT_CHANNELS = 32
 _PUBLISH_QOS = QoSProfile(depth=10)
 _STATIC_TOPIC = "/tf_static"
+#: Messages kept per latched (transient-local) topic for clients that subscribe later.
+MAX_LATCHED = 100
 _NODE_NAME = "posekit_foxglove_bridge"
 
 
@@ -158,6 +164,7 @@ class FoxgloveBridge:
             resolve=_channel_class, logger=self.logger,
         )
         self._static: dict[str, Any] = {}  # child frame -> newest static TransformStamped
+        self._latched: dict[str, deque[bytes]] = {}  # transient-local topic -> last payloads
         self._fox: Any = None
         self._context: Any = None
         self._server: Any = None
@@ -188,6 +195,8 @@ class FoxgloveBridge:
             def on_subscribe(self, client: Any, channel: Any) -> None:
                 if channel.topic == _STATIC_TOPIC:
                     bridge._resend_static()
+                else:
+                    bridge._resend_latched(str(channel.topic))
 
             def on_client_advertise(self, client: Any, channel: Any) -> None:
                 bridge._client_advertise(int(client.id), channel)
@@ -405,9 +414,17 @@ class FoxgloveBridge:
         channel = fox.Channel(
             observed.name, schema=schema, message_encoding="cdr", context=self._context
         )
+        latched: deque[bytes] | None = None
+        if (observed.qos.durability == DurabilityPolicy.TRANSIENT_LOCAL
+                and observed.name != _STATIC_TOPIC):
+            keep = sum(p.depth if p.history == HistoryPolicy.KEEP_LAST else MAX_LATCHED
+                       for p in observed.offered)
+            latched = deque(maxlen=max(1, min(keep, MAX_LATCHED)))
         with self._lock:
             self._channels[observed.name] = channel
-        return self._make_sink(observed.name, type_name, channel)
+            if latched is not None:
+                self._latched[observed.name] = latched
+        return self._make_sink(observed.name, type_name, channel, latched)
 
     def _remove_channel(self, topic: str) -> None:
         """Unadvertise the channel of a topic no longer observed."""
@@ -415,10 +432,12 @@ class FoxgloveBridge:
             channel = self._channels.pop(topic, None)
             if topic == _STATIC_TOPIC:
                 self._static.clear()
+            self._latched.pop(topic, None)
         if channel is not None:
             channel.close()
 
-    def _make_sink(self, topic: str, type_name: str, channel: Any) -> Callable[[Any], None]:
+    def _make_sink(self, topic: str, type_name: str, channel: Any,
+                   latched: deque[bytes] | None = None) -> Callable[[Any], None]:
         from posekit.msgs.cdr import to_cdr
 
         is_static = topic == _STATIC_TOPIC and type_name == TFMessage.__msgtype__
@@ -434,7 +453,11 @@ class FoxgloveBridge:
                     with self._lock:
                         for t in msg.transforms:
                             self._static[t.child_frame_id] = t
-                channel.log(to_cdr(msg, type_name), log_time=self.now_ns())
+                data = to_cdr(msg, type_name)
+                if latched is not None:
+                    with self._lock:
+                        latched.append(data)
+                channel.log(data, log_time=self.now_ns())
             except Exception as exc:  # malformed message: log, keep running
                 self.logger.warning(
                     f"foxglove bridge: bad message on {topic}: {type(exc).__name__}: {exc}",
@@ -453,6 +476,16 @@ class FoxgloveBridge:
         if channel is None or not transforms or self._closed:
             return
         channel.log(to_cdr(TFMessage(transforms=transforms)), log_time=self.now_ns())
+
+    def _resend_latched(self, topic: str) -> None:
+        """Log a latched topic's kept messages again (a client just subscribed to it)."""
+        with self._lock:
+            channel = self._channels.get(topic)
+            payloads = list(self._latched.get(topic, ()))
+        if channel is None or self._closed:
+            return
+        for data in payloads:
+            channel.log(data, log_time=self.now_ns())
 
 
 def _channel_class(type_name: str) -> type:
