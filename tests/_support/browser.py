@@ -49,3 +49,14 @@ def drawn_fraction(image: np.ndarray) -> float:
 def debug(page: Any, key: str) -> Any:
     """``window.posekitViewer.<key>`` in the page (the page's introspection object)."""
     return page.evaluate(f"window.posekitViewer && window.posekitViewer.{key}")
+
+
+def drag_tool(page: Any, tool: str, start: dict[str, float], end: dict[str, float]) -> None:
+    """Switch a pose tool on (its button ``tool``, e.g. ``#goal-tool``) and press at ``start``,
+    drag to ``end`` and release (client coordinates, as ``posekitViewer.project`` gives)."""
+    page.click(tool)
+    assert page.get_attribute(tool, "aria-pressed") == "true", f"{tool} did not switch on"
+    page.mouse.move(start["x"], start["y"])
+    page.mouse.down()
+    page.mouse.move(end["x"], end["y"], steps=5)
+    page.mouse.up()
