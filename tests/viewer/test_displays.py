@@ -24,7 +24,17 @@ pytestmark = pytest.mark.slow  # a scenario and a browser
 
 cv2 = pytest.importorskip("cv2")
 
-from _support.browser import canvas_pixels, debug, drag_tool, wait_for  # noqa: E402
+from _support.browser import (  # noqa: E402
+    add_from_topic_list,
+    canvas_pixels,
+    debug,
+    display_entry,
+    display_info,
+    displays,
+    drag_tool,
+    set_option,
+    wait_for,
+)
 from posekit.msgs.geometry_msgs import PoseStamped  # noqa: E402
 from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.msgs.registry import find_message_class  # noqa: E402
@@ -185,44 +195,12 @@ def page(browser: Any, viewer: Any) -> Iterator[Any]:
     page.close()
 
 
-def displays(page: Any) -> dict[str, Any]:
-    state: dict[str, Any] = page.evaluate("window.posekitViewer.displays()")
-    return state
-
-
 def entry(page: Any, name: str, topic: str) -> dict[str, Any] | None:
-    for d in displays(page)["displays"]:
-        if d["display"] == name and d["topic"] == topic:
-            return dict(d)
-    return None
-
-
-def add_from_topic_list(page: Any, topic: str, name: str) -> dict[str, Any]:
-    button = f"#topics tr[data-topic='{topic}'] button[data-add-display='{name}']"
-    wait_for(lambda: page.query_selector(button), what=f"the '+ {name}' button of {topic}")
-    page.click(button)
-    return dict(wait_for(lambda: entry(page, name, topic), what=f"the {name} display"))
-
-
-def set_option(page: Any, display_id: int, key: str, value: Any) -> None:
-    """Change an option in the display's form, as a user does (input/change events)."""
-    row = f"#display-list details[data-display-id='{display_id}']"
-    page.evaluate(f"document.querySelector(\"{row}\").open = true")
-    selector = f"{row} [data-option='{key}']"
-    if isinstance(value, bool):
-        page.set_checked(selector, value)
-    elif isinstance(value, str) and value.startswith("#"):
-        page.eval_on_selector(selector, "(e, v) => { e.value = v; "
-                              "e.dispatchEvent(new Event('change')); }", value)
-    elif isinstance(value, str):
-        page.select_option(selector, value)
-    else:
-        page.fill(selector, str(value))
+    return display_entry(page, name, topic)
 
 
 def info(page: Any, name: str, topic: str) -> Any:
-    d = entry(page, name, topic)
-    return d["info"] if d else None
+    return display_info(page, name, topic)
 
 
 def colour_mask(image: np.ndarray, bgr: tuple[int, int, int], tol: int = 40) -> np.ndarray:

@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.geometry_msgs import (
     Point,
     Pose,
@@ -56,10 +57,10 @@ from posekit.msgs.geometry_msgs import (
 )
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.std_msgs import Header
-from posekit.robot._msgutil import stamp_from_seconds, yaw_quaternion
-from posekit.robot.drive import stamp_to_seconds
-from posekit.robot.kinematics import wrap_angle, yaw_from_quaternion_xyzw
+from posekit.robot._msgutil import yaw_quaternion
+from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.params import DEFAULT_EKF, EkfParams
+from posekit.time import stamp_from_seconds, stamp_to_seconds
 
 __all__ = ["VX", "VY", "VYAW", "YAW", "Ekf2D", "Measurement", "X", "Y"]
 

@@ -70,6 +70,7 @@ from posekit.runtime.transport import (
     TopicTypeMismatchError,
     Transport,
 )
+from posekit.time import stamp_to_ns
 from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.errors import ViewerError
 
@@ -323,7 +324,7 @@ class FoxgloveBridge:
         return int(self._clock_fn())
 
     def _on_clock(self, msg: Any) -> None:
-        ns = int(msg.clock.sec) * 1_000_000_000 + int(msg.clock.nanosec)
+        ns = stamp_to_ns(msg.clock)
         self._sim_clock_ns = ns
         self._sim_clock_seen = time.monotonic()
         self._broadcast_time(ns)

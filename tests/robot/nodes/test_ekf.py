@@ -12,10 +12,9 @@ from posekit.msgs.sensor_msgs import Imu
 from posekit.robot._msgutil import covariance_from_diagonal, yaw_quaternion
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.nodes import EkfNode
-from posekit.robot.nodes._util import stamp_msg
 from posekit.runtime.node import Node
 from posekit.tf2_ros import Buffer, TransformListener
-from posekit.time import Time
+from posekit.time import Time, stamp_from_ns
 
 SIM = {"use_sim_time": True}
 
@@ -42,7 +41,7 @@ class _Sensors(Node):
         if t < self.t0:
             return
         msg = Odometry()
-        msg.header.stamp = stamp_msg(ns)
+        msg.header.stamp = stamp_from_ns(ns)
         msg.twist.twist.linear.x = self.v
         msg.twist.twist.angular.z = self.w
         msg.twist.covariance = covariance_from_diagonal((3.3e-5, 3.3e-5, 0, 0, 0, 2.8e-3))
@@ -53,7 +52,7 @@ class _Sensors(Node):
         if t < self.t0:
             return
         msg = Imu()
-        msg.header.stamp = stamp_msg(ns)
+        msg.header.stamp = stamp_from_ns(ns)
         msg.orientation = yaw_quaternion(self.yaw0 + self.w * (t - self.t0))
         msg.orientation_covariance = covariance_from_diagonal((1.9e-3,) * 3)
         msg.angular_velocity.z = self.w
@@ -125,7 +124,7 @@ def test_set_pose_resets_the_filter_as_robot_localization_does(ctx, executor) ->
     def pose_msg(frame: str) -> PoseWithCovarianceStamped:
         msg = PoseWithCovarianceStamped()
         msg.header.frame_id = frame
-        msg.header.stamp = stamp_msg(int(t_set * 1e9))
+        msg.header.stamp = stamp_from_ns(int(t_set * 1e9))
         msg.pose.pose.position.x, msg.pose.pose.position.y = x0, y0
         msg.pose.pose.orientation = yaw_quaternion(yaw0)
         msg.pose.covariance[0] = msg.pose.covariance[7] = 0.25

@@ -32,13 +32,14 @@ import numpy as np
 from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import Imu
-from posekit.robot.drive import stamp_to_seconds
 from posekit.robot.ekf import Ekf2D
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
-from posekit.robot.nodes._util import declare, period_ns
+from posekit.robot.nodes._util import period_ns
 from posekit.robot.params import DEFAULT_EKF, EkfParams
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import TransformBroadcaster
+from posekit.time import stamp_to_seconds
 
 __all__ = ["EkfNode"]
 
@@ -49,11 +50,11 @@ class EkfNode(Node):
     def __init__(self, node_name: str = "ekf_node", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
         d = DEFAULT_EKF
-        frequency = float(declare(self, "frequency", d.frequency_hz))
-        if not bool(declare(self, "two_d_mode", True)):
+        frequency = float(declare_value(self, "frequency", d.frequency_hz))
+        if not bool(declare_value(self, "two_d_mode", True)):
             raise ValueError("ekf_node: only two_d_mode: true is implemented (planar ROSbot)")
-        world_frame = str(declare(self, "world_frame", d.world_frame))
-        odom_frame = str(declare(self, "odom_frame", d.world_frame))
+        world_frame = str(declare_value(self, "world_frame", d.world_frame))
+        odom_frame = str(declare_value(self, "odom_frame", d.world_frame))
         if world_frame != odom_frame:
             raise ValueError(
                 f"ekf_node: world_frame '{world_frame}' must equal odom_frame '{odom_frame}' "
@@ -62,13 +63,13 @@ class EkfNode(Node):
         params = EkfParams(
             frequency_hz=frequency,
             world_frame=world_frame,
-            base_link_frame=str(declare(self, "base_link_frame", d.base_link_frame)),
-            imu_yaw_relative=bool(declare(self, "imu0_relative", d.imu_yaw_relative)),
+            base_link_frame=str(declare_value(self, "base_link_frame", d.base_link_frame)),
+            imu_yaw_relative=bool(declare_value(self, "imu0_relative", d.imu_yaw_relative)),
         )
-        self._publish_tf = bool(declare(self, "publish_tf", True))
-        odom_topic = str(declare(self, "odom0", "odometry/wheels"))
-        imu_topic = str(declare(self, "imu0", "imu/data"))
-        initial = [float(v) for v in declare(self, "initial_state", [0.0] * 15)]
+        self._publish_tf = bool(declare_value(self, "publish_tf", True))
+        odom_topic = str(declare_value(self, "odom0", "odometry/wheels"))
+        imu_topic = str(declare_value(self, "imu0", "imu/data"))
+        initial = [float(v) for v in declare_value(self, "initial_state", [0.0] * 15)]
         if len(initial) != 15 or not all(math.isfinite(v) for v in initial):
             raise ValueError(f"ekf_node: initial_state must be 15 finite numbers, got {initial}")
         #: The filter model.
