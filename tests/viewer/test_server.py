@@ -232,6 +232,24 @@ def test_options_are_validated() -> None:
     ctx.shutdown()
 
 
+def _listen(system: System, msg_type: type, topic: str) -> tuple[list[Any], Any]:
+    """A subscription of the system's node to ``topic``: the received messages, and a call
+    that spins (at most 5 s) until one arrived."""
+    from posekit.runtime.executors import SingleThreadedExecutor
+
+    got: list[Any] = []
+    system.node.create_subscription(msg_type, topic, got.append, 10)
+    executor = SingleThreadedExecutor(context=system.ctx)
+    executor.add_node(system.node)
+
+    def received() -> None:
+        deadline = time.monotonic() + 5.0
+        while not got and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+
+    return got, received
+
+
 def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: System) -> None:
     """``op: goal`` publishes geometry_msgs/PoseStamped on /goal_pose (received by a plain
     subscriber; the quaternion checked against the closed form (0, 0, sin(yaw/2),
@@ -240,12 +258,7 @@ def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: S
     import math
 
     from posekit.msgs.geometry_msgs import PoseStamped
-    from posekit.runtime.executors import SingleThreadedExecutor
-
-    got: list[Any] = []
-    system.node.create_subscription(PoseStamped, "goal_pose", got.append, 10)
-    executor = SingleThreadedExecutor(context=system.ctx)
-    executor.add_node(system.node)
+    got, received = _listen(system, PoseStamped, "goal_pose")
 
     async def scenario() -> None:
         async with aiohttp.ClientSession() as session, session.ws_connect(system.ws_url) as ws:
@@ -269,9 +282,7 @@ def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: S
             assert graph["goal"]["pose"][:3] == pytest.approx([1.25, -2.0, 0.0])
 
     asyncio.run(scenario())
-    deadline = time.monotonic() + 5.0
-    while not got and time.monotonic() < deadline:
-        executor.spin_once(timeout_sec=0.05)
+    received()
     assert len(got) == 1, "exactly the one valid goal is published"
     msg = got[0]
     assert msg.header.frame_id == "odom"
@@ -288,12 +299,7 @@ def test_initial_pose_requests_publish_rviz2s_pose_estimate(system: System) -> N
     import math
 
     from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
-    from posekit.runtime.executors import SingleThreadedExecutor
-
-    got: list[Any] = []
-    system.node.create_subscription(PoseWithCovarianceStamped, "initialpose", got.append, 10)
-    executor = SingleThreadedExecutor(context=system.ctx)
-    executor.add_node(system.node)
+    got, received = _listen(system, PoseWithCovarianceStamped, "initialpose")
 
     async def scenario() -> None:
         async with aiohttp.ClientSession() as session, session.ws_connect(system.ws_url) as ws:
@@ -307,9 +313,7 @@ def test_initial_pose_requests_publish_rviz2s_pose_estimate(system: System) -> N
             assert (sent["frame"], sent["x"], sent["y"], sent["yaw"]) == ("odom", -0.5, 3.0, -1.0)
 
     asyncio.run(scenario())
-    deadline = time.monotonic() + 5.0
-    while not got and time.monotonic() < deadline:
-        executor.spin_once(timeout_sec=0.05)
+    received()
     assert len(got) == 1, "exactly the one valid pose is published"
     msg = got[0]
     assert msg.header.frame_id == "odom"
