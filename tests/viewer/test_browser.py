@@ -532,6 +532,14 @@ def _camera_frustum_and_detections(page: Any, server: Any) -> None:
         return None
 
     cam = wait_for(camera, timeout=20.0, what="the Camera display with an image")
+    # Drawn: hiding the display (its box in the Displays panel) changes a good share of the
+    # canvas (the far plane with the image faces this view).
+    box = f"#display-list details[data-topic='{info_topic}'] .display-enabled"
+    shown = canvas_pixels(page, "#scene")
+    page.uncheck(box)
+    wait_for(lambda: (np.abs(canvas_pixels(page, "#scene").astype(int) - shown.astype(int))
+                      .max(axis=2) > 30).mean() > 0.02, what="the camera frustum hidden")
+    page.check(box)
     assert cam["image_topic"] == "/oak/rgb/color"
     assert cam["image_size"] == [1280, 720]
     assert cam["image_shown"] is True
