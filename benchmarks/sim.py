@@ -48,10 +48,10 @@ from typing import Any
 
 import numpy as np
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.ekf import Ekf2D
 from posekit.robot.headless import run_headless
-from posekit.robot.kinematics import wrap_angle
 from posekit.robot.scenarios import run_robot_scenario
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 
