@@ -4,8 +4,10 @@ the page's debug state."""
 from __future__ import annotations
 
 import base64
+import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -117,3 +119,21 @@ def set_display_shown(page: Any, display_id: int, shown: bool) -> None:
         page.check(box)
     else:
         page.uncheck(box)
+
+
+@contextmanager
+def viewer_on(run: Any) -> Iterator[Any]:
+    """A viewer attached in process to a started scenario ``run`` on a free port, the run's
+    executor spinning in a thread; yields the server (``url``, ``tap``), then stops the
+    server, shuts the run down and joins the thread (bounded)."""
+    from posekit.cli.view_cmd import attach_to_run
+
+    server = attach_to_run(run, port=0)
+    spinner = threading.Thread(target=run.executor.spin, daemon=True)
+    spinner.start()
+    try:
+        yield server
+    finally:
+        server.stop()
+        run.shutdown()
+        spinner.join(timeout=5.0)

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import math
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 from types import SimpleNamespace
@@ -33,6 +32,7 @@ from _support.browser import (  # noqa: E402
     displays,
     drag_tool,
     set_option,
+    viewer_on,
     wait_for,
 )
 from posekit.msgs.geometry_msgs import PoseStamped  # noqa: E402
@@ -158,7 +158,6 @@ class DisplayTestNode(Node):
 @pytest.fixture(scope="module")
 def viewer(support: SimpleNamespace) -> Iterator[Any]:
     import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
-    from posekit.cli.view_cmd import attach_to_run
     from posekit.launch import Node as LaunchNode
     from posekit.launch.scenarios import start_scenario
 
@@ -167,15 +166,8 @@ def viewer(support: SimpleNamespace) -> Iterator[Any]:
         extra_nodes=[LaunchNode(support.CameraTestNode, name="viewer_test_camera"),
                      LaunchNode(DisplayTestNode, name="viewer_display_test")],
     )
-    server = attach_to_run(run, port=0)
-    spinner = threading.Thread(target=run.executor.spin, daemon=True)
-    spinner.start()
-    try:
+    with viewer_on(run) as server:
         yield server
-    finally:
-        server.stop()
-        run.shutdown()
-        spinner.join(timeout=5.0)
 
 
 def open_page(browser: Any, url: str, errors: list[str]) -> Any:

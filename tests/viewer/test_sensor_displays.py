@@ -11,7 +11,6 @@ IMU's frame).
 from __future__ import annotations
 
 import json
-import threading
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator
 from typing import Any
@@ -28,6 +27,7 @@ from _support.browser import (  # noqa: E402
     display_info,
     set_display_shown,
     set_option,
+    viewer_on,
     wait_for,
 )
 
@@ -41,7 +41,6 @@ ORANGE = (0, 128, 255)  # BGR of #ff8000
 @pytest.fixture(scope="module")
 def viewer(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
     import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
-    from posekit.cli.view_cmd import attach_to_run
     from posekit.launch.scenarios import start_scenario
 
     world = tmp_path_factory.mktemp("world") / "wall.json"
@@ -50,15 +49,8 @@ def viewer(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
                                                  [WALL_X + 0.1, 0.0]]]}]}))
     run = start_scenario("empty_world", {"world": str(world), "depth_rate": 5.0},
                          realtime=True)
-    server = attach_to_run(run, port=0)
-    spinner = threading.Thread(target=run.executor.spin, daemon=True)
-    spinner.start()
-    try:
+    with viewer_on(run) as server:
         yield server
-    finally:
-        server.stop()
-        run.shutdown()
-        spinner.join(timeout=5.0)
 
 
 @pytest.fixture(scope="module")

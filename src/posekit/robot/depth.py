@@ -437,7 +437,10 @@ class DepthCamera:
             n = self._normals(int(frame_index))
             if p.disparity_stddev > 0.0:
                 k = np.float32(p.disparity_stddev / (p.stereo_focal_px * p.baseline))
-                w = np.where(hit, w - k * n, np.float32(0.0))
+                noisy = np.multiply(n, -k, dtype=np.float32)
+                noisy += w
+                np.copyto(noisy, np.float32(0.0), where=~hit)
+                w = noisy
         with np.errstate(divide="ignore"):
             z: F32Array = np.divide(np.float32(1.0), w, dtype=np.float32)
         if n is not None and p.noise_stddev > 0.0:

@@ -403,6 +403,12 @@ class TopicObserver:
         if self._on_removed is not None:
             self._on_removed(topic)
 
+    def release(self, topic: str) -> None:
+        """Stop observing ``topic`` now, as when its publishers leave (its subscription is
+        destroyed, ``on_removed`` called); a later :meth:`refresh` observes it again when
+        ``select`` still wants it."""
+        self._let_go(topic)
+
     # -- teardown ----------------------------------------------------------------------------
     def close(self) -> None:
         """Destroy every subscription (idempotent); sinks ignore messages still arriving."""

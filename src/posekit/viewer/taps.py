@@ -43,6 +43,9 @@ publisher, so it never creates a topic of its own in the graph, with a QoS every
 matches (transient local when every publisher is: the latched ``/tf_static``), to at most
 :data:`MAX_SUBSCRIBED_TOPICS` of them (the others are listed with the reason); a topic whose
 publishers leave is unsubscribed, and leaves the topic panel when it leaves the graph.
+Topics of the :data:`ON_DEMAND_TYPES` (point clouds) are subscribed only while a display
+follows them (:meth:`set_message_watches`): a simulated sensor renders them only for
+subscribers, and the OAK-D's cloud costs more than its frame period.
 """
 
 from __future__ import annotations
@@ -107,6 +110,10 @@ MAX_FRAMES = DEFAULT_MAX_FRAMES
 #: Topics the tap subscribes to at most (each costs a subscription; a peer can announce any
 #: number): /tf, /tf_static, /clock and the odometry displays first, then graph order.
 MAX_SUBSCRIBED_TOPICS = 200
+#: Types subscribed only while a display follows the topic (listed in the panel meanwhile).
+ON_DEMAND_TYPES = frozenset({"sensor_msgs/msg/PointCloud2"})
+#: The topic panel's note for such a topic while no display follows it.
+ON_DEMAND_NOTE = "subscribed while a display shows it"
 #: /tf stamps further ahead of "now" are ignored (as TransformListener does).
 _MAX_FUTURE_NS = DEFAULT_MAX_FUTURE.nanoseconds
 
@@ -247,7 +254,8 @@ class ViewerTap:
             shown.add(ground_truth_topic)
         self._observer = TopicObserver(
             transport, self._sink_for, on_removed=self._unsubscribed,
-            on_skipped=self._not_shown, node_name="posekit_viewer", depth=1,
+            on_skipped=self._not_shown, select=self._wanted, node_name="posekit_viewer",
+            depth=1,
             max_topics=MAX_SUBSCRIBED_TOPICS, priority=shown, resolve=_resolve_class,
             logger=self.logger,
         )
@@ -285,7 +293,8 @@ class ViewerTap:
                 if info is None or (info.type_name != type_name and not info.subscribed):
                     info = self._topics[name] = TopicInfo(name, type_name)
                 if not info.subscribed:
-                    info.error = skipped.get(name, "")
+                    info.error = skipped.get(name, "") or (
+                        ON_DEMAND_NOTE if type_name in ON_DEMAND_TYPES else "")
             for name in [n for n, i in self._topics.items()
                          if n not in names and not i.subscribed]:
                 del self._topics[name]
@@ -301,6 +310,13 @@ class ViewerTap:
         info = self._topic_info(observed.name, observed.type_name)
         info.subscribed, info.error = True, ""
         return self._make_sink(info)
+
+    def _wanted(self, topic: str, type_name: str) -> bool:
+        """Whether the observer subscribes ``topic`` (on-demand types: while displayed)."""
+        if type_name not in ON_DEMAND_TYPES:
+            return True
+        with self._lock:
+            return topic in self._queues
 
     def _unsubscribed(self, topic: str) -> None:
         with self._lock:
@@ -618,6 +634,9 @@ class ViewerTap:
         """Keep the newest ``depths[topic]`` messages of each topic for the displays (a new
         watch starts with the newest message already received); other topics' queues go."""
         with self._lock:
+            on_demand = {n for n, i in self._topics.items() if i.type_name in ON_DEMAND_TYPES}
+            released = [t for t in self._queues if t not in depths and t in on_demand]
+            wanted = [t for t in depths if t not in self._queues and t in on_demand]
             for topic in [t for t in self._queues if t not in depths]:
                 del self._queues[topic]
             for topic, depth in depths.items():
@@ -628,6 +647,10 @@ class ViewerTap:
                         queue.append(self._latest[topic])
                 else:
                     queue.resize(depth)
+        for topic in released:
+            self._observer.release(topic)
+        if wanted or released:
+            self.refresh()  # subscribe the newly displayed ones now
 
     def messages_after(self, topic: str, seq: int) -> list[tuple[int, Any]]:
         """``(number, message)`` of the kept messages of a watched ``topic`` newer than
