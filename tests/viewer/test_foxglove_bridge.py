@@ -125,6 +125,19 @@ async def _message(ws: Any, sub_id: int) -> tuple[int, bytes]:
             return log_time, bytes(msg.data[13:])
 
 
+async def _publish_until_message(ws: Any, sub_id: int, publish: Any) -> bytes:
+    """Call ``publish()`` until subscription ``sub_id`` delivers a message (the server
+    registers a subscription asynchronously); its payload. Bounded: 40 tries, 0.5 s each."""
+    for _attempt in range(40):
+        publish()
+        try:
+            _, payload = await asyncio.wait_for(_message(ws, sub_id), 0.5)
+            return payload
+        except TimeoutError:
+            continue
+    raise AssertionError(f"subscription {sub_id} received nothing within 20 s")
+
+
 async def _subscribe(ws: Any, channel_id: int, sub_id: int) -> None:
     await ws.send_str(json.dumps(
         {"op": "subscribe", "subscriptions": [{"id": sub_id, "channelId": channel_id}]}
@@ -159,9 +172,7 @@ def test_plain_client_gets_channels_and_cdr_messages(system: System, subprotocol
             assert static.transforms[0].transform.translation.x == pytest.approx(0.12)
 
             await _subscribe(ws, channels["/odometry/filtered"]["id"], 2)
-            await asyncio.sleep(0.05)  # let the server register the subscription
-            system.publish(2.5)
-            _, payload = await _message(ws, 2)
+            payload = await _publish_until_message(ws, 2, lambda: system.publish(2.5))
             odom = ROS.deserialize_cdr(payload, "nav_msgs/msg/Odometry")
             assert odom.child_frame_id == "base_link"
             assert odom.pose.pose.position.x == pytest.approx(2.5)
@@ -475,9 +486,8 @@ def test_laser_scan_and_point_cloud_decode_from_the_advertised_schema(system: Sy
                 ch = channels[topic]
                 assert (ch["encoding"], ch["schemaEncoding"]) == ("cdr", "ros2msg")
                 await _subscribe(ws, ch["id"], sub_id)
-                await asyncio.sleep(0.05)  # let the server register the subscription
-                pub.publish(msg)
-                _, payload = await _message(ws, sub_id)
+                payload = await _publish_until_message(
+                    ws, sub_id, lambda pub=pub, msg=msg: pub.publish(msg))
                 decoder = generate_dynamic(ch["schemaName"], ch["schema"])[ch["schemaName"]]
                 decoded[topic] = decoder(payload)
             got_scan, got_cloud = decoded["/scan"], decoded["/points"]
