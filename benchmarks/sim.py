@@ -48,10 +48,10 @@ from typing import Any
 
 import numpy as np
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.ekf import Ekf2D
 from posekit.robot.headless import run_headless
-from posekit.robot.kinematics import wrap_angle
 from posekit.robot.scenarios import run_robot_scenario
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 
@@ -240,9 +240,9 @@ def _depth_cpu_ms(world: Any, yaw_offset: float, repeats: int = 20) -> dict[str,
     from posekit.msgs.std_msgs import Header
     from posekit.robot.depth import DepthCamera, depth_cloud, depth_image_msg
     from posekit.robot.description import T_base_frame
-    from posekit.robot.obstacles import WallSegments
     from posekit.vision.camera import OAK_RGB_CAMERA
     from posekit.vision.render import BoxRenderer
+    from posekit.worlds.obstacles import WallSegments
 
     camera = DepthCamera(world, seed=1)
     colour = BoxRenderer(OAK_RGB_CAMERA, walls=WallSegments.from_world(world))
@@ -269,7 +269,7 @@ def _depth_cpu_ms(world: Any, yaw_offset: float, repeats: int = 20) -> dict[str,
 
 def _depth_report() -> None:
     from posekit.robot.depth import DEFAULT_DEPTH
-    from posekit.robot.worlds import load_world
+    from posekit.worlds import load_world
 
     period_ms = 1e3 / DEFAULT_DEPTH.rate_hz
     print(f"\nOAK-D depth frame {DEFAULT_DEPTH.width}x{DEFAULT_DEPTH.height}, median CPU ms vs "

@@ -359,6 +359,55 @@ def test_time_follows_clock_and_a_client_publishes_a_goal(system: System,
     assert goal.pose.orientation.w == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("subprotocol", ["foxglove.sdk.v1", "foxglove.websocket.v1"])
+def test_a_client_publishes_in_json(system: System, subprotocol: str) -> None:
+    """clientPublish with message encoding json: a PoseWithCovarianceStamped written as a
+    JSON object (what Foxglove's Publish panel sends) reaches a posekit subscriber with the
+    values given and defaults elsewhere; a field the type lacks is dropped with one logged
+    line and the channel keeps working."""
+    from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+
+    poses: list[Any] = []
+    system.node.create_subscription(PoseWithCovarianceStamped, "initialpose", poses.append, 10)
+    executor = SingleThreadedExecutor(context=system.ctx)
+    executor.add_node(system.node)
+    covariance = [0.0] * 36
+    covariance[0], covariance[7], covariance[35] = 0.25, 0.25, 0.0685
+    good = {"header": {"stamp": {"sec": 7, "nanosec": 500}, "frame_id": "odom"},
+            "pose": {"pose": {"position": {"x": 2.5, "y": -1.0},
+                              "orientation": {"z": 0.6, "w": 0.8}},
+                     "covariance": covariance}}
+    bad = {"pose": {"pose": {"position": {"x": 1.0, "q": 3}}}}
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(subprotocol,)
+        ) as ws:
+            info = await _server_info(ws)
+            assert "json" in info["supportedEncodings"]
+            await ws.send_str(json.dumps({"op": "advertise", "channels": [{
+                "id": 4, "topic": "initialpose", "encoding": "json",
+                "schemaName": "geometry_msgs/msg/PoseWithCovarianceStamped"}]}))
+            loop = asyncio.get_running_loop()
+            deadline = loop.time() + 5.0
+            while not poses and loop.time() < deadline:
+                await ws.send_bytes(struct.pack("<BI", 1, 4) + json.dumps(bad).encode())
+                await ws.send_bytes(struct.pack("<BI", 1, 4) + json.dumps(good).encode())
+                await asyncio.sleep(0.05)
+                executor.spin_once(timeout_sec=0.0)
+
+    asyncio.run(go())
+    assert poses, "the published pose never reached a posekit subscriber"
+    assert all(p.pose.pose.position.x == 2.5 for p in poses)  # the bad ones were dropped
+    msg = poses[0]
+    assert msg.header.frame_id == "odom"
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == (7, 500)
+    p = msg.pose.pose
+    assert (p.position.x, p.position.y, p.position.z) == (2.5, -1.0, 0.0)
+    assert (p.orientation.x, p.orientation.z, p.orientation.w) == (0.0, 0.6, 0.8)
+    assert list(msg.pose.covariance) == covariance
+
+
 async def _exact_time(ws: Any, ns: int) -> int:
     while True:
         stamp = await _time_at_least(ws, 0)

@@ -73,6 +73,7 @@ from posekit.runtime.node import Node
 from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped, is_hidden_topic
 from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import EndpointInfo, MessageSink, SubscriptionEndpoint
+from posekit.time import stamp_to_ns
 
 __all__ = ["Recorder", "attach_recorder", "record_scenario"]
 
@@ -88,7 +89,7 @@ def _header_stamp_ns(msg: Any) -> int | None:
     stamp = getattr(header, "stamp", None)
     if stamp is None:
         return None
-    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
+    return stamp_to_ns(stamp)
 
 
 #: Graph checks in a row without a publisher before a topic's subscription is let go.

@@ -35,6 +35,7 @@ from typing import Any, TextIO
 from posekit.cli._graph import add_transport_args, hint_if_alone, session_for
 from posekit.cli._session import add_sim_time_args
 from posekit.cli.errors import CliError
+from posekit.time import stamp_to_seconds
 
 __all__ = ["chain_as_vector", "main"]
 
@@ -181,7 +182,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
             now = now_s()
             total = 0.0
             for t in msg.transforms:
-                offset = now - (t.header.stamp.sec + t.header.stamp.nanosec * 1e-9)
+                offset = now - stamp_to_seconds(t.header.stamp)
                 delays.setdefault(t.child_frame_id, deque(maxlen=_HISTORY)).append(offset)
                 total += offset
             offsets.append(total / max(1, len(msg.transforms)))
@@ -203,7 +204,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         while session.context.ok() and (ns.count is None or reports < ns.count):
             if specific:
                 t = buffer.lookup_transform(frame_a, frame_b, Time())
-                diff = now_s() - (t.header.stamp.sec + t.header.stamp.nanosec * 1e-9)
+                diff = now_s() - stamp_to_seconds(t.header.stamp)
                 avg_diff = 0.01 * diff + 0.99 * avg_diff
                 max_diff = max(max_diff, diff)
             session.spin_for(min(0.5, max(0.0, next_report - time.monotonic())))

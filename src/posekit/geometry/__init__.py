@@ -8,6 +8,8 @@ functions that build messages, so ``import posekit.geometry`` loads numpy alone.
 * :class:`Transform` - SE(3) ``T_a_b`` with ``T_a_c = T_a_b * T_b_c``.
 * :class:`Pose2D` - SE(2) with exact ``exp``/``log`` for arc odometry.
 * :mod:`posekit.geometry.scalar` - the same maths as functions on plain float tuples.
+* :func:`wrap_angle` - posekit's one angle-wrapping convention ([-π, π], in-range values
+  untouched).
 * duck-typed ROS message conversions, named errors and :class:`GimbalLockWarning`.
 
 Conventions (quaternion order ``(x, y, z, w)`` unless ``scalar_first=True``, active
@@ -17,7 +19,7 @@ rotations, lowercase extrinsic / uppercase intrinsic Euler) are in ``docs/conven
 from __future__ import annotations
 
 from posekit.geometry import scalar
-from posekit.geometry._quat import EULER_SEQUENCES
+from posekit.geometry._quat import EULER_SEQUENCES, wrap_angle
 from posekit.geometry.conversions import (
     pose2d_from_transform,
     pose2d_to_transform,
@@ -68,4 +70,5 @@ __all__ = [
     "transform_to_pose_msg",
     "vector_from_msg",
     "vector_to_msg",
+    "wrap_angle",
 ]

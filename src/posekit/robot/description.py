@@ -37,8 +37,8 @@ from typing import Any
 from posekit.geometry import Rotation, Transform
 from posekit.geometry.scalar import quat_from_rpy
 from posekit.msgs.geometry_msgs import Quaternion, TransformStamped, Vector3
-from posekit.robot._msgutil import stamp_from_seconds
 from posekit.robot.params import DEFAULT_DRIVE, WHEEL_JOINT_NAMES
+from posekit.time import stamp_from_seconds
 
 __all__ = [
     "FIXED_JOINTS",

@@ -30,7 +30,7 @@ import math
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -51,6 +51,9 @@ from posekit.runtime.arguments import (
     parse_parameter_value,
 )
 
+if TYPE_CHECKING:
+    from posekit.runtime.node import Node
+
 __all__ = [
     "PARAMETER_SEPARATOR_STRING",
     "InvalidParameterException",
@@ -65,6 +68,7 @@ __all__ = [
     "ParameterStore",
     "ParameterUninitializedException",
     "SetParametersResult",
+    "declare_value",
     "get_parameter_value",
     "parameter_dict_from_yaml_file",
     "parameter_value_to_python",
@@ -890,3 +894,10 @@ def _check_floating_point_range(param: Parameter, rng: FloatingPointRange) -> Se
                 f"step. Min: {lo}, max: {hi}, value: {value}, step: {rng.step}",
             )
     return SetParametersResult(successful=True)
+
+
+def declare_value(node: Node, name: str, default: Any) -> Any:
+    """Declare parameter ``name`` on ``node`` with ``default`` and return its value (a launch
+    or override value wins over ``default``): ``node.declare_parameter(name, default).value``,
+    the one line a node writes for each parameter it reads once at start-up."""
+    return node.declare_parameter(name, default).value

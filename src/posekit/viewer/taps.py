@@ -63,7 +63,7 @@ from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import MessageSink, Transport
 from posekit.tf2 import Buffer, TransformException
 from posekit.tf2_ros.transform_listener import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
-from posekit.time import Duration
+from posekit.time import NS_PER_S, Duration, stamp_to_ns
 from posekit.viewer.display_feed import MessageQueue
 
 __all__ = [
@@ -79,7 +79,7 @@ __all__ = [
     "ViewerTap",
 ]
 
-NS = 1_000_000_000
+NS = NS_PER_S
 TF_TYPE = "tf2_msgs/msg/TFMessage"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
 IMAGE_TYPE = "sensor_msgs/msg/Image"
@@ -194,10 +194,6 @@ class OdometryTrail:
         while len(self.poses) > maxlen:
             self.poses.popleft()
         self.version += 1
-
-
-def _stamp_ns(stamp: Any) -> int:
-    return int(stamp.sec) * NS + int(stamp.nanosec)
 
 
 def _resolve_class(type_name: str) -> type:
@@ -383,7 +379,7 @@ class ViewerTap:
             horizon = now + _MAX_FUTURE_NS if now > 0 else None
         stale: list[str] = []
         for t in msg.transforms:
-            if horizon is not None and _stamp_ns(t.header.stamp) > horizon:
+            if horizon is not None and stamp_to_ns(t.header.stamp) > horizon:
                 # What TransformListener does: one sample stamped years ahead would make
                 # every later real sample of the frame TF_OLD_DATA in the buffer.
                 self.rejected_transforms += 1
@@ -407,7 +403,7 @@ class ViewerTap:
                     for _ in range(MAX_FRAMES // 10):
                         stale.append(self._frames.pop(next(iter(self._frames))).name)
                 info.parent = t.header.frame_id.lstrip("/")
-                stamp = _stamp_ns(t.header.stamp)
+                stamp = stamp_to_ns(t.header.stamp)
                 if not is_static and (
                     self._newest_stamp is None or stamp > self._newest_stamp[0]
                 ):
@@ -419,7 +415,7 @@ class ViewerTap:
             self.buffer.forget_frames(stale)
 
     def _on_clock(self, msg: Any) -> None:
-        ns = _stamp_ns(msg.clock)
+        ns = stamp_to_ns(msg.clock)
         jumped = self._clock_ns is not None and ns < self._clock_ns - _BACKWARD_JUMP_NS
         self._clock_ns = ns
         if jumped:
@@ -456,7 +452,7 @@ class ViewerTap:
             self._warn("viewer: goal not drawn (non-finite pose)", GOAL_TOPIC)
             return
         goal = {"frame": msg.header.frame_id.lstrip("/") or "odom", "pose": values,
-                "stamp": _stamp_ns(msg.header.stamp) / NS}
+                "stamp": stamp_to_ns(msg.header.stamp) / NS}
         with self._lock:
             self._goal = goal
 

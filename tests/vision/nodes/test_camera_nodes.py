@@ -15,9 +15,9 @@ from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.node import Node
 from posekit.tf2_ros import StaticListenerQoS
+from posekit.time import stamp_from_ns
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.nodes import OakCameraNode, OverheadCameraNode
-from posekit.vision.nodes._common import stamp_msg
 
 SIM = {"use_sim_time": True}
 
@@ -48,7 +48,7 @@ def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
     assert len(sink.images) == 6  # 30 Hz: t = 1/30 ... 6/30
     for k, (img, info) in enumerate(zip(sink.images, sink.infos, strict=True), start=1):
         ns = k * 33_333_333  # timers fire on the integer-ns grid of round(1e9 / 30)
-        assert img.header.stamp == stamp_msg(ns) == info.header.stamp
+        assert img.header.stamp == stamp_from_ns(ns) == info.header.stamp
         assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_optical_frame"
         assert (img.width, img.height, img.encoding, img.step) == (1280, 720, "rgb8", 3840)
     K = np.asarray(sink.infos[0].k).reshape(3, 3)
@@ -85,7 +85,7 @@ def test_oak_pose_follows_ground_truth_between_samples(ctx, executor, v, w) -> N
     executor.add_node(cam)
     executor.add_node(sink)
     msg = Odometry()
-    msg.header.stamp = stamp_msg(0)
+    msg.header.stamp = stamp_from_ns(0)
     msg.pose.pose.position.x, msg.pose.pose.position.y = 1.0, -0.5
     yaw0 = 0.4
     msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw0 / 2), math.cos(

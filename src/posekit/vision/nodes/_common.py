@@ -1,5 +1,5 @@
 """Helpers shared by the vision nodes: image decoding with named rejections, intrinsics from
-``CameraInfo``, per-id marker sizes, TF messages from PnP results, stamps and poses."""
+``CameraInfo``, per-id marker sizes, TF messages from PnP results and poses."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.image import image_to_numpy
-from posekit.runtime.node import Node
+from posekit.time import NS_PER_S
 
 __all__ = [
     "DETECTABLE_ENCODINGS",
@@ -24,17 +24,14 @@ __all__ = [
     "ImageRejectedError",
     "bgr_canvas",
     "camera_matrix_from_info",
-    "declare",
     "decode_for_detection",
     "parse_marker_sizes",
     "pose_from_chain",
     "rpy_pose_matrix",
-    "stamp_msg",
-    "stamp_ns",
     "transform_msg",
 ]
 
-NS = 1_000_000_000
+NS = NS_PER_S
 F64Array = npt.NDArray[np.float64]
 U8Array = npt.NDArray[np.uint8]
 
@@ -44,22 +41,6 @@ DETECTABLE_ENCODINGS = ("rgb8", "bgr8", "mono8", "rgba8", "bgra8", "8UC1", "8UC3
 
 class ImageRejectedError(ValueError):
     """An image the detectors cannot use; the message says why (logged, then skipped)."""
-
-
-def declare(node: Node, name: str, default: Any) -> Any:
-    """Declare ``name`` with ``default`` and return its (possibly overridden) value."""
-    return node.declare_parameter(name, default).value
-
-
-def stamp_msg(ns: int) -> TimeMsg:
-    """``builtin_interfaces/Time`` of ``ns`` nanoseconds."""
-    sec, nanosec = divmod(int(ns), NS)
-    return TimeMsg(sec=sec, nanosec=nanosec)
-
-
-def stamp_ns(stamp: Any) -> int:
-    """Nanoseconds of a ``builtin_interfaces/Time``-like object."""
-    return int(stamp.sec) * NS + int(stamp.nanosec)
 
 
 def decode_for_detection(msg: Any) -> U8Array:

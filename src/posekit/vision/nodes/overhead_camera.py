@@ -25,10 +25,12 @@ from typing import Any
 
 import numpy as np
 
+from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import StaticTransformBroadcaster
+from posekit.time import stamp_from_ns
 from posekit.vision.camera import T_CAMERA_FRAME_OPTICAL, PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
-from posekit.vision.nodes._common import declare, rpy_pose_matrix, stamp_msg, transform_msg
+from posekit.vision.nodes._common import rpy_pose_matrix, transform_msg
 
 __all__ = ["OverheadCameraNode"]
 
@@ -38,8 +40,8 @@ class OverheadCameraNode(SimulatedCamera):
 
     def __init__(self, node_name: str = "overhead_camera", **kwargs: Any) -> None:
         super().__init__(node_name, "aruco_box_camera_world", **kwargs)
-        name = str(declare(self, "camera_name", "overhead_camera"))
-        publish_statics = bool(declare(self, "publish_static_frames", True))
+        name = str(declare_value(self, "camera_name", "overhead_camera"))
+        publish_statics = bool(declare_value(self, "publish_static_frames", True))
         specs = {c.name: c for c in self.world.cameras}
         if name not in specs:
             raise ValueError(
@@ -61,7 +63,7 @@ class OverheadCameraNode(SimulatedCamera):
                                          near=near, far=far)
         if publish_statics and self._statics:
             self._static_broadcaster = StaticTransformBroadcaster(self)
-            stamp = stamp_msg(self.get_clock().now_ns())
+            stamp = stamp_from_ns(self.get_clock().now_ns())
             self._static_broadcaster.sendTransform(
                 [transform_msg(s.parent, s.child, stamp, s.xyz, s.quaternion_xyzw)
                  for s in self._statics]
