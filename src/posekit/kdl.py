@@ -108,8 +108,10 @@ class Vector:
         return math.hypot(*self._v)
 
     def Normalize(self, eps: float = 1e-5) -> float:
-        """Scale to unit length in place and return the old length (KDL: below ``eps`` the
-        vector becomes (1, 0, 0))."""
+        """Scale to unit length in place and return the old length.
+
+        As KDL, below ``eps`` the vector becomes (1, 0, 0).
+        """
         n = self.Norm()
         if n < eps:
             self._v = [1.0, 0.0, 0.0]

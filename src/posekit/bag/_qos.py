@@ -38,8 +38,9 @@ _MAX_LATCHED = 1000
 
 
 def to_rosbags_qos(profile: QoSProfile) -> Any:
-    """The rosbags ``Qos`` record of ``profile`` with policies resolved as a publisher offers
-    them (SYSTEM_DEFAULT / BEST_AVAILABLE become RELIABLE and VOLATILE; KEEP_ALL has depth 0).
+    """The rosbags ``Qos`` record of ``profile``, policies resolved as a publisher offers them.
+
+    SYSTEM_DEFAULT / BEST_AVAILABLE become RELIABLE and VOLATILE; KEEP_ALL has depth 0.
     """
     from rosbags.interfaces import (
         Qos,

@@ -1,5 +1,6 @@
-"""rosbag2 Jazzy's storage file layout on top of rosbags' Writer: ``<name>_<i>.mcap`` files,
-split by size or duration, one merged ``metadata.yaml``.
+"""rosbag2 Jazzy's storage file layout on top of rosbags' Writer.
+
+``<name>_<i>.mcap`` files, split by size or duration, one merged ``metadata.yaml``.
 
 rosbag2 names a bag's storage files after the bag directory with a running index
 (``run1/run1_0.mcap``, ``run1_1.mcap``, ...) and starts a new file before writing a message

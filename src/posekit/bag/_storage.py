@@ -20,8 +20,10 @@ SUPPORTED_VERSIONS = (8, 9)
 
 
 def check_bag_dir(path: str | Path) -> Path:
-    """``path`` as a Path if it is a rosbag2 directory with ``metadata.yaml``, else raise
-    :class:`BagNotFoundError` (missing) or :class:`BagFormatError` (not a bag directory)."""
+    """``path`` as a Path if it is a rosbag2 directory with ``metadata.yaml``.
+
+    Raises :class:`BagNotFoundError` (missing) or :class:`BagFormatError` (not a bag directory).
+    """
     p = Path(path)
     if not p.exists():
         raise BagNotFoundError(f"bag {str(p)!r} does not exist")

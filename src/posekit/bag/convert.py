@@ -102,8 +102,11 @@ class _Output:
 
 
 def _definition(conn: Any, store: Any) -> dict[str, Any]:
-    """How rosbags' Writer gets a type's definition: posekit's typestore for Jazzy types, else
-    the definition and hash stored with the input connection."""
+    """How rosbags' Writer gets a type's definition.
+
+    posekit's typestore for Jazzy types, else the definition and hash stored with the input
+    connection.
+    """
     if conn.msgtype in store.fielddefs:
         return {"typestore": store}
     if conn.msgdef is not None and conn.msgdef.data and conn.digest:

@@ -24,8 +24,11 @@ class BagExistsError(BagError, FileExistsError):
 
 
 class BagFormatError(BagError):
-    """The bag exists but cannot be read: corrupted or truncated storage file, invalid
-    ``metadata.yaml``, unsupported version, storage plugin or serialization format."""
+    """The bag exists but cannot be read.
+
+    Corrupted or truncated storage file, invalid ``metadata.yaml``, unsupported version, storage
+    plugin or serialization format.
+    """
 
 
 class BagOptionError(BagError, ValueError):

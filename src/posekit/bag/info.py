@@ -190,10 +190,12 @@ def _qos_text(q: QoSProfile) -> str:
 
 
 def service_counts(path: str | Path) -> dict[str, tuple[int, int]]:
-    """``{service event topic: (requests, responses)}`` of the bag at ``path``, counted as
-    rosbag2 Jazzy's ``Info::read_service_info``: distinct ``(client_gid, sequence_number)``
-    pairs per kind. Only each event's leading ``service_msgs/msg/ServiceEventInfo`` is read,
-    so services of any type are counted (types posekit does not know included).
+    """``{service event topic: (requests, responses)}`` of the bag at ``path``.
+
+    Counted as rosbag2 Jazzy's ``Info::read_service_info``: distinct ``(client_gid,
+    sequence_number)`` pairs per kind. Only each event's leading
+    ``service_msgs/msg/ServiceEventInfo`` is read, so services of any type are counted (types
+    posekit does not know included).
 
     Raises:
         BagFormatError: a service event too short to hold its ServiceEventInfo.
@@ -216,8 +218,11 @@ def service_counts(path: str | Path) -> dict[str, tuple[int, int]]:
 
 
 def _event_info(data: bytes, topic: str) -> tuple[int, bytes, int]:
-    """``(event_type, client_gid, sequence_number)`` of a CDR service event: its first field
-    is a ServiceEventInfo (uint8, Time{int32, uint32}, uint8[16], int64 at offset 32)."""
+    """``(event_type, client_gid, sequence_number)`` of a CDR service event.
+
+    Its first field is a ServiceEventInfo (uint8, Time{int32, uint32}, uint8[16], int64 at
+    offset 32).
+    """
     import struct
 
     if len(data) < 44 or data[0] != 0 or data[1] not in (0, 1):
@@ -229,8 +234,11 @@ def _event_info(data: bytes, topic: str) -> tuple[int, bytes, int]:
 
 def format_info(info: BagInfo, *, verbose: bool = False,
                 service_counts: dict[str, tuple[int, int]] | None = None) -> str:
-    """The text ``posekit bag info`` prints (see the module docstring); ``service_counts``
-    (from :func:`service_counts`) makes the service lines Jazzy's verbose ones."""
+    """The text ``posekit bag info`` prints (see the module docstring).
+
+    ``service_counts`` (from :func:`service_counts`) makes the service lines Jazzy's verbose
+    ones.
+    """
     pad = " " * _INDENT
     lines = [""]
     files = info.files or [""]
@@ -293,7 +301,9 @@ def is_service_event_type(msgtype: str) -> bool:
 
 
 def is_service_event_topic(name: str, msgtype: str) -> bool:
-    """rosbag2's test for a service event topic (``/srv/`` type ending ``_Event`` on a topic
-    ending ``/_service_event``)."""
+    """rosbag2's test for a service event topic.
+
+    A ``/srv/`` type ending ``_Event`` on a topic ending ``/_service_event``.
+    """
     return (len(name) > len(SERVICE_EVENT_SUFFIX) and name.endswith(SERVICE_EVENT_SUFFIX)
             and is_service_event_type(msgtype))

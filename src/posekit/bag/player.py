@@ -421,9 +421,11 @@ class Player:
     def _wait_until_due(self, stamp_ns: int, clock: _BagClock, next_clock: float,
                         period: float, wait: Callable[[float], None],
                         progress: Callable[[int, bool], None] | None) -> float:
-        """Wait until the bag clock reaches ``stamp_ns`` (pause, step and rate changes from
-        other threads honoured), sending ``/clock`` every ``period`` s of wall time on the
-        way; returns the wall time of the next ``/clock``."""
+        """Wait until the bag clock reaches ``stamp_ns``; returns when the next ``/clock`` is due.
+
+        The return value is a wall time. Pause, step and rate changes from other threads are
+        honoured; ``/clock`` goes out every ``period`` s of wall time on the way.
+        """
         while not self._stopped:
             now = time.monotonic()
             with self._control:

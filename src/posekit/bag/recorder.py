@@ -97,8 +97,11 @@ _GRACE_REFRESHES = 10
 
 
 def _recordable_class(type_name: str) -> type:
-    """The class of a type the recorder can write: a message type with a ROS 2 definition,
-    or the event type of a posekit service (``pkg/srv/Name_Event``). LookupError else."""
+    """The class of a type the recorder can write (LookupError for any other).
+
+    A message type with a ROS 2 definition, or the event type of a posekit service
+    (``pkg/srv/Name_Event``).
+    """
     from posekit.msgs.cdr import get_typestore, serializable_type
 
     if is_service_event_type(type_name):
@@ -114,10 +117,13 @@ def _recordable_class(type_name: str) -> type:
 
 
 def _definition(type_name: str) -> dict[str, Any]:
-    """``add_connection`` keywords giving a topic's MCAP schema: the ``ros2msg`` text with
-    dependencies (from the typestore) for messages; for a service event type the schema
-    rosbag2 Jazzy writes (its ``LocalMessageDefinitionSource``): an ``SRV:`` delimiter, the
-    service's ``.srv`` text (request ``---`` response) and its message dependencies."""
+    """``add_connection`` keywords giving a topic's MCAP schema.
+
+    For messages, the ``ros2msg`` text with dependencies (from the typestore); for a service
+    event type the schema rosbag2 Jazzy writes (its ``LocalMessageDefinitionSource``): an
+    ``SRV:`` delimiter, the service's ``.srv`` text (request ``---`` response) and its message
+    dependencies.
+    """
     from posekit.msgs._srv_defs import service_definition_text
     from posekit.msgs.cdr import get_typestore
 
@@ -300,8 +306,11 @@ class Recorder:
 
     # -- writing to disk -----------------------------------------------------------------
     def _flush_storage(self, close_chunk: bool = True) -> None:
-        """Close the open MCAP chunk (if it holds anything) and hand the file's buffered
-        bytes to the operating system (caller holds the lock or owns the writer)."""
+        """Close the open MCAP chunk and hand the file's buffered bytes to the operating system.
+
+        A chunk is closed only if it holds anything. The caller holds the lock or owns the
+        writer.
+        """
         storage: Any = getattr(self._writer, "storage", None)
         chunk = getattr(storage, "chunk", None)
         if close_chunk and chunk is not None and chunk.msgs and hasattr(storage, "close_chunk"):
@@ -362,15 +371,20 @@ class Recorder:
         return self._include_hidden or topic in self._explicit or not is_hidden_topic(topic)
 
     def discover(self) -> list[str]:
-        """Subscribe to wanted topics that appeared in the graph (and let go of those whose
-        publishers left); returns the new ones."""
+        """Subscribe to wanted topics that appeared in the graph; returns the new ones.
+
+        Topics whose publishers left are let go.
+        """
         if self._closed:
             return []
         return self._observer.refresh()
 
     def _node_subscription(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
-        """A subscription of the recorder node: messages are written by its executor, at
-        the node clock's time of delivery (sim time under a SimulatedTimeExecutor)."""
+        """A subscription of the recorder node.
+
+        Messages are written by its executor, at the node clock's time of delivery (sim time
+        under a SimulatedTimeExecutor).
+        """
         return _NodeSubscription(
             self.node, self.node.create_subscription(info.msg_type, info.topic, sink, info.qos))
 

@@ -55,8 +55,10 @@ class _Topic:
 
 
 def _salvage(path: Path, topics: dict[tuple[str, str], _Topic]) -> str:
-    """Read ``path`` front to back into ``topics``; returns why it stopped early ('' if it
-    reached a clean end)."""
+    """Read ``path`` front to back into ``topics``.
+
+    Returns why it stopped early ('' if it reached a clean end).
+    """
     from mcap.records import Channel, Footer, Message, Schema
     from mcap.stream_reader import StreamReader
 

@@ -1,6 +1,9 @@
-"""Optional dependencies, checked before a command starts: a missing one is ONE line naming
-the extra that installs it (``pip install 'posekit[plot]'``), never a traceback at the end of
-a run. Nothing is imported to check (``importlib.util.find_spec``)."""
+"""Optional dependencies, checked before a command starts.
+
+A missing one is ONE line naming the extra that installs it (``pip install 'posekit[plot]'``),
+never a traceback at the end of a run. Nothing is imported to check
+(``importlib.util.find_spec``).
+"""
 
 from __future__ import annotations
 
@@ -34,8 +37,11 @@ def missing_extra(extra: str) -> list[str]:
 
 
 def require(command: str, needs: Iterable[tuple[str, str]]) -> str | None:
-    """The first problem as one line, or None. ``needs``: ``(what, extra)`` pairs, e.g.
-    ``("--plot", "plot")``; ``what`` names the option or the command that needs the extra."""
+    """The first problem as one line, or None.
+
+    ``needs``: ``(what, extra)`` pairs, e.g. ``("--plot", "plot")``; ``what`` names the option
+    or the command that needs the extra.
+    """
     for what, extra in needs:
         missing = missing_extra(extra)
         if missing:

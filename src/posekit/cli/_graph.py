@@ -81,8 +81,7 @@ def wait_for_topic_type(
 
 
 def publishers_info(session: Any, topic: str) -> list[Any]:
-    """The transport's endpoint records of the publishers on ``topic`` (empty if it cannot
-    tell)."""
+    """The transport's endpoint records of the publishers on ``topic`` (empty if it cannot tell)."""
     return list(session.node.transport.get_publishers_info_by_topic(topic))
 
 
@@ -92,8 +91,10 @@ def subscriptions_info(session: Any, topic: str) -> list[Any]:
 
 
 def graph_entities(session: Any) -> list[Any]:
-    """Every entity (node or endpoint record) the transport's graph knows; empty on a
-    transport that cannot tell (the in-process bus)."""
+    """Every entity (node or endpoint record) the transport's graph knows.
+
+    Empty on a transport that cannot tell (the in-process bus).
+    """
     return list(session.node.transport.graph_entities())
 
 
@@ -103,8 +104,10 @@ def node_names(session: Any) -> list[str]:
 
 
 def empty_graph_hint(session: Any) -> str:
-    """A one-line hint when no node but the tool's own is visible on a network transport,
-    else ``""`` (an in-process context has no one else to find)."""
+    """A one-line hint when no node but the tool's own is visible on a network transport.
+
+    Else ``""`` (an in-process context has no one else to find).
+    """
     transport = session.node.transport
     if not transport.crosses_processes:
         return ""
@@ -178,8 +181,11 @@ def node_interfaces(session: Any, node_fqn: str) -> NodeInterfaces | None:
 
 
 def adapted_qos(session: Any, topic: str, out: TextIO, *, default: Any = None) -> Any:
-    """``ros2 topic echo``'s choice: reliable / transient-local only if every publisher offers
-    it, else best effort / volatile with a note (starting from ``default``, depth 10)."""
+    """The QoS ``ros2 topic echo`` picks for the publishers of a topic.
+
+    Reliable / transient-local only if every publisher offers it, else best effort / volatile
+    with a note (starting from ``default``, depth 10).
+    """
     from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
     base = default if default is not None else QoSProfile(depth=10)
@@ -221,7 +227,9 @@ def session_for(ns: argparse.Namespace, context: Any) -> Any:
 
 
 def resolve_topic(session: Any, topic: str) -> str:
-    """``topic`` made fully qualified against the tool node (a bad name raises
-    :class:`~posekit.runtime.names.InvalidTopicNameException`)."""
+    """``topic`` made fully qualified against the tool node.
+
+    A bad name raises :class:`~posekit.runtime.names.InvalidTopicNameException`.
+    """
     resolved: str = session.node.resolve_topic_name(topic)
     return resolved

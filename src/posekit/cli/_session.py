@@ -29,8 +29,11 @@ TRANSPORT_CHOICES = ("inprocess", "zenoh", "dds")
 
 
 def add_sim_time_args(parser: argparse.ArgumentParser) -> None:
-    """``--use-sim-time`` (True) / ``--wall-time`` (False) into ``ns.use_sim_time``; neither
-    gives None: detect a running simulation (see :meth:`ToolSession.follow_sim_time`)."""
+    """Add ``--use-sim-time`` / ``--wall-time``, stored in ``ns.use_sim_time``.
+
+    ``--use-sim-time`` gives True, ``--wall-time`` False; neither gives None: detect a running
+    simulation (see :meth:`ToolSession.follow_sim_time`).
+    """
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--use-sim-time", dest="use_sim_time", action="store_const", const=True,
                        default=None, help="use the simulation's /clock (default: when a "
@@ -85,8 +88,10 @@ class ToolSession:
         self._listener = TransformListener(buffer, self.node)
 
     def sync_graph(self, timeout: float = 5.0) -> None:
-        """Complete the transport's graph snapshot (a liveliness query on Zenoh; elsewhere
-        just the callbacks ready now)."""
+        """Complete the transport's graph snapshot.
+
+        A liveliness query on Zenoh; elsewhere just the callbacks ready now.
+        """
         transport = self.node.transport
         if transport.crosses_processes:
             transport.sync_graph(timeout)
@@ -95,10 +100,12 @@ class ToolSession:
 
     def follow_sim_time(self, use_sim_time: bool | None = None, *,
                         wait_s: float = 2.0) -> bool:
-        """Use the simulation's time: True forces it (``--use-sim-time``), None (default)
-        detects a ``/clock`` publisher on the graph, False keeps the wall clock. When sim
-        time is used, waits up to ``wait_s`` wall seconds for the first ``/clock`` message
-        (so ``now()`` is not 0). Returns whether the node clock is on sim time."""
+        """Use the simulation's time; returns whether the node clock is on sim time.
+
+        True forces it (``--use-sim-time``), None (default) detects a ``/clock`` publisher on
+        the graph, False keeps the wall clock. When sim time is used, waits up to ``wait_s``
+        wall seconds for the first ``/clock`` message (so ``now()`` is not 0).
+        """
         if use_sim_time is False:
             return False
         if use_sim_time is None and not graph_clock_publishers(self.node.transport):

@@ -372,10 +372,13 @@ def _remaps(pairs: Sequence[str]) -> dict[str, str]:
 
 
 def _play_topics(bag: str, ns: argparse.Namespace) -> list[str] | None:
-    """The recorded topics ``--topics``, ``--services``, ``-e``, ``-x``, ``--exclude-topics``
-    and ``--exclude-services`` select, as rosbag2 Jazzy's player does: topic options select
-    among topics and service options among service event topics (``--topics`` alone still
-    plays every recorded service), the regular expressions apply to both. None: all."""
+    """The recorded topics the selection options pick, as rosbag2 Jazzy's player does (None: all).
+
+    ``--topics``, ``--services``, ``-e``, ``-x``, ``--exclude-topics`` and
+    ``--exclude-services``: topic options select among topics and service options among service
+    event topics (``--topics`` alone still plays every recorded service), the regular
+    expressions apply to both.
+    """
     import re
 
     from posekit.bag.info import SERVICE_EVENT_SUFFIX, is_service_event_topic

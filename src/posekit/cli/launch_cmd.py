@@ -91,7 +91,8 @@ def network_transport(ns: argparse.Namespace) -> str | None:
 
     An explicit choice (``--zenoh``, ``--transport``, $POSEKIT_TRANSPORT) whose package is
     missing is a one-line error; the implicit default (zenoh) without its package means an
-    isolated run, said in one line."""
+    isolated run, said in one line.
+    """
     from posekit.cli._extras import require
     from posekit.runtime.transport import registered_transports
 
@@ -307,8 +308,11 @@ def _follow(ns: argparse.Namespace, name: str, params: dict[str, Any], seed: int
 
 def _run_started(ns: argparse.Namespace, run: Any,
                  before: Callable[[Any], None] | None = None) -> None:
-    """Attach the option hooks (recorder, image saver, viewer) to a started launch, run it
-    until ``--until-sim-time`` (or Ctrl-C) and shut everything down."""
+    """Attach the option hooks to a started launch, run it, and shut everything down.
+
+    The hooks are the recorder, the image saver and the viewer; the run lasts until
+    ``--until-sim-time`` (or Ctrl-C).
+    """
     from posekit.launch.runner import run_until
 
     servers: list[Any] = []

@@ -126,8 +126,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 @contextlib.contextmanager
 def _sigterm_as_interrupt() -> Iterator[None]:
-    """SIGTERM (``timeout``, systemd, ``docker stop``) stops a tool as Ctrl-C does, so it
-    finishes its work (a bag's index and metadata.yaml) instead of dying mid-write."""
+    """Make SIGTERM stop a tool as Ctrl-C does.
+
+    SIGTERM comes from ``timeout``, systemd or ``docker stop``; the tool then finishes its work
+    (a bag's index and metadata.yaml) instead of dying mid-write.
+    """
     if threading.current_thread() is not threading.main_thread() or (
         signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
     ):

@@ -60,9 +60,11 @@ def parents_from_buffer(buffer: Any) -> dict[str, str]:
 
 
 def chain_as_vector(parents: dict[str, str], target: str, source: str) -> list[str]:
-    """The frames between ``source`` and ``target`` in the order tf2's ``_chainAsVector``
-    (fixed frame == target) lists them: up from the source to the common ancestor, then
-    down to the target."""
+    """The frames between ``source`` and ``target``, ordered as tf2's ``_chainAsVector``.
+
+    With the fixed frame equal to the target: up from the source to the common ancestor, then
+    down to the target.
+    """
     chain: list[str] = []
     frame: str | None = source
     top = source
@@ -102,8 +104,11 @@ def chain_as_vector(parents: dict[str, str], target: str, source: str) -> list[s
 
 def _wait_for_chain(session: Any, buffer: Any, frame_a: str, frame_b: str,
                     timeout_s: float | None, err: TextIO) -> None:
-    """Spin until ``frame_a -> frame_b`` can be looked up, logging why not once a second
-    (as tf2_monitor); CliError after ``timeout_s`` (None: wait until it can)."""
+    """Spin until ``frame_a -> frame_b`` can be looked up.
+
+    Logs why not once a second (as tf2_monitor); CliError after ``timeout_s`` (None: wait until
+    it can).
+    """
     from posekit.time import Time
 
     deadline = None if timeout_s is None else time.monotonic() + timeout_s

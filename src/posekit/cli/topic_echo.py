@@ -1,8 +1,8 @@
-"""``posekit topic echo``: ``ros2 topic echo``'s options and output (Jazzy).
+r"""``posekit topic echo``: ``ros2 topic echo``'s options and output (Jazzy).
 
 Each message prints as block YAML followed by ``---`` (``yaml_io.message_to_yaml``);
 ``--csv`` prints one comma-separated line, ``--flow-style`` one flow-style YAML line,
-``--raw`` the CDR bytes (``b'\\x00\\x01...'``). ``--field a.b`` prints only that field (a
+``--raw`` the CDR bytes (``b'\x00\x01...'``). ``--field a.b`` prints only that field (a
 scalar prints as Python prints it), ``--filter EXPR`` only messages for which the Python
 expression over ``m`` (the message, or the selected field) is true. The subscription QoS is
 the ``--qos-profile`` (default ``sensor_data``) made reliable / transient-local when every
@@ -143,8 +143,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main_echo(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
               err: TextIO | None = None, timeout_s: float | None = None) -> int:
-    """``topic echo TOPIC [TYPE] [options]``; ``timeout_s`` (tests) bounds the wait and exits
-    1 if nothing was printed by then."""
+    """Run ``topic echo TOPIC [TYPE] [options]``.
+
+    ``timeout_s`` (tests) bounds the wait and exits 1 if nothing was printed by then.
+    """
     out = out or sys.stdout
     err = err or sys.stderr
     ns = build_parser().parse_args(list(argv))

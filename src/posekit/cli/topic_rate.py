@@ -1,12 +1,12 @@
-"""``posekit topic hz|bw|delay``: ``ros2 topic``'s rate, bandwidth and delay monitors (Jazzy).
+r"""``posekit topic hz|bw|delay``: ``ros2 topic``'s rate, bandwidth and delay monitors (Jazzy).
 
 * ``hz TOPIC [-w N] [--filter EXPR] [--wall-time]``: at most once per second of message time
-  ``average rate: R\\n\\tmin: As max: Bs std dev: Cs window: N`` over the last N inter-arrival
+  ``average rate: R\n\tmin: As max: Bs std dev: Cs window: N`` over the last N inter-arrival
   times, measured on the tool node's clock: the simulation's while one publishes ``/clock``
   (or with ``--use-sim-time``), else, and with ``--wall-time``, the system clock.
-* ``bw TOPIC [-w N]``: once a second ``B/s from N messages\\n\\tMessage size mean: ... min: ...
+* ``bw TOPIC [-w N]``: once a second ``B/s from N messages\n\tMessage size mean: ... min: ...
   max: ...`` in B, KB or MB (powers of 1000), message sizes being the CDR serialization.
-* ``delay TOPIC [-w N]``: once a second ``average delay: D\\n\\tmin: ... window: N`` of the
+* ``delay TOPIC [-w N]``: once a second ``average delay: D\n\tmin: ... window: N`` of the
   receive time minus ``header.stamp`` (``no new messages`` when none arrived).
 
 posekit's additions: ``--timeout S`` ends the tool cleanly when no message has arrived for S
@@ -96,8 +96,10 @@ def _parser(verb: str, description: str, window: int, topic_help: str) -> argpar
 
 
 def _once_per_second(first_after: float = 0.0) -> Callable[[], bool]:
-    """True at most once per wall second (ros2's 1 s report timer), first after
-    ``first_after`` seconds."""
+    """True at most once per wall second (ros2's 1 s report timer).
+
+    The first time after ``first_after`` seconds.
+    """
     next_at = [time.monotonic() + first_after]
 
     def due() -> bool:
@@ -150,8 +152,10 @@ class _Monitor:
 
     def run(self, sample: Callable[[Any, Any], bool], tick: Callable[[Any], bool],
             needs_field: str | None = None) -> int:
-        """Spin until ``--count`` reports, Ctrl-C, or ``--timeout`` without a measured message
-        (``sample`` returns False for a message it did not measure)."""
+        """Spin until ``--count`` reports, Ctrl-C, or ``--timeout`` without a measured message.
+
+        ``sample`` returns False for a message it did not measure.
+        """
         from posekit.runtime.qos import qos_profile_sensor_data
 
         with session_for(self.ns, self.context) as session:

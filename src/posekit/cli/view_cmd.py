@@ -36,8 +36,10 @@ __all__ = ["attach_to_run", "find_world", "main"]
 
 
 def find_world(run: LaunchRun) -> str | None:
-    """The world of a run: the ``world`` parameter of the first node declaring one (the
-    simulator's), or None."""
+    """The world of a run, or None.
+
+    The ``world`` parameter of the first node declaring one (the simulator's).
+    """
     for node in run.nodes:
         if node.has_parameter("world"):
             value = node.get_parameter("world").value
@@ -55,8 +57,9 @@ def attach_to_run(
     open_browser: bool = False,
     **options: Any,
 ) -> ViewerServer:
-    """Serve a viewer of ``run`` (same process, its in-process bus) and return the started
-    server; ``server.stop()`` when the run ends.
+    """Serve a viewer of ``run`` and return the started server.
+
+    Same process, on the run's in-process bus; ``server.stop()`` when the run ends.
 
     The world is taken from the simulator's ``world`` parameter unless given; frame ages use
     the run's simulated time when its executor is a SimulatedTimeExecutor. Pace the run to

@@ -98,8 +98,11 @@ def render_tree(frames: dict[str, dict[str, float | str]], now_s: float) -> str:
 
 def _collect(wait_s: float, context: Any, transport: str | None,
              use_sim_time: bool | None = None) -> tuple[str, Any]:
-    """tf2's frames YAML after ``wait_s`` s of listening, and "now" on the tool's clock (the
-    simulation's time when one publishes /clock, see ToolSession.follow_sim_time)."""
+    """tf2's frames YAML after ``wait_s`` s of listening, and "now" on the tool's clock.
+
+    The tool's clock shows the simulation's time when one publishes /clock (see
+    ToolSession.follow_sim_time).
+    """
     from posekit.cli._session import ToolSession
     from posekit.tf2 import Buffer
 

@@ -213,7 +213,8 @@ def resolve_launch(words: list[str]) -> str:
     """The scenario that ``posekit launch WORDS...`` names (ScenarioError if none).
 
     ``[PACKAGE, FILE.launch.py]`` and ``[FILE.launch.py]`` use the lecture's launch files
-    (:data:`LAUNCH_FILES`); ``[NAME]`` is a scenario name (``posekit launch --list``)."""
+    (:data:`LAUNCH_FILES`); ``[NAME]`` is a scenario name (``posekit launch --list``).
+    """
     if len(words) == 2:
         key = (words[0], words[1] if words[1].endswith(".py") else f"{words[1]}.launch.py")
         if key in LAUNCH_FILES:

@@ -1,6 +1,8 @@
-"""The main demo that ``make demo`` (and ``posekit demo``) runs: :mod:`posekit.demos.marker_demo`
-(the lecture's ArUco marker listener, simulated end to end). Arguments are passed on
-(``--seconds``, ``--output-dir``, ``--seed``)."""
+"""The main demo that ``make demo`` (and ``posekit demo``) runs.
+
+:mod:`posekit.demos.marker_demo`: the lecture's ArUco marker listener, simulated end to end.
+Arguments are passed on (``--seconds``, ``--output-dir``, ``--seed``).
+"""
 
 from __future__ import annotations
 

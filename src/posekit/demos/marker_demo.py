@@ -86,9 +86,11 @@ def run_demo(
     *,
     out: TextIO | None = None,
 ) -> DemoReport:
-    """Run the demo and return its :class:`DemoReport`; with ``out``, print the listener's
-    lines to it as they happen (the nodes' other log lines are kept off the console; warnings
-    and errors are collected in ``other_warnings``)."""
+    """Run the demo and return its :class:`DemoReport`.
+
+    With ``out``, print the listener's lines to it as they happen (the nodes' other log lines
+    are kept off the console; warnings and errors are collected in ``other_warnings``).
+    """
     import posekit.demos.scenarios  # noqa: F401 - registers the vision scenarios
     from posekit.launch.scenarios import run_scenario
     from posekit.runtime.logging import LoggingSeverity, LogRecord, add_sink, remove_sink

@@ -1,6 +1,9 @@
-"""Every named scenario: importing this registers the robot's, the vision demos' and the
-lecture's two-terminal scenarios in :mod:`posekit.launch.scenarios` (look them up and run
-them there); :func:`include_scenario` puts one into a launch file."""
+"""Every named scenario, registered on import.
+
+Importing this registers the robot's, the vision demos' and the lecture's two-terminal scenarios
+in :mod:`posekit.launch.scenarios` (look them up and run them there); :func:`include_scenario`
+puts one into a launch file.
+"""
 
 from __future__ import annotations
 
@@ -24,8 +27,9 @@ SCENARIO_EXTRAS: dict[str, str] = dict.fromkeys(
 
 def include_scenario(name: str, params: Mapping[str, Any] | None = None,
                      seed: int = 0) -> list[Node]:
-    """The launch entries of scenario ``name``, to put in your own launch file next to your
-    nodes (``IncludeLaunchDescription``'s role)::
+    """The launch entries of scenario ``name``, for your own launch file.
+
+    Put them next to your nodes (``IncludeLaunchDescription``'s role)::
 
         LaunchDescription([*include_scenario("aruco_box_world"), Node(MyDetector)])
 

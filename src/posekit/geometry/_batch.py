@@ -133,8 +133,11 @@ _accel = _load_accel()
 
 
 def to_matrix(q: F64) -> F64:
-    """``(N, 3, 3)`` rotation matrices of unit quaternions (compiled where available; the
-    same IEEE operations in the same order as :func:`to_matrix_numpy`)."""
+    """``(N, 3, 3)`` rotation matrices of unit quaternions (compiled where available).
+
+    The compiled kernel makes the same IEEE operations in the same order as
+    :func:`to_matrix_numpy`.
+    """
     if _accel is not None and q.dtype == np.float64 and q.flags.c_contiguous:
         m = np.empty((q.shape[0], 3, 3))
         _accel.quat_to_matrix(q, m)

@@ -358,6 +358,7 @@ class Rotation:
         Args:
             axis: ``(3,)`` or ``(N, 3)``, any non-zero length.
             angle: scalar or ``(N,)``; radians unless ``degrees=True``.
+            degrees: ``angle`` in degrees instead of radians.
 
         Raises:
             ZeroAxisError: an axis of zero (or non-finite) length.
@@ -565,8 +566,11 @@ class Rotation:
 
     # -- algebra ------------------------------------------------------------------------
     def __mul__(self, other: Rotation) -> Rotation:
-        """Composition ``self * other``: apply ``other`` first, then ``self`` (``R_a_c = R_a_b *
-        R_b_c``). Batches compose element-wise; a single broadcasts against a batch."""
+        """Composition ``self * other``: apply ``other`` first, then ``self``.
+
+        ``R_a_c = R_a_b * R_b_c``. Batches compose element-wise; a single broadcasts against a
+        batch.
+        """
         if not isinstance(other, Rotation):
             return NotImplemented
         if self._q is not None and other._q is not None:
@@ -635,13 +639,17 @@ class Rotation:
 
     # -- the lecture's two composition rules ---------------------------------------------
     def rotated_about_world(self, rotation: Rotation) -> Rotation:
-        """This orientation turned by ``rotation`` about *fixed world* axes:
-        ``O_final = O_rot ⊗ O_init``."""
+        """This orientation turned by ``rotation`` about *fixed world* axes.
+
+        ``O_final = O_rot ⊗ O_init``.
+        """
         return rotation * self
 
     def rotated_about_body(self, rotation: Rotation) -> Rotation:
-        """This orientation turned by ``rotation`` about its *own (body)* axes:
-        ``O_final = O_init ⊗ O_rot``."""
+        """This orientation turned by ``rotation`` about its *own (body)* axes.
+
+        ``O_final = O_init ⊗ O_rot``.
+        """
         return self * rotation
 
 

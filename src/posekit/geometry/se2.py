@@ -43,8 +43,11 @@ def integrate_arc(
     origin.
 
     Args:
-        x, y, theta: start pose ``T_fixed_body`` (m, m, rad).
-        dx, dy: displacement along body x and y over the step (``vx * dt``, ``vy * dt``, m).
+        x: start position x of ``T_fixed_body`` (m).
+        y: start position y of ``T_fixed_body`` (m).
+        theta: start heading of ``T_fixed_body`` (rad).
+        dx: displacement along body x over the step (``vx * dt``, m).
+        dy: displacement along body y over the step (``vy * dt``, m).
         dtheta: heading change over the step (``ω * dt``, rad).
 
     Returns:
@@ -127,8 +130,10 @@ class Pose2D:
         return cls(ex, ey, dtheta)
 
     def log(self) -> tuple[float, float, float]:
-        """Inverse of :meth:`exp`: the twist ``(dx, dy, dtheta)`` (dtheta in [-π, π]) whose
-        unit-time arc reaches this pose."""
+        """Inverse of :meth:`exp`: the twist whose unit-time arc reaches this pose.
+
+        The twist is ``(dx, dy, dtheta)``, dtheta in [-π, π].
+        """
         th = self.theta
         half = 0.5 * th
         # k = (θ/2) cot(θ/2), with its Taylor series near 0

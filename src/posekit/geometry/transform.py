@@ -72,10 +72,12 @@ class Transform:
     def __init__(
         self, rotation: Rotation | None = None, translation: npt.ArrayLike = (0.0, 0.0, 0.0)
     ) -> None:
-        """Args:
-        rotation: single or batch :class:`Rotation` (default identity).
-        translation: ``(3,)`` or ``(N, 3)`` metres (default zero). A single rotation with
-            N translations (or vice versa) broadcasts to a batch of N.
+        """Build ``T_a_b`` from ``R_a_b`` and ``t_a_b``.
+
+        Args:
+            rotation: single or batch :class:`Rotation` (default identity).
+            translation: ``(3,)`` or ``(N, 3)`` metres (default zero). A single rotation
+                with N translations (or vice versa) broadcasts to a batch of N.
         """
         rot = Rotation.identity() if rotation is None else rotation
         if not isinstance(rot, Rotation):
@@ -324,8 +326,11 @@ class Transform:
     def approx_equal(
         self, other: Transform, atol: float = 1e-8, *, rot_atol: float | None = None
     ) -> bool | npt.NDArray[np.bool_]:
-        """True where translations differ by at most ``atol`` (m, max-norm) and rotations by
-        at most ``rot_atol`` (rad, default ``atol``)."""
+        """True where translations and rotations differ by at most the tolerances.
+
+        Translations by at most ``atol`` (m, max-norm), rotations by at most ``rot_atol`` (rad,
+        default ``atol``).
+        """
         rok = self._r.approx_equal(other._r, atol if rot_atol is None else rot_atol)
         if self._t is not None and other._t is not None:
             dt = max(abs(a - b) for a, b in zip(self._t, other._t, strict=True))

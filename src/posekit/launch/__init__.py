@@ -1,5 +1,7 @@
 """posekit.launch: describe nodes with parameters and remappings, run them in one process.
 
+Example::
+
     from posekit.launch import LaunchDescription, Node, launch
     description = LaunchDescription([
         Node(MyController, name="p_controller", parameters=[{"k_rho": 0.5}],

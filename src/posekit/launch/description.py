@@ -1,5 +1,7 @@
-"""Launch descriptions: which node classes/factories to run, with what names, parameters and
-remappings (a Python subset of ROS 2 ``launch`` / ``launch_ros``).
+"""Launch descriptions: which node classes/factories to run, and how.
+
+With what names, parameters and remappings (a Python subset of ROS 2 ``launch`` /
+``launch_ros``).
 
 A node entry names something that *creates* posekit nodes: a Node subclass, a function
 returning a node (or a list of nodes), or a ``"package.module:attr"`` string. Name,
@@ -37,8 +39,10 @@ _executables: dict[tuple[str, str], Callable[[], Any] | str] = {}
 
 
 def register_executable(package: str, executable: str, factory: Callable[[], Any] | str) -> None:
-    """Make ``Node(package=..., executable=...)`` resolvable (how ``ros2 run`` names map to
-    posekit node factories)."""
+    """Make ``Node(package=..., executable=...)`` resolvable.
+
+    This is how ``ros2 run`` names map to posekit node factories.
+    """
     _executables[(package, executable)] = factory
 
 
@@ -64,9 +68,11 @@ def _load_file_module(path: Path) -> Any:
 
 
 def resolve_factory(target: Callable[[], Any] | str) -> Callable[[], Any]:
-    """A callable from a callable, a ``"module:attr"`` string, or ``"path/file.py:attr"``
-    (a node script that is not an installed module, e.g. one next to the launch file:
-    ``f"{Path(__file__).with_name('my_node.py')}:MyNode"``)."""
+    """A callable from a callable, a ``"module:attr"`` string, or ``"path/file.py:attr"``.
+
+    The last form is a node script that is not an installed module, e.g. one next to the launch
+    file: ``f"{Path(__file__).with_name('my_node.py')}:MyNode"``.
+    """
     if callable(target):
         return target
     if isinstance(target, str) and ":" in target:

@@ -79,8 +79,10 @@ def start(
     own_clock: bool = True,
     transport: str | None = None,
 ) -> LaunchRun:
-    """Create every node of ``description`` in a fresh (or given) context and add them to one
-    executor; nothing runs until the caller spins/steps ``run.executor``.
+    """Create every node of ``description`` and add them to one executor.
+
+    The nodes live in a fresh (or given) context; nothing runs until the caller spins/steps
+    ``run.executor``.
 
     ``publish_clock`` (sim time only): publish ``/clock`` at every simulated step, as
     Gazebo does. Default (None): exactly when the run's nodes are visible to other processes
@@ -90,7 +92,8 @@ def start(
     not follow ``/clock``), so only outside observers need it.
 
     ``own_clock=False``: see the module docstring. ``transport``: the transport name given to
-    a context this function initialises."""
+    a context this function initialises.
+    """
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
     ctx = context or Context()
@@ -155,9 +158,11 @@ def launch(
     own_clock: bool = True,
     transport: str | None = None,
 ) -> LaunchRun:
-    """Start ``description`` and run it for ``duration`` seconds (sim seconds in sim time;
-    ``None`` = until shutdown / Ctrl-C). Returns the run (already shut down if ``shutdown``).
-    ``publish_clock``, ``own_clock``, ``transport``: see :func:`start`."""
+    """Start ``description`` and run it for ``duration`` seconds; returns the run.
+
+    Sim seconds in sim time; ``None`` = until shutdown / Ctrl-C. The run is already shut down if
+    ``shutdown``. ``publish_clock``, ``own_clock``, ``transport``: see :func:`start`.
+    """
     run = start(
         description,
         sim_time=sim_time,
@@ -184,7 +189,8 @@ def run_until(run: LaunchRun, duration: float | None, *, sim_time: bool = True) 
     On a :class:`SimulatedTimeExecutor` these are simulated seconds it steps through; with
     nodes following another process's ``/clock`` (``own_clock=False``), simulated seconds as
     the first node's clock shows them (waiting for the clock to reach ``duration``); else
-    wall seconds."""
+    wall seconds.
+    """
     executor = run.executor
     if isinstance(executor, SimulatedTimeExecutor):
         if duration is None:
@@ -210,7 +216,8 @@ def load_launch_file(path: str | Path) -> LaunchDescription:
     The file's folder goes first on ``sys.path`` (as for ``python FILE.py``), so a launch file
     can import node modules next to it, now and when its nodes are created. An error raised
     while importing the file or generating the description becomes a one-line
-    :class:`LaunchDescriptionError` naming the file."""
+    :class:`LaunchDescriptionError` naming the file.
+    """
     p = Path(path)
     if not p.is_file():
         raise LaunchDescriptionError(f"launch file {p} does not exist")

@@ -1,5 +1,7 @@
-"""Named scenarios (``posekit launch NAME``): a registry of launch-description factories, the
-routing of user parameters to their nodes, and a stepped runner.
+"""Named scenarios (``posekit launch NAME``).
+
+A registry of launch-description factories, the routing of user parameters to their nodes, and a
+stepped runner.
 
 A scenario is a factory ``(params, seed) -> LaunchDescription`` registered under a name with
 :func:`register_scenario`. This module owns no scenario itself: the packages above it
@@ -90,8 +92,11 @@ def register_scenario(
     name: str, factory: ScenarioFactory, *, description: str = "", replace: bool = False,
     follows_clock: bool = False,
 ) -> Scenario:
-    """Register ``factory`` under ``name`` (ScenarioError if taken, unless ``replace``);
-    ``follows_clock``: see :attr:`Scenario.follows_clock`."""
+    """Register ``factory`` under ``name``.
+
+    ScenarioError if the name is taken, unless ``replace``; ``follows_clock``: see
+    :attr:`Scenario.follows_clock`.
+    """
     if not name or not isinstance(name, str):
         raise ScenarioError(f"scenario names must be non-empty strings, got {name!r}")
     if name in _REGISTRY and not replace:
@@ -125,10 +130,12 @@ def scenario_node(
     *,
     remappings: Sequence[tuple[str, str] | str] = (),
 ) -> Node:
-    """A launch :class:`~posekit.launch.Node` called ``name`` whose parameters are
-    ``defaults``, then every plain user parameter, then the user's ``name.param`` ones
-    (nodes ignore parameters they do not declare; :func:`start_scenario` checks that each
-    user parameter was used by some node)."""
+    """A launch :class:`~posekit.launch.Node` called ``name``, with the user's parameters routed.
+
+    Its parameters are ``defaults``, then every plain user parameter, then the user's
+    ``name.param`` ones (nodes ignore parameters they do not declare; :func:`start_scenario`
+    checks that each user parameter was used by some node).
+    """
     merged: dict[str, Any] = dict(defaults or {})
     prefix = name + "."
     scoped: dict[str, Any] = {}
@@ -142,8 +149,10 @@ def scenario_node(
 
 
 def scenario_value(params: Mapping[str, Any], node: str, key: str, default: Any) -> Any:
-    """The value node ``node`` will get for parameter ``key`` from the user's ``params``
-    (``node.key``, else ``key``, else ``default``), as :func:`scenario_node` routes it."""
+    """The value node ``node`` will get for parameter ``key`` from the user's ``params``.
+
+    ``node.key``, else ``key``, else ``default``, as :func:`scenario_node` routes it.
+    """
     return params.get(f"{node}.{key}", params.get(key, default))
 
 
@@ -183,8 +192,9 @@ def start_scenario(
     extra_nodes: Sequence[Node] = (),
     transport: str | None = None,
 ) -> LaunchRun:
-    """Build and start scenario ``name`` in a fresh context; nothing has run yet (step
-    ``run.executor``, a :class:`SimulatedTimeExecutor`, then ``run.shutdown()``).
+    """Build and start scenario ``name`` in a fresh context; nothing has run yet.
+
+    Step ``run.executor``, a :class:`SimulatedTimeExecutor`, then call ``run.shutdown()``.
 
     ``extra_nodes`` are appended launch entries.
     ``publish_clock``: None (default) publishes ``/clock`` at every step exactly when the
@@ -276,6 +286,7 @@ def run_scenario(
     """Run scenario ``name`` and return a :class:`ScenarioResult`.
 
     Args:
+        name: the scenario's registered name.
         params: ``{name: value}`` as from ``--param name:=value`` (see the module docstring).
         seed: run seed, passed to the scenario's factory.
         until_sim_time: stop when simulated time reaches this many seconds; None runs until
@@ -283,7 +294,9 @@ def run_scenario(
         realtime: pace simulated time to the wall clock (default: as fast as possible).
         stop_when: also stop as soon as ``stop_when(run)`` is true (asked every ``step``
             simulated seconds).
-        publish_clock, extra_nodes: see :func:`start_scenario`.
+        publish_clock: see :func:`start_scenario`.
+        extra_nodes: see :func:`start_scenario`.
+        step: simulated seconds run between two checks of ``stop_when`` and of the context.
         on_start: callables given the started run before any time passes (attach a bag
             recorder or a viewer; whatever they start must end when the run's context does).
         transport: see :func:`start_scenario`.

@@ -88,11 +88,13 @@ _DELIMITER = "=" * 80 + "\n"
 
 
 def service_definition_text(srv: str) -> str:
-    """The complete definition of service ``srv`` as rosbag2 Jazzy stores it in a bag's
-    schema for the service's event topic (rosbag2_cpp's ``LocalMessageDefinitionSource``):
-    an 80-``=`` line, ``SRV: pkg/srv/Name``, the ``.srv`` text (request, ``---``,
-    response), then every message it uses, each after an 80-``=`` line and ``MSG: name``
-    (sorted by name, each once; nested ones after their user)."""
+    """The complete definition of service ``srv`` as rosbag2 Jazzy stores it in a bag's schema.
+
+    The schema of the service's event topic (rosbag2_cpp's ``LocalMessageDefinitionSource``): an
+    80-``=`` line, ``SRV: pkg/srv/Name``, the ``.srv`` text (request, ``---``, response), then
+    every message it uses, each after an 80-``=`` line and ``MSG: name`` (sorted by name, each
+    once; nested ones after their user).
+    """
     from posekit.msgs.cdr import get_typestore
 
     request, response = SERVICE_DEFINITIONS[srv]

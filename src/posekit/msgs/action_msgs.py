@@ -66,8 +66,10 @@ class CancelGoal_Request:  # noqa: N801 - rosidl name
 
 @dataclass(slots=True)
 class CancelGoal_Response:  # noqa: N801 - rosidl name
-    """action_msgs/srv/CancelGoal_Response: ``return_code`` (ERROR_*) and the goals now
-    canceling."""
+    """action_msgs/srv/CancelGoal_Response.
+
+    ``return_code`` (ERROR_*) and the goals now canceling.
+    """
 
     return_code: int = 0
     goals_canceling: list[GoalInfo] = field(default_factory=list)

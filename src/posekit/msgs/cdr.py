@@ -117,9 +117,11 @@ def get_typestore() -> Any:
 
 
 def serializable_type(type_name: str) -> tuple[str, type]:
-    """``(normalized name, class)`` of a message type with a ROS 2 definition (so it can be
-    serialized, recorded or advertised with a schema): posekit's class when posekit defines
-    the type, else the class of rosbags' Jazzy typestore (``sensor_msgs/msg/PointCloud2``).
+    """``(normalized name, class)`` of a message type with a ROS 2 definition.
+
+    Such a type can be serialized, recorded or advertised with a schema: posekit's class when
+    posekit defines the type, else the class of rosbags' Jazzy typestore
+    (``sensor_msgs/msg/PointCloud2``).
 
     Raises LookupError (or ValueError for a malformed name) otherwise. Types derived from
     services and actions (``pkg/srv/...``, ``pkg/action/...``, e.g. an action's feedback
@@ -158,9 +160,12 @@ def _build_store() -> Any:
 
 
 def _char_as_uint8(store: Any) -> None:
-    """Write ``char`` fields as ``uint8``, as rosidl does (``.msg`` char is an alias of uint8
-    in IDL and in type descriptions). Same CDR; fixes the RIHS01 hash of types with char
-    fields (``service_msgs/msg/ServiceEventInfo``, hence every service type)."""
+    """Write ``char`` fields as ``uint8``, as rosidl does.
+
+    ``.msg`` char is an alias of uint8 in IDL and in type descriptions. Same CDR; fixes the
+    RIHS01 hash of types with char fields (``service_msgs/msg/ServiceEventInfo``, hence every
+    service type).
+    """
     from rosbags.interfaces import Nodetype
 
     def fix(desc: Any) -> Any:
@@ -257,8 +262,10 @@ def _codec(typename: str) -> _Codec:
 
 
 def _compile_fast_check(plan: _Plan) -> Callable[[Any], bool] | None:
-    """Compile ``plan`` into one flat function of attribute-path checks (None if it has
-    sequences of messages, which :func:`_checked` walks instead)."""
+    """Compile ``plan`` into one flat function of attribute-path checks.
+
+    None if it has sequences of messages, which :func:`_checked` walks instead.
+    """
     lines = ["def fast_ok(msg):"]
     env: dict[str, Any] = {"ndarray": np.ndarray}
 

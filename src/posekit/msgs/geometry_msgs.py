@@ -155,8 +155,10 @@ class PoseWithCovariance:
 
 @dataclass(slots=True, eq=False)
 class PoseWithCovarianceStamped:
-    """geometry_msgs/msg/PoseWithCovarianceStamped (RViz2's "2D Pose Estimate" on
-    ``initialpose``, robot_localization's ``set_pose``)."""
+    """geometry_msgs/msg/PoseWithCovarianceStamped.
+
+    RViz2's "2D Pose Estimate" on ``initialpose``, robot_localization's ``set_pose``.
+    """
 
     header: Header = field(default_factory=Header)
     pose: PoseWithCovariance = field(default_factory=PoseWithCovariance)

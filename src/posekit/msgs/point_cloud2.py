@@ -1,5 +1,6 @@
-"""``sensor_msgs/PointCloud2`` as numpy structured arrays (what ``sensor_msgs_py.point_cloud2``
-does for rclpy users, vectorised).
+"""``sensor_msgs/PointCloud2`` as numpy structured arrays.
+
+What ``sensor_msgs_py.point_cloud2`` does for rclpy users, vectorised.
 
 * :func:`dtype_from_fields` - the numpy dtype of one point, from the message's ``fields``,
   ``point_step`` and byte order (padding bytes kept, so the dtype's itemsize is
@@ -53,8 +54,10 @@ class PointCloudError(ValueError):
 
 
 def xyz_fields(*, rgb: bool = False) -> list[PointField]:
-    """Fields ``x, y, z`` (float32 at 0, 4, 8) and, with ``rgb``, ``rgb`` (float32 at 16): the
-    memory-aligned layout gz-sensors and PCL's ``PointXYZRGB`` use (point_step 32)."""
+    """Fields ``x, y, z`` (float32 at 0, 4, 8) and, with ``rgb``, ``rgb`` (float32 at 16).
+
+    The memory-aligned layout gz-sensors and PCL's ``PointXYZRGB`` use (point_step 32).
+    """
     out = [PointField(name=n, offset=4 * i, datatype=PointField.FLOAT32, count=1)
            for i, n in enumerate("xyz")]
     if rgb:
@@ -144,8 +147,10 @@ def read_points(
 
 def create_cloud(header: Header, points: npt.ArrayLike, *, is_dense: bool | None = None
                  ) -> PointCloud2:
-    """A PointCloud2 of ``points``: a structured array (its fields, offsets and itemsize
-    become ``fields`` and ``point_step``) or an ``(..., 3)`` array taken as float32 x, y, z.
+    """A PointCloud2 of ``points``.
+
+    ``points`` is a structured array (its fields, offsets and itemsize become ``fields`` and
+    ``point_step``) or an ``(..., 3)`` array taken as float32 x, y, z.
 
     A 2-D structured array ``(H, W)`` gives an organised cloud of ``H`` rows; anything else an
     unordered one (``height`` 1). ``is_dense`` defaults to "every floating field finite".

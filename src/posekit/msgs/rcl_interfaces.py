@@ -76,8 +76,10 @@ class ParameterType:
 
 @dataclass(slots=True, eq=False)
 class ParameterValue:
-    """rcl_interfaces/msg/ParameterValue: ``type`` (a ParameterType constant) says which
-    ``*_value`` field holds the value."""
+    """rcl_interfaces/msg/ParameterValue.
+
+    ``type`` (a ParameterType constant) says which ``*_value`` field holds the value.
+    """
 
     type: int = 0
     bool_value: bool = False
@@ -104,8 +106,10 @@ class Parameter:
 
 @dataclass(slots=True)
 class FloatingPointRange:
-    """rcl_interfaces/msg/FloatingPointRange: inclusive [from_value, to_value], ``step``
-    0 for a continuous range."""
+    """rcl_interfaces/msg/FloatingPointRange.
+
+    Inclusive [from_value, to_value], ``step`` 0 for a continuous range.
+    """
 
     from_value: float = 0.0
     to_value: float = 0.0
@@ -115,8 +119,10 @@ class FloatingPointRange:
 
 @dataclass(slots=True)
 class IntegerRange:
-    """rcl_interfaces/msg/IntegerRange: inclusive [from_value, to_value], ``step`` 0 for
-    any integer in it."""
+    """rcl_interfaces/msg/IntegerRange.
+
+    Inclusive [from_value, to_value], ``step`` 0 for any integer in it.
+    """
 
     from_value: int = 0
     to_value: int = 0
@@ -159,8 +165,10 @@ class ListParametersResult:
 
 @dataclass(slots=True)
 class ParameterEvent:
-    """rcl_interfaces/msg/ParameterEvent (``/parameter_events``): what changed on ``node``
-    (its fully qualified name) at ``stamp``."""
+    """rcl_interfaces/msg/ParameterEvent (``/parameter_events``).
+
+    What changed on ``node`` (its fully qualified name) at ``stamp``.
+    """
 
     stamp: Time = field(default_factory=Time)
     node: str = ""

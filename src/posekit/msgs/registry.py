@@ -115,8 +115,10 @@ def get_message_class(name: str) -> type[Any]:
 
 
 def get_service_class(name: str) -> type[Any]:
-    """Return posekit's service class for ``name`` (``"std_srvs/srv/SetBool"``; the short
-    form ``"std_srvs/SetBool"`` works too)."""
+    """Return posekit's service class for ``name``.
+
+    ``"std_srvs/srv/SetBool"``; the short form ``"std_srvs/SetBool"`` works too.
+    """
     parts = name.strip("/").split("/")
     if len(parts) == 2 and all(parts):
         parts = [parts[0], "srv", parts[1]]
@@ -147,9 +149,11 @@ def message_type_name(msg_or_cls: object) -> str:
 
 
 def find_message_class(name: str) -> type[Any]:
-    """posekit's class for ``name``, else the class from rosbags' typestore (any ROS 2 Jazzy
-    type; rosbags is imported only here). Never imports a module named by ``name``: type
-    names often come from other peers. Raises :class:`UnknownMessageTypeError`."""
+    """posekit's class for ``name``, else the class from rosbags' typestore.
+
+    Any ROS 2 Jazzy type; rosbags is imported only here. Never imports a module named by
+    ``name``: type names often come from other peers. Raises :class:`UnknownMessageTypeError`.
+    """
     try:
         return get_message_class(name)
     except UnknownMessageTypeError:

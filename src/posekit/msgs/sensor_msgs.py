@@ -1,5 +1,6 @@
-"""sensor_msgs: Image, CameraInfo, Imu, JointState, LaserScan, PointCloud2, PointField,
-RegionOfInterest.
+"""sensor_msgs: the sensor messages the system uses.
+
+Image, CameraInfo, Imu, JointState, LaserScan, PointCloud2, PointField, RegionOfInterest.
 
 Bulk fields are numpy arrays, never per-element Python lists: ``Image.data`` is a 1-D uint8
 array (or bytes), covariances and the camera matrices are float64 arrays of the ROS length,
@@ -149,8 +150,11 @@ class LaserScan:
 
 @dataclass(slots=True)
 class PointField:
-    """sensor_msgs/msg/PointField: one field of a point: ``name``, byte ``offset`` in the
-    point, ``datatype`` (one of the constants below) and ``count`` elements."""
+    """sensor_msgs/msg/PointField: one field of a point.
+
+    ``name``, byte ``offset`` in the point, ``datatype`` (one of the constants below) and
+    ``count`` elements.
+    """
 
     INT8: ClassVar[int] = 1
     UINT8: ClassVar[int] = 2
@@ -170,9 +174,12 @@ class PointField:
 
 @dataclass(slots=True, eq=False)
 class PointCloud2:
-    """sensor_msgs/msg/PointCloud2: ``height`` rows of ``width`` points (``height`` 1 for an
-    unordered cloud), each ``point_step`` bytes laid out by ``fields``; ``row_step`` bytes per
-    row; ``is_dense`` false when some points are invalid (NaN)."""
+    """sensor_msgs/msg/PointCloud2: ``height`` rows of ``width`` points.
+
+    ``height`` is 1 for an unordered cloud; each point is ``point_step`` bytes laid out by
+    ``fields``; ``row_step`` bytes per row; ``is_dense`` false when some points are invalid
+    (NaN).
+    """
 
     header: Header = field(default_factory=Header)
     height: int = 0

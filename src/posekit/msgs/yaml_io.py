@@ -101,8 +101,11 @@ def message_to_ordered(value: Any, truncate_length: int | None = TRUNCATE_LENGTH
 
 
 def _string_value(value: str, truncate_length: int | None, no_str: bool) -> str:
-    """A string field as rosidl_runtime_py shows it: ``<string length: <N>>`` with
-    ``no_str``, else cut to ``truncate_length`` characters plus ``...``."""
+    """A string field as rosidl_runtime_py shows it.
+
+    ``<string length: <N>>`` with ``no_str``, else cut to ``truncate_length`` characters plus
+    ``...``.
+    """
     if no_str:
         return f"<string length: <{len(value)}>>"
     if truncate_length is not None and len(value) > truncate_length:
@@ -560,8 +563,10 @@ def _default_value(desc: Any) -> Any:
 
 
 def default_message(type_name: str) -> Any:
-    """A default-valued instance of ``type_name`` (posekit's class when it has one, else
-    the rosbags class of ROS 2 Jazzy's definition: zeros, empty strings and sequences).
+    """A default-valued instance of ``type_name``.
+
+    posekit's class when it has one, else the rosbags class of ROS 2 Jazzy's definition: zeros,
+    empty strings and sequences.
 
     Raises:
         KeyError: no such message type.

@@ -91,8 +91,11 @@ def boxes_overlap(
 def _segments_hit_rectangle(
     x: float, y: float, yaw: float, starts: np.ndarray, ends: np.ndarray
 ) -> bool:
-    """Whether any segment crosses the robot's outline at (x, y, yaw) (2-D separating axes:
-    the outline's two axes and each segment's normal; touching within 1e-9 m is not)."""
+    """Whether any segment crosses the robot's outline at (x, y, yaw).
+
+    2-D separating axes: the outline's two axes and each segment's normal; touching within 1e-9
+    m is not crossing.
+    """
     eps = 1e-9
     hx, hy = ROBOT_HALF_EXTENTS[0], ROBOT_HALF_EXTENTS[1]
     c, s = math.cos(yaw), math.sin(yaw)
@@ -110,8 +113,10 @@ def _segments_hit_rectangle(
 
 
 class Contact:
-    """The robot against ``obstacles`` and ``walls`` (pass only the colliding ones; see the
-    module doc). ``contacts`` counts the control steps whose motion was cut short.
+    """The robot against ``obstacles`` and ``walls``.
+
+    Pass only the colliding ones (see the module doc). ``contacts`` counts the control steps
+    whose motion was cut short.
     """
 
     def __init__(self, obstacles: BoxObstacles, walls: WallSegments | None = None) -> None:
@@ -197,8 +202,10 @@ class Contact:
         )
 
     def free_fraction(self, x: float, y: float, yaw: float, ds: float, dyaw: float) -> float:
-        """The largest fraction in [0, 1] of the arc ``(ds m, dyaw rad)`` from ``(x, y, yaw)``
-        that keeps the robot out of every box (1.0 when nothing is in the way)."""
+        """The largest fraction in [0, 1] of an arc that keeps the robot out of every box.
+
+        The arc is ``(ds m, dyaw rad)`` from ``(x, y, yaw)``; 1.0 when nothing is in the way.
+        """
         candidates = self._near(x, y, abs(ds) + 1e-6)
         walls = self._near_walls(x, y, abs(ds) + 1e-6)
         if not candidates and walls is None:

@@ -87,24 +87,39 @@ class CameraIntrinsics(Protocol):
     """A pinhole camera: image size (pixels), focal lengths and principal point (pixels)."""
 
     @property
-    def width(self) -> int: ...
+    def width(self) -> int:
+        """Image width (pixels)."""
+        ...
     @property
-    def height(self) -> int: ...
+    def height(self) -> int:
+        """Image height (pixels)."""
+        ...
     @property
-    def fx(self) -> float: ...
+    def fx(self) -> float:
+        """Focal length along x (pixels)."""
+        ...
     @property
-    def fy(self) -> float: ...
+    def fy(self) -> float:
+        """Focal length along y (pixels)."""
+        ...
     @property
-    def cx(self) -> float: ...
+    def cx(self) -> float:
+        """Principal point x (pixels)."""
+        ...
     @property
-    def cy(self) -> float: ...
+    def cy(self) -> float:
+        """Principal point y (pixels)."""
+        ...
 
 
 @dataclass(frozen=True, slots=True)
 class SceneQuads:
-    """Planar convex quads: ``corners`` (N, 4, 3) world m, in order around the quad;
-    ``normals`` (N, 3) unit, outward; ``two_sided`` (N,) bool (walls are seen from both
-    sides, box faces only from outside); ``is_wall`` (N,) bool."""
+    """Planar convex quads, the surfaces a depth camera sees.
+
+    ``corners`` (N, 4, 3) world m, in order around the quad; ``normals`` (N, 3) unit, outward;
+    ``two_sided`` (N,) bool (walls are seen from both sides, box faces only from outside);
+    ``is_wall`` (N,) bool.
+    """
 
     corners: F64Array
     normals: F64Array
@@ -318,10 +333,13 @@ def ground_inverse_depth(camera: CameraIntrinsics, T_world_optical: npt.ArrayLik
 
 @dataclass(frozen=True, slots=True)
 class DepthParams:
-    """A depth camera: ``frame_id``, ``rate_hz`` (Hz), image ``width`` x ``height`` (px),
-    ``hfov`` (rad; fx = fy = (W/2)/tan(hfov/2), cx = W/2, cy = H/2 as gz-sensors derives
-    them), ``min_depth``/``max_depth`` (m), noise (module doc): ``noise_stddev`` (m),
-    ``disparity_stddev`` (px), ``stereo_focal_px`` (px), ``baseline`` (m)."""
+    """A depth camera: its frame, rate, image size, field of view, range and noise.
+
+    ``frame_id``, ``rate_hz`` (Hz), image ``width`` x ``height`` (px), ``hfov`` (rad; fx = fy =
+    (W/2)/tan(hfov/2), cx = W/2, cy = H/2 as gz-sensors derives them),
+    ``min_depth``/``max_depth`` (m), noise (module doc): ``noise_stddev`` (m),
+    ``disparity_stddev`` (px), ``stereo_focal_px`` (px), ``baseline`` (m).
+    """
 
     frame_id: str = "oak_rgb_camera_optical_frame"
     rate_hz: float = 30.0
@@ -392,8 +410,11 @@ class DepthCamera:
         self._bank: F32Array | None = None
 
     def _normals(self, frame_index: int) -> F32Array:
-        """(H, W) standard normals of frame ``frame_index``: a window of one seeded bank at an
-        offset drawn from ``(seed, frame_index)`` (a crop instead of a million draws)."""
+        """(H, W) standard normals of frame ``frame_index``.
+
+        A window of one seeded bank at an offset drawn from ``(seed, frame_index)`` (a crop
+        instead of a million draws).
+        """
         p = self.params
         if self._bank is None:
             rng = np.random.default_rng(self.seed)
@@ -404,8 +425,10 @@ class DepthCamera:
         return self._bank[dy : dy + p.height, dx : dx + p.width]
 
     def true_inverse_depth(self, T_world_optical: npt.ArrayLike) -> F32Array:
-        """Noise-free inverse depth (H, W) float32, 1/m; 0 where nothing is seen within the
-        cull distance (twice ``max_depth``)."""
+        """Noise-free inverse depth (H, W) float32, 1/m.
+
+        0 where nothing is seen within the cull distance (twice ``max_depth``).
+        """
         p = self.params
         w = ground_inverse_depth(p, T_world_optical) if self.ground else None
         w, _ = rasterize(p, T_world_optical, self.quads, max_depth=2.0 * p.max_depth,
@@ -413,16 +436,20 @@ class DepthCamera:
         return w
 
     def true_depth(self, T_world_optical: npt.ArrayLike) -> F32Array:
-        """Noise-free depth (H, W) float32, m along the optical axis; ``inf`` where nothing
-        is seen within the cull distance (twice ``max_depth``)."""
+        """Noise-free depth (H, W) float32, m along the optical axis.
+
+        ``inf`` where nothing is seen within the cull distance (twice ``max_depth``).
+        """
         with np.errstate(divide="ignore"):
             depth: F32Array = np.divide(np.float32(1.0), self.true_inverse_depth(T_world_optical),
                                         dtype=np.float32)
         return depth
 
     def frame(self, T_world_optical: npt.ArrayLike, frame_index: int) -> F32Array:
-        """The reported depth image of frame number ``frame_index``: float32 metres with noise,
-        ``+inf`` for no return or at/beyond ``max_depth``, ``-inf`` at/below ``min_depth``.
+        """The reported depth image of frame number ``frame_index``.
+
+        float32 metres with noise, ``+inf`` for no return or at/beyond ``max_depth``, ``-inf``
+        at/below ``min_depth``.
 
         The stereo term is drawn in disparity: ``1/z' = 1/z - n sigma_d / (f B)`` with one
         standard normal ``n`` per pixel, and the constant term adds ``noise_stddev n`` to
@@ -451,8 +478,10 @@ class DepthCamera:
 
 
 def _fill_points(out: F32Array, depth: F32Array, camera: CameraIntrinsics) -> None:
-    """Write x, y, z of ``depth`` into channels 0-2 of ``out`` (H, W, C); NaN where the
-    depth is not finite."""
+    """Write x, y, z of ``depth`` into channels 0-2 of ``out`` (H, W, C).
+
+    NaN where the depth is not finite.
+    """
     H, W = depth.shape
     zf = np.where(np.isfinite(depth), depth, np.float32(np.nan))
     xs = (np.arange(W, dtype=np.float32) - np.float32(camera.cx)) / np.float32(camera.fx)
@@ -463,8 +492,10 @@ def _fill_points(out: F32Array, depth: F32Array, camera: CameraIntrinsics) -> No
 
 
 def depth_points(depth: npt.ArrayLike, camera: CameraIntrinsics) -> F32Array:
-    """``(H, W, 3)`` float32 points (m, optical frame) of a depth image; NaN where the depth
-    is not finite."""
+    """``(H, W, 3)`` float32 points (m, optical frame) of a depth image.
+
+    NaN where the depth is not finite.
+    """
     z = np.asarray(depth, dtype=np.float32)
     out = np.empty((*z.shape, 3), dtype=np.float32)
     _fill_points(out, z, camera)

@@ -165,8 +165,11 @@ class RosbotBase:
 
     # ------------------------------------------------------------------ commands
     def submit(self, msg: Any, now: float) -> CommandResult:
-        """Offer a geometry_msgs/TwistStamped received at ``now`` (s). Only linear.x and
-        angular.z are used (the other components are ignored, as on the real controller)."""
+        """Offer a geometry_msgs/TwistStamped received at ``now`` (s).
+
+        Only linear.x and angular.z are used (the other components are ignored, as on the real
+        controller).
+        """
         return self.submit_velocity(
             float(msg.twist.linear.x),
             float(msg.twist.angular.z),
@@ -212,8 +215,10 @@ class RosbotBase:
 
     # ------------------------------------------------------------------ simulation
     def step(self, now: float, dt: float | None = None) -> None:
-        """Advance the base from ``now`` by one control period (or ``dt`` s); read the new
-        state from :attr:`state` (or the cheap :attr:`pose`, :attr:`wheel_angles`)."""
+        """Advance the base from ``now`` by one control period (or ``dt`` s).
+
+        Read the new state from :attr:`state` (or the cheap :attr:`pose`, :attr:`wheel_angles`).
+        """
         p = self.params
         if dt is None:
             dt = p.control_period

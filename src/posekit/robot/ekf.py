@@ -70,8 +70,11 @@ _FloatArray = npt.NDArray[np.float64]
 
 @dataclass(frozen=True, slots=True)
 class Measurement:
-    """A queued measurement: stamp ``t`` (s), fused state ``indices``, ``values`` and their
-    ``variances`` (diagonal covariance)."""
+    """A queued measurement.
+
+    Stamp ``t`` (s), fused state ``indices``, ``values`` and their ``variances`` (diagonal
+    covariance).
+    """
 
     t: float
     indices: tuple[int, ...]
@@ -90,8 +93,10 @@ class Ekf2D:
         initial_pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
     ) -> None:
         """``t0``: filter start time (s; None: the first step or measurement).
-        ``initial_pose``: starting ``(x, y, yaw)`` in odom; a relative IMU yaw is reported
-        as this yaw plus the change since the first IMU reading."""
+
+        ``initial_pose``: starting ``(x, y, yaw)`` in odom; a relative IMU yaw is reported as
+        this yaw plus the change since the first IMU reading.
+        """
         self.params = params
         # Like the covariance, the state lives as Python floats; the ``state`` array is only
         # built when read (and from then on kept up to date in place, as it always was).
@@ -120,8 +125,10 @@ class Ekf2D:
 
     # ------------------------------------------------------------------ queue
     def enqueue(self, m: Measurement) -> None:
-        """Queue a measurement for the next :meth:`step` (one stamped before the last
-        :meth:`set_pose` is dropped)."""
+        """Queue a measurement for the next :meth:`step`.
+
+        One stamped before the last :meth:`set_pose` is dropped.
+        """
         if self._ignore_before is not None and m.t < self._ignore_before:
             return
         heapq.heappush(self._queue, (m.t, self._seq, m))
@@ -164,11 +171,12 @@ class Ekf2D:
 
     def set_pose(self, t: float, x: float, y: float, yaw: float,
                  covariance: npt.ArrayLike) -> None:
-        """Reset the filter to pose ``(x, y, yaw)`` (m, m, rad in the world frame) at time
-        ``t`` (s), as robot_localization's ``set_pose``: zero velocities, the covariance
-        ``1e-6 I`` with the 3x3 ``covariance`` (over x, y, yaw) as its pose block, the
-        queue emptied, measurements stamped before ``t`` ignored from now on, and a relative
-        IMU yaw measured from ``yaw`` with the next IMU reading as its zero.
+        """Reset the filter to pose ``(x, y, yaw)`` (m, m, rad, world frame) at time ``t`` (s).
+
+        As robot_localization's ``set_pose``. Velocities become zero, the covariance ``1e-6 I``
+        with the 3x3 ``covariance`` (over x, y, yaw) as its pose block, the queue is emptied,
+        measurements stamped before ``t`` are ignored from now on, and a relative IMU yaw is
+        measured from ``yaw`` with the next IMU reading as its zero.
 
         Raises:
             ValueError: a non-finite value or a covariance that is not 3x3.
@@ -193,9 +201,10 @@ class Ekf2D:
     # ------------------------------------------------------------------ state, covariance
     @property
     def state(self) -> _FloatArray:
-        """The state ``[x, y, yaw, vx, vy, vyaw]`` (float64 array, updated in place by the
-        filter). It may be replaced or edited in place; the filter picks the change up at its
-        next call."""
+        """The state ``[x, y, yaw, vx, vy, vyaw]`` (float64 array, updated in place by the filter).
+
+        It may be replaced or edited in place; the filter picks the change up at its next call.
+        """
         arr = self._state_array
         if arr is None:
             arr = np.array(self._state_list, dtype=np.float64)
@@ -221,8 +230,10 @@ class Ekf2D:
 
     @property
     def covariance(self) -> _FloatArray:
-        """The 6x6 state covariance (float64 array over x, y, yaw, vx, vy, vyaw). It may be
-        replaced or edited in place; the filter picks the change up at its next call."""
+        """The 6x6 state covariance (float64 array over x, y, yaw, vx, vy, vyaw).
+
+        It may be replaced or edited in place; the filter picks the change up at its next call.
+        """
         arr = self._cov_array
         if arr is None:
             p = self._cov_packed
@@ -280,8 +291,10 @@ class Ekf2D:
     def _run(
         self, due: Sequence[Measurement], t_end: float | None, *, predict: bool
     ) -> None:
-        """Fuse ``due`` in order (each after a prediction to its stamp when ``predict``),
-        then predict to ``t_end`` (None: no final prediction)."""
+        """Fuse ``due`` in order, then predict to ``t_end`` (None: no final prediction).
+
+        Each measurement is fused after a prediction to its stamp when ``predict``.
+        """
         x, y, yaw, vx, vy, vyaw = self._state_values()
         (p00, p01, p02, p03, p04, p05, p11, p12, p13, p14, p15,
          p22, p23, p24, p25, p33, p34, p35, p44, p45, p55) = self._packed_covariance()  # fmt: skip
@@ -409,7 +422,8 @@ class Ekf2D:
         """nav_msgs/Odometry for ``odometry/filtered`` (pose in odom, twist in base_link).
 
         The 6x6 covariances hold the filter's x, y, yaw (and vx, vy, vyaw) blocks; z, roll
-        and pitch (and their rates) get 1e-9, the value robot_localization reports in 2D."""
+        and pitch (and their rates) get 1e-9, the value robot_localization reports in 2D.
+        """
         params = self.params
         x, y, yaw, vx, vy, vyaw = self._state_values()
         (p00, p01, p02, _, _, _, p11, p12, _, _, _,
@@ -453,8 +467,10 @@ _UPPER_ROWS, _UPPER_COLS = np.triu_indices(6)
 
 
 def _pack(covariance: _FloatArray) -> list[float]:
-    """Packed upper triangle of a (symmetric) 6x6 covariance; an asymmetric one (set by a
-    user) is symmetrised first, 0.5 (P + P^T)."""
+    """Packed upper triangle of a (symmetric) 6x6 covariance.
+
+    An asymmetric one (set by a user) is symmetrised first, 0.5 (P + P^T).
+    """
     upper = covariance[_UPPER_ROWS, _UPPER_COLS]
     lower = covariance[_UPPER_COLS, _UPPER_ROWS]
     if not np.array_equal(upper, lower):
@@ -466,8 +482,11 @@ def _pack(covariance: _FloatArray) -> list[float]:
 def _embed_planar(
     a00: float, a01: float, a02: float, a11: float, a12: float, a22: float
 ) -> _FloatArray:
-    """Symmetric 3x3 covariance over (x, y, yaw), given by its upper triangle -> 36-element
-    row-major 6x6 over (x, y, z, roll, pitch, yaw) with 1e-9 for z, roll and pitch."""
+    """A 3x3 covariance over (x, y, yaw) as the 6x6 of a ROS message.
+
+    The 3x3 is given by its upper triangle; the result is 36 elements, row-major over (x, y, z,
+    roll, pitch, yaw), with 1e-9 for z, roll and pitch.
+    """
     full = _PLANAR_BASE.copy()  # item writes beat building an array from a list here
     full[0], full[1], full[5] = a00, a01, a02
     full[6], full[7], full[11] = a01, a11, a12

@@ -103,8 +103,9 @@ def _commander(
     controller_params: PControllerParams | None, mover_params: RandomMoverParams | None,
     command_source: CommandSource | None, mover_seed: int, dt: float, result: SimResult,
 ) -> tuple[int, Callable[[float, tuple[float, float, float]], _Command | None]]:
-    """The scenario's command source: control ticks between commands, and
-    ``command(t, ekf_pose)`` giving ``(v, omega)`` or None (nothing sent this tick).
+    """The scenario's command source: control ticks between commands, and the command function.
+
+    ``command(t, ekf_pose)`` gives ``(v, omega)`` or None (nothing sent this tick).
 
     The P controller's "Goal reached" is recorded in ``result`` (time and log line).
     """
@@ -164,6 +165,16 @@ def run_headless(
         seed: run seed (slip, IMU noise, random mover; see :func:`sub_seeds`).
         goal: P-controller goal ``(x, y, yaw)`` in odom (the launch default (5, 5, pi/2)).
         stop_on_goal: end the run at the P controller's "Goal reached".
+        controller_params: the P controller's gains and limits (default: the course's).
+        mover_params: the random mover's parameters (default: the course's, seeded from
+            ``seed``).
+        command_source: ``command_source(t)`` gives ``(v, omega)`` or None at sim time ``t``
+            (scenario ``"custom"``).
+        drive: the base's drive parameters (wheel geometry, limits, control period).
+        slip: the wheel slip model's parameters.
+        imu: the IMU's rate and noise.
+        encoders: the wheel encoders' resolution.
+        ekf: the EKF's rate and noise.
         start: spawn pose ``(x, y, yaw)`` in odom; wheel odometry and the EKF are
             initialised to it (as if odom were set up with that pose), which lets tests
             start the controller from other headings.

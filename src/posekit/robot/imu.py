@@ -26,8 +26,11 @@ __all__ = ["ImuModel", "ImuReading"]
 
 @dataclass(frozen=True, slots=True)
 class ImuReading:
-    """One IMU sample: ``yaw`` (rad, wrapped), ``angular_velocity_z`` (rad/s), specific
-    force ``linear_acceleration`` (x, y, z) in imu_link (m/s²), at time ``t`` (s)."""
+    """One IMU sample at time ``t`` (s).
+
+    ``yaw`` (rad, wrapped), ``angular_velocity_z`` (rad/s), specific force
+    ``linear_acceleration`` (x, y, z) in imu_link (m/s²).
+    """
 
     t: float
     yaw: float
@@ -67,8 +70,11 @@ class ImuModel:
         return 1.0 / self.params.rate_hz
 
     def sample(self, t: float, yaw: float, omega: float, ax: float, ay: float) -> ImuReading:
-        """A reading at ``t`` (s) for true yaw (rad), yaw rate (rad/s) and body accelerations
-        ``ax`` (dv/dt) and ``ay`` (centripetal), m/s²."""
+        """A reading at ``t`` (s) for the true motion.
+
+        True yaw (rad), yaw rate (rad/s) and body accelerations ``ax`` (dv/dt) and ``ay``
+        (centripetal), m/s².
+        """
         p = self.params
         g = self._rng.gauss
         yaw_meas = yaw + (g(0.0, p.orientation_noise_std) if p.orientation_noise_std > 0 else 0.0)
@@ -86,7 +92,8 @@ class ImuModel:
         """sensor_msgs/Imu for ``/imu/data`` (frame ``imu_link``, course covariances).
 
         Angular velocity x and y are reported as 0 (planar motion: their truth is 0 and only
-        z is used downstream)."""
+        z is used downstream).
+        """
         ax, ay, az = reading.linear_acceleration
         # Every field given (no default sub-message or covariance built and replaced), and
         # positionally in the message's ROS field order: header, orientation (+ covariance),

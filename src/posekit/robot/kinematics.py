@@ -54,7 +54,9 @@ def integrate_exact_arc(
     """Move a planar pose along a constant-curvature arc (the SE(2) exponential).
 
     Args:
-        x, y, yaw: start pose in the fixed frame (m, m, rad).
+        x: start position x in the fixed frame (m).
+        y: start position y in the fixed frame (m).
+        yaw: start heading in the fixed frame (rad).
         ds: distance travelled along base_link x over the step (m), i.e. ``v * dt``.
         dyaw: heading change over the step (rad), i.e. ``omega * dt``.
         lateral: distance travelled along base_link y (m), ``vy * dt`` (0 for diff drive).

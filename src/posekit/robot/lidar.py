@@ -41,9 +41,11 @@ _FloatArray = npt.NDArray[np.float64]
 
 @dataclass(frozen=True, slots=True)
 class LidarParams:
-    """A planar scanner: ``frame_id``, ``rate_hz`` (Hz), ``samples`` beams from ``angle_min``
-    to ``angle_max`` (rad, both included), ``range_min``/``range_max`` (m), Gaussian
-    ``noise_stddev`` (m)."""
+    """A planar scanner: frame, rate, beams, range and noise.
+
+    ``frame_id``, ``rate_hz`` (Hz), ``samples`` beams from ``angle_min`` to ``angle_max`` (rad,
+    both included), ``range_min``/``range_max`` (m), Gaussian ``noise_stddev`` (m).
+    """
 
     frame_id: str = "laser"
     rate_hz: float = 10.0

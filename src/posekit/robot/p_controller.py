@@ -55,10 +55,13 @@ class PControllerParams:
 
 @dataclass(frozen=True, slots=True)
 class ControlOutput:
-    """One tick's result: command ``v`` (m/s), ``omega`` (rad/s), the ``phase``, distance
-    ``rho`` (m), the angle error being driven (``alpha`` in phase 1, yaw error in phase 2,
-    rad), ``goal_reached`` (latched) and ``just_reached`` (True only on the reaching tick).
-    ``publish`` is False while idle (no goal): the node then sends nothing."""
+    """One tick's result.
+
+    Command ``v`` (m/s), ``omega`` (rad/s), the ``phase``, distance ``rho`` (m), the angle error
+    being driven (``alpha`` in phase 1, yaw error in phase 2, rad), ``goal_reached`` (latched)
+    and ``just_reached`` (True only on the reaching tick). ``publish`` is False while idle (no
+    goal): the node then sends nothing.
+    """
 
     v: float
     omega: float

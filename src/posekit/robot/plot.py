@@ -37,8 +37,11 @@ class PlotError(RuntimeError):
 def errors_against_truth(
     recording: OdometryRecording, name: str, reference: str = "ground_truth"
 ) -> tuple[_FloatArray, _FloatArray, _FloatArray]:
-    """``(t, position_error_m, yaw_error_rad)`` of series ``name`` against ``reference``
-    (reference pose linearly interpolated at each stamp, yaw error wrapped to [-pi, pi))."""
+    """``(t, position_error_m, yaw_error_rad)`` of series ``name`` against ``reference``.
+
+    The reference pose is linearly interpolated at each stamp; the yaw error is wrapped to [-pi,
+    pi).
+    """
     est = recording.series[name]
     ref = recording.series[reference]
     if len(est) == 0 or len(ref) == 0:

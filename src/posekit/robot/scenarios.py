@@ -60,9 +60,11 @@ DEFAULT_GOAL: tuple[float, float, float] = (5.0, 5.0, math.pi / 2)
 def robot_nodes(
     params: Mapping[str, Any], seed: int, *, world: str = "empty_world"
 ) -> list[Node]:
-    """The simulated ROSbot stack: ``world_simulation`` (in ``world`` unless the user's
-    ``world`` parameter says otherwise), ``wheel_odometry`` and ``ekf_node``, both starting
-    at the world's spawn pose."""
+    """The simulated ROSbot stack: ``world_simulation``, ``wheel_odometry`` and ``ekf_node``.
+
+    The simulation runs ``world`` unless the user's ``world`` parameter says otherwise; odometry
+    and EKF start at the world's spawn pose.
+    """
     world_name = str(scenario_value(params, "world_simulation", "world", world))
     try:
         spawn = load_world(world_name).spawn
@@ -166,10 +168,22 @@ def run_robot_scenario(
     transport: str | None = None,
     max_log_records: int = 10_000,
 ) -> RobotScenarioResult:
-    """Run scenario ``name`` (:func:`posekit.launch.scenarios.run_scenario`, whose arguments
-    these are too) and return a :class:`RobotScenarioResult`.
+    """Run scenario ``name`` and return a :class:`RobotScenarioResult`.
+
+    The arguments are those of :func:`posekit.launch.scenarios.run_scenario`.
 
     Args:
+        name: as :func:`~posekit.launch.scenarios.run_scenario`.
+        params: as :func:`~posekit.launch.scenarios.run_scenario`.
+        seed: as :func:`~posekit.launch.scenarios.run_scenario`.
+        until_sim_time: as :func:`~posekit.launch.scenarios.run_scenario`.
+        realtime: as :func:`~posekit.launch.scenarios.run_scenario`.
+        publish_clock: as :func:`~posekit.launch.scenarios.run_scenario`.
+        extra_nodes: as :func:`~posekit.launch.scenarios.run_scenario`.
+        step: as :func:`~posekit.launch.scenarios.run_scenario`.
+        on_start: as :func:`~posekit.launch.scenarios.run_scenario`.
+        transport: as :func:`~posekit.launch.scenarios.run_scenario`.
+        max_log_records: as :func:`~posekit.launch.scenarios.run_scenario`.
         record: add an ``odometry_recorder`` node and keep every odometry sample (leave it
             off for long runs that need no plot: memory grows with the run).
         stop_on_goal: also stop at the first ``goal_reached`` (checked every ``step``

@@ -1,5 +1,6 @@
-"""posekit's rclpy-style runtime: contexts, nodes, executors, clocks, QoS and the in-process
-bus. See docs/runtime.md.
+"""posekit's rclpy-style runtime: contexts, nodes, executors, clocks, QoS and the in-process bus.
+
+See docs/runtime.md.
 
 The rclpy-named facade :mod:`posekit.rclpy` re-exports from here; :mod:`posekit.tf2_ros`
 (the listener and broadcasters) is built on it, one layer up.

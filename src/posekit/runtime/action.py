@@ -576,8 +576,11 @@ class ActionClient:
 
     def send_goal_async(self, goal: Any, feedback_callback: Callable[[Any], Any] | None = None,
                         goal_uuid: UUID | None = None) -> Future[Any]:
-        """Send ``goal``; the Future completes with a :class:`ClientGoalHandle` (check
-        ``accepted``). ``feedback_callback(feedback_message)`` gets this goal's feedback."""
+        """Send ``goal``; the Future completes with a :class:`ClientGoalHandle`.
+
+        Check the handle's ``accepted``. ``feedback_callback(feedback_message)`` gets this
+        goal's feedback.
+        """
         if not isinstance(goal, self._action_type.Goal):
             raise TypeError(f"goal must be {self._action_type.Goal.__name__}, "
                             f"got {type(goal).__name__}")
@@ -610,7 +613,9 @@ class ActionClient:
 
     def send_goal(self, goal: Any, **kwargs: Any) -> Any:
         """Blocking: send ``goal`` and return the GetResult response (None if rejected).
-        The node must be spun in another thread."""
+
+        The node must be spun in another thread.
+        """
         future = self.send_goal_async(goal, **kwargs)
         future.wait()
         handle: Any = future.result()
@@ -676,8 +681,10 @@ def _actions(found: list[tuple[str, list[str]]], name_suffix: str, type_suffix: 
 
 
 def get_action_names_and_types(node: Node) -> list[tuple[str, list[str]]]:
-    """Every action on the node's graph: ``<name>/_action/feedback`` topics of a
-    ``..._FeedbackMessage`` type, as ``(name, [pkg/action/Type])``."""
+    """Every action on the node's graph, as ``(name, [pkg/action/Type])``.
+
+    Found as the ``<name>/_action/feedback`` topics of a ``..._FeedbackMessage`` type.
+    """
     return _actions(node.get_topic_names_and_types(), "/_action/feedback", "_FeedbackMessage")
 
 

@@ -260,8 +260,10 @@ def load_parameter_file(path: str | Path) -> list[tuple[str, dict[str, Any]]]:
 
 
 def node_name_matches(pattern: str, fully_qualified_name: str) -> bool:
-    """Whether a parameter entry's node name applies to a node (``*``: one token,
-    ``**``: any number of tokens, ``/**`` every node)."""
+    """Whether a parameter entry's node name applies to a node.
+
+    ``*`` matches one token, ``**`` any number of tokens, ``/**`` every node.
+    """
     if not pattern.startswith("/"):
         pattern = "/" + pattern
     if pattern == fully_qualified_name or pattern == "/**":
@@ -278,9 +280,12 @@ def node_name_matches(pattern: str, fully_qualified_name: str) -> bool:
 # ---------------------------------------------------------------------------- arguments
 @dataclass
 class RosArguments:
-    """What one argument list said: ``parameters`` as ``(node name pattern, {name: value})``
-    in order, ``remaps``, ``log_levels`` (``""`` = the default level), ``enclave``,
-    ``unparsed`` (the program's own arguments) and the ROS argument ranges found."""
+    """What one argument list said.
+
+    ``parameters`` as ``(node name pattern, {name: value})`` in order, ``remaps``,
+    ``log_levels`` (``""`` = the default level), ``enclave``, ``unparsed`` (the program's own
+    arguments) and the ROS argument ranges found.
+    """
 
     parameters: list[tuple[str, dict[str, Any]]] = field(default_factory=list)
     remaps: list[RemapRule] = field(default_factory=list)
@@ -431,6 +436,8 @@ def parse_arguments(args: Sequence[str] | None, *, strict: bool = True) -> RosAr
 
 
 def remove_ros_args(args: Sequence[str] | None = None) -> list[str]:
-    """``args`` (default ``sys.argv``) without the ROS arguments (rclpy.utilities); raises
-    like :func:`parse_arguments` (unknown flags inside ``--ros-args`` included)."""
+    """``args`` (default ``sys.argv``) without the ROS arguments (rclpy.utilities).
+
+    Raises like :func:`parse_arguments` (unknown flags inside ``--ros-args`` included).
+    """
     return parse_arguments(sys.argv if args is None else args).unparsed

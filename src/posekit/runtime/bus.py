@@ -176,10 +176,12 @@ def _list_element_types(cls: type) -> dict[str, type]:
 
 
 def _frozen_copier(cls: type) -> Callable[[Any], Any]:
-    """Copier of a frozen dataclass: an instance whose fields all hold immutable scalars
-    (numbers, strings, bytes) cannot be changed, so it is shared, not copied; anything
-    holding a mutable field is deep-copied (frozen classes cannot be rebuilt field by
-    field)."""
+    """Copier of a frozen dataclass.
+
+    An instance whose fields all hold immutable scalars (numbers, strings, bytes) cannot be
+    changed, so it is shared, not copied; anything holding a mutable field is deep-copied
+    (frozen classes cannot be rebuilt field by field).
+    """
     names = tuple(f.name for f in dataclasses.fields(cls))
     atomic = _ATOMIC
 
@@ -352,8 +354,10 @@ class _BusPublisher(PublisherEndpoint):
             sub.sink(snapshot(snap))
 
     def publish_transfer(self, msg: Any) -> None:
-        """Deliver ``msg`` itself to the last matched subscription (copies to the others);
-        the caller gave it up, so the publish snapshot is not needed."""
+        """Deliver ``msg`` itself to the last matched subscription, copies to the others.
+
+        The caller gave it up, so the publish snapshot is not needed.
+        """
         if not self.alive or (type(msg) is not self._type and not isinstance(msg, self._type)):
             self._reject(msg)
         subs = self.matched
@@ -453,10 +457,12 @@ class InProcessBus(Transport):
 
     # -- nodes --------------------------------------------------------------------------
     def declare_node(self, name: str, namespace: str = "/") -> None:
+        """Record node ``namespace/name`` in the graph."""
         with self._lock:
             self._nodes.append((namespace or "/", name))
 
     def undeclare_node(self, name: str, namespace: str = "/") -> None:
+        """Remove node ``namespace/name`` from the graph."""
         with self._lock:
             if (namespace or "/", name) in self._nodes:
                 self._nodes.remove((namespace or "/", name))
@@ -480,12 +486,14 @@ class InProcessBus(Transport):
         return entry
 
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        """A server of ``info``'s service on the bus; ``sink(request, respond)`` per request."""
         with self._lock:
             server = _BusServer(self, info, sink)
             self._service_for(info).servers.append(server)
             return server
 
     def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        """A client of ``info``'s service on the bus."""
         with self._lock:
             client = _BusClient(self, info)
             self._service_for(info).clients.append(client)
@@ -509,14 +517,17 @@ class InProcessBus(Transport):
                 entry.clients.remove(endpoint)
 
     def count_services(self, service: str) -> int:
+        """Number of servers of ``service``."""
         entry = self._services.get(service)
         return len(entry.servers) if entry is not None else 0
 
     def count_clients(self, service: str) -> int:
+        """Number of clients of ``service``."""
         entry = self._services.get(service)
         return len(entry.clients) if entry is not None else 0
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every service with a server or client, with its type names, sorted."""
         with self._lock:
             return sorted(
                 (e.name, [(e.servers or e.clients)[0].info.type_name])
@@ -539,11 +550,13 @@ class InProcessBus(Transport):
     def get_service_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
+        """The services node ``node_namespace/node_name`` serves, with their type names."""
         return self._by_node(node_name, node_namespace, servers=True)
 
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
+        """The services node ``node_namespace/node_name`` is a client of, with their type names."""
         return self._by_node(node_name, node_namespace, servers=False)
 
     # -- graph ------------------------------------------------------------------------
@@ -585,6 +598,7 @@ class InProcessBus(Transport):
             )
 
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        """A publisher on ``info``'s topic (see :meth:`Transport.advertise`)."""
         with self._lock:
             topic = self._topic_for(info)
             pub = _BusPublisher(self, info)
@@ -595,6 +609,7 @@ class InProcessBus(Transport):
             return pub
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        """A subscription on ``info``'s topic calling ``sink(msg)``."""
         with self._lock:
             topic = self._topic_for(info)
             sub = _BusSubscription(self, info, sink)
@@ -632,6 +647,7 @@ class InProcessBus(Transport):
         return sum(1 for p in topic.publishers if sub in p.matched)
 
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every topic with a publisher or subscription, with its type names, sorted."""
         with self._lock:
             return sorted(
                 (t.name, [t.publishers[0].info.type_name if t.publishers
@@ -641,10 +657,12 @@ class InProcessBus(Transport):
             )
 
     def count_publishers(self, topic: str) -> int:
+        """Number of publishers on ``topic``."""
         t = self._topics.get(topic)
         return len(t.publishers) if t is not None else 0
 
     def count_subscribers(self, topic: str) -> int:
+        """Number of subscriptions on ``topic``."""
         t = self._topics.get(topic)
         return len(t.subscriptions) if t is not None else 0
 
@@ -655,6 +673,7 @@ class InProcessBus(Transport):
             return [p.info.qos for p in t.publishers] if t is not None else []
 
     def close(self) -> None:
+        """Drop every endpoint; the bus carries nothing afterwards."""
         with self._lock:
             for topic in self._topics.values():
                 for pub in topic.publishers:

@@ -48,4 +48,5 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
         self.ending_execution = self._claim.release  # type: ignore[method-assign]
 
     def can_execute(self) -> bool:
+        """Whether no callback of this group is running now."""
         return not self._claim.locked()

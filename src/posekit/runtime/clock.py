@@ -165,6 +165,7 @@ class ROSClock(Clock):
         return self._ros_time_active
 
     def now_ns(self) -> int:
+        """The current time (ns): simulated time while ROS time is active, else system time."""
         if self._ros_time_active:
             return self._override_ns
         return time.time_ns()

@@ -66,7 +66,8 @@ class Context:
         """Initialize with the ROS arguments in ``args`` (None: ``sys.argv``, as rclpy).
 
         Raises :class:`~posekit.runtime.arguments.RCLError` for a malformed argument and
-        :class:`~posekit.runtime.arguments.UnknownROSArgsError` for an unknown one."""
+        :class:`~posekit.runtime.arguments.UnknownROSArgsError` for an unknown one.
+        """
         with self._lock:
             if self._ok:
                 raise RuntimeError("Context.init() must only be called once")
@@ -141,8 +142,10 @@ def init(
     transport: str | None = None,
     signal_handler_options: object = None,
 ) -> None:
-    """rclpy.init: initialize ``context`` (default: the global one). ``domain_id`` and
-    ``signal_handler_options`` are accepted for compatibility and ignored."""
+    """rclpy.init: initialize ``context`` (default: the global one).
+
+    ``domain_id`` and ``signal_handler_options`` are accepted for compatibility and ignored.
+    """
     del domain_id, signal_handler_options
     (context or _default_context).init(args, transport=transport)
 

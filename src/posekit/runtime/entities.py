@@ -96,8 +96,10 @@ def _takes_message_info(callback: Callable[..., Any]) -> bool:
 
 
 class Subscription:
-    """Receives messages of one type on one topic; the executor calls ``callback(msg)``, or
-    ``callback(msg, info)`` (a :class:`MessageInfo`) for a callback taking two arguments.
+    """Receives messages of one type on one topic.
+
+    The executor calls ``callback(msg)``, or ``callback(msg, info)`` (a :class:`MessageInfo`)
+    for a callback taking two arguments.
 
     Undelivered messages wait in a queue bounded by the QoS depth (KEEP_LAST drops the
     oldest); each queued entry carries the context-wide sequence number of its arrival.
@@ -273,9 +275,10 @@ class Timer:
         return self.clock.now_ns() - self.last_call_ns
 
     def mark_called(self, now_ns: int | None = None) -> None:
-        """An executor took this timer's call now (``now_ns``: the clock's time, if the
-        executor just read it): the next call moves one period on (to the first one after
-        now, skipping missed periods)."""
+        """An executor took this timer's call now: the next call moves one period on.
+
+        It moves to the first one after now, skipping missed periods.
+        """
         now = self.clock.now_ns() if now_ns is None else now_ns
         self.last_call_ns = now
         nxt = self.next_call_ns + self._period_ns

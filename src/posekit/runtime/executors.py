@@ -69,9 +69,11 @@ _NO_PAYLOAD: Any = object()
 
 
 def runs_callbacks(method: _F) -> _F:
-    """Decorator for an executor's spinning methods: marks the calling thread as running
-    this executor's callbacks for the call's duration (what ``Client.call`` checks to serve
-    a request instead of deadlocking)."""
+    """Decorator for an executor's spinning methods.
+
+    Marks the calling thread as running this executor's callbacks for the call's duration (what
+    ``Client.call`` checks to serve a request instead of deadlocking).
+    """
 
     @functools.wraps(method)
     def wrapper(self: Executor, *args: Any, **kwargs: Any) -> Any:
@@ -193,8 +195,10 @@ class Executor:
 
     def create_task(self, callback: Callable[..., Any] | Coroutine[Any, Any, Any],
                     *args: Any, **kwargs: Any) -> Task:
-        """Run ``callback`` (a coroutine, coroutine function or plain callable) on this
-        executor; the returned Task is a Future of its result."""
+        """Run ``callback`` on this executor; the returned Task is a Future of its result.
+
+        ``callback`` is a coroutine, a coroutine function or a plain callable.
+        """
         coro: Coroutine[Any, Any, Any]
         if inspect.iscoroutine(callback):
             coro = callback
@@ -254,8 +258,10 @@ class Executor:
         return found
 
     def _drain_messages(self, budget: int) -> int:
-        """Deliver up to ``budget`` queued items in arrival order without re-checking
-        timers and tasks between them (the hot path); returns how many ran."""
+        """Deliver up to ``budget`` queued items in arrival order; returns how many ran.
+
+        Timers and tasks are not re-checked between them (the hot path).
+        """
         inbox = self.inbox
         take = inbox.take
         call = self._call
@@ -279,9 +285,11 @@ class Executor:
 
     # -- running ----------------------------------------------------------------------
     def _call(self, entity: Any, payload: Any = _NO_PAYLOAD) -> None:
-        """Run ``entity.callback`` (with ``payload``, if given), whose callback group the
-        caller claimed: the one place that turns a coroutine result into a task, reports
-        an exception and releases the group."""
+        """Run ``entity.callback`` (with ``payload``, if given) in its claimed callback group.
+
+        The caller claimed the group. The one place that turns a coroutine result into a task,
+        reports an exception and releases the group.
+        """
         try:
             result = entity.callback() if payload is _NO_PAYLOAD else entity.callback(payload)
             if result is not None and inspect.iscoroutine(result):
@@ -322,9 +330,11 @@ class Executor:
     def _wait_for_work(
         self, timeout_sec: float | None, condition: Callable[[], bool] | None = None
     ) -> tuple[int, Any, Any] | None:
-        """The next ready callback, waiting up to ``timeout_sec`` (None: forever); None on
-        timeout, shutdown, or once ``condition()`` is true (rclpy's wait condition: whoever
-        makes it true must call :meth:`wake`, e.g. a future's done-callback)."""
+        """The next ready callback, waiting up to ``timeout_sec`` (None: forever).
+
+        None on timeout, shutdown, or once ``condition()`` is true (rclpy's wait condition:
+        whoever makes it true must call :meth:`wake`, e.g. a future's done-callback).
+        """
         deadline = None
         if timeout_sec is not None and timeout_sec >= 0:
             deadline = time.monotonic() + timeout_sec
@@ -355,8 +365,10 @@ class Executor:
             inbox.end_wait()
 
     def _serve_until(self, future: Future[Any], timeout_sec: float | None) -> None:
-        """Run ready callbacks (never moving simulated time) until ``future`` is done or
-        ``timeout_sec`` wall seconds passed: a blocking call made inside a callback."""
+        """Run ready callbacks until ``future`` is done or ``timeout_sec`` wall seconds passed.
+
+        A blocking call made inside a callback; simulated time never moves meanwhile.
+        """
         end = None if timeout_sec is None or timeout_sec < 0 else time.monotonic() + timeout_sec
         while not future.done() and self._context.ok():
             work = self._take_ready()
@@ -411,8 +423,10 @@ class Executor:
     def spin_until_future_complete(
         self, future: Future[Any], timeout_sec: float | None = None
     ) -> None:
-        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed. A future
-        completed by another thread ends the wait at once (its done-callback wakes us)."""
+        """Spin until ``future`` is done or ``timeout_sec`` (wall seconds) passed.
+
+        A future completed by another thread ends the wait at once (its done-callback wakes us).
+        """
         future.add_done_callback(lambda _f: self.wake())
         if timeout_sec is None or timeout_sec < 0:
             while self._context.ok() and not self._is_shutdown and not future.done():
@@ -448,8 +462,10 @@ class SingleThreadedExecutor(Executor):
 
 
 class MultiThreadedExecutor(Executor):
-    """``num_threads`` worker threads (default: CPU count, at least 2) run callbacks;
-    callback groups decide what may overlap. ``spin_once`` runs in the calling thread."""
+    """``num_threads`` worker threads (default: CPU count, at least 2) run callbacks.
+
+    Callback groups decide what may overlap. ``spin_once`` runs in the calling thread.
+    """
 
     _wake_on_every_put = True
 
@@ -473,6 +489,7 @@ class MultiThreadedExecutor(Executor):
                 self.wake()  # a group was released: another worker may now proceed
 
     def spin(self) -> None:
+        """Run callbacks on the worker threads and this one until shutdown."""
         workers = [
             threading.Thread(target=self._worker, name=f"posekit-executor-{i}", daemon=True)
             for i in range(self._num_threads - 1)

@@ -140,9 +140,11 @@ class Inbox:
         return bool(self._entries)
 
     def prepare_wait(self) -> None:
-        """Announce a waiter and clear the wake-up, *before* the caller's last look for
-        work: an entry put after that look then finds ``waiting`` set and signals, so no
-        wake-up is lost between the look and :meth:`wait`."""
+        """Announce a waiter and clear the wake-up, *before* the caller's last look for work.
+
+        An entry put after that look then finds ``waiting`` set and signals, so no wake-up is
+        lost between the look and :meth:`wait`.
+        """
         self._waiting = True
         self._signal.clear()
 
@@ -196,8 +198,7 @@ class Handoff:
             inbox.timers_changed()
 
     def entities_changed(self) -> None:
-        """Report created/destroyed entities (or a ``use_sim_time`` switch), if in an
-        executor."""
+        """Report created/destroyed entities (or a ``use_sim_time`` switch), if in an executor."""
         inbox = self.inbox
         if inbox is not None:
             inbox.entities_changed()

@@ -197,7 +197,8 @@ class MirroredTransport(Transport):
     def own_topic(self, topic: str) -> None:
         """Never take ``topic`` from other processes (this process is its only source).
 
-        Applies to subscriptions created afterwards."""
+        Applies to subscriptions created afterwards.
+        """
         self._owned.add(topic)
 
     @property
@@ -207,6 +208,7 @@ class MirroredTransport(Transport):
 
     # -- endpoints ------------------------------------------------------------------------
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        """A publisher on the local bus whose messages are also sent on the network."""
         local = self.local.advertise(info)
         try:
             remote = self.network.advertise(dataclasses.replace(info, remote_only=True))
@@ -220,13 +222,16 @@ class MirroredTransport(Transport):
         return pub
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        """A subscription receiving local and remote messages."""
         return self.subscribe_with_source(info, lambda msg, _source: sink(msg))
 
     def subscribe_with_source(
         self, info: EndpointInfo, sink: SourcedMessageSink
     ) -> SubscriptionEndpoint:
-        """Local messages with the local transport's source ids, remote ones with the
-        network's (a GID)."""
+        """Subscribe with source ids: the local transport's for local messages.
+
+        Remote messages carry the network's (a GID).
+        """
         local = self.local.subscribe_with_source(info, sink)
         remote: SubscriptionEndpoint | None = None
         try:
@@ -240,6 +245,7 @@ class MirroredTransport(Transport):
 
     # -- services -------------------------------------------------------------------------
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        """A server on the local bus, also reachable over the network."""
         local = self.local.create_service_server(info, sink)
         try:
             remote = self.network.create_service_server(info, sink)
@@ -249,6 +255,7 @@ class MirroredTransport(Transport):
         return _MirrorServer(local, remote)
 
     def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        """A client that calls a local server when there is one, else one on the network."""
         local = self.local.create_service_client(info)
         try:
             remote = self.network.create_service_client(info)
@@ -258,37 +265,46 @@ class MirroredTransport(Transport):
         return _MirrorClient(local, remote)
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """The network graph's services (this process's are on it too)."""
         return self.network.get_service_names_and_types()
 
     def get_service_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
+        """The services a node serves, from the network graph."""
         return self.network.get_service_names_and_types_by_node(node_name, node_namespace)
 
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
+        """The services a node is a client of, from the network graph."""
         return self.network.get_client_names_and_types_by_node(node_name, node_namespace)
 
     def declare_node(self, name: str, namespace: str = "/") -> Any:
+        """Declare the node on the local bus and on the network."""
         self.local.declare_node(name, namespace)
         return self.network.declare_node(name, namespace)
 
     def undeclare_node(self, name: str, namespace: str = "/") -> None:
+        """Undeclare the node on the local bus and on the network."""
         self.local.undeclare_node(name, namespace)
         self.network.undeclare_node(name, namespace)
 
     # -- graph: the network's view (this process's endpoints and everyone else's) ----------
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """The network graph's topics (this process's are on it too)."""
         return self.network.get_topic_names_and_types()
 
     def count_publishers(self, topic: str) -> int:
+        """Publishers on ``topic``, from the network graph."""
         return self.network.count_publishers(topic)
 
     def count_subscribers(self, topic: str) -> int:
+        """Subscriptions on ``topic``, from the network graph."""
         return self.network.count_subscribers(topic)
 
     def publisher_qos_profiles(self, topic: str) -> list[QoSProfile] | None:
+        """The QoS each publisher on ``topic`` offers, from the network graph."""
         return self.network.publisher_qos_profiles(topic)
 
     def get_node_names(self) -> list[str]:
@@ -296,18 +312,23 @@ class MirroredTransport(Transport):
         return self.network.get_node_names()
 
     def get_publishers_info_by_topic(self, topic: str) -> list[Any]:
+        """The publishers on ``topic``, from the network graph."""
         return self.network.get_publishers_info_by_topic(topic)
 
     def get_subscriptions_info_by_topic(self, topic: str) -> list[Any]:
+        """The subscriptions on ``topic``, from the network graph."""
         return self.network.get_subscriptions_info_by_topic(topic)
 
     def graph_entities(self) -> list[Any]:
+        """Every node and endpoint of the network graph."""
         return self.network.graph_entities()
 
     def sync_graph(self, timeout: float = 2.0) -> int:
+        """Complete the network transport's view of the graph (see :meth:`Transport.sync_graph`)."""
         return self.network.sync_graph(timeout)
 
     def graph_description(self) -> str:
+        """The network transport's description of its graph."""
         return self.network.graph_description()
 
     def __getattr__(self, name: str) -> Any:
@@ -404,6 +425,7 @@ class MirroredTransport(Transport):
         return True
 
     def close(self) -> None:
+        """Flush pending sends (at most 0.5 s), then close both transports."""
         self.flush(0.5)
         self._stop.set()
         with self._lock:

@@ -225,9 +225,12 @@ def expand_topic_name(name: str, node_name: str, namespace: str) -> str:
 
 @dataclass(frozen=True, slots=True)
 class RemapRule:
-    """One ``[node:]from:=to`` rule. ``node`` None means every node; ``kind`` ``"topic"`` or
-    ``"service"`` limits it to names of that kind (``rostopic://`` / ``rosservice://``
-    prefixes on the command line), None applies to both."""
+    """One ``[node:]from:=to`` rule.
+
+    ``node`` None means every node; ``kind`` ``"topic"`` or ``"service"`` limits it to names of
+    that kind (``rostopic://`` / ``rosservice://`` prefixes on the command line), None applies
+    to both.
+    """
 
     from_name: str
     to_name: str
@@ -288,8 +291,10 @@ def resolve_topic_name(
 def resolve_service_name(
     name: str, node_name: str, namespace: str, rules: Iterable[RemapRule] = ()
 ) -> str:
-    """Validate, expand and remap a service name (a topic name's rules; errors raise
-    :class:`InvalidServiceNameException`)."""
+    """Validate, expand and remap a service name.
+
+    A topic name's rules; errors raise :class:`InvalidServiceNameException`.
+    """
     try:
         return resolve_topic_name(name, node_name, namespace, rules)
     except InvalidTopicNameException as exc:

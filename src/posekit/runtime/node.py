@@ -105,8 +105,10 @@ def node_defaults(
 
 
 def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | None, str | None]:
-    """The node name and namespace remaps for ``node_name``: the first matching rule of
-    each kind wins, as in rcl."""
+    """The node name and namespace remaps for ``node_name``.
+
+    The first matching rule of each kind wins, as in rcl.
+    """
     name = ns = None
     for rule in rules:
         if rule.node is not None and rule.node != node_name:
@@ -333,8 +335,10 @@ class Node:
         qos_overriding_options: object = None,
         raw: bool = False,
     ) -> Subscription:
-        """Subscription calling ``callback(msg)`` from the executor for each message, or
-        ``callback(msg, info)`` with rclpy's MessageInfo for a two-argument callback."""
+        """Subscription calling ``callback(msg)`` from the executor for each message.
+
+        A two-argument callback gets ``callback(msg, info)`` with rclpy's MessageInfo.
+        """
         del event_callbacks, qos_overriding_options
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
@@ -349,8 +353,10 @@ class Node:
         callback_group: CallbackGroup | None,
         with_source: bool,
     ) -> Subscription:
-        """create_subscription; ``with_source``: the callback gets ``(msg, source)`` with the
-        sending publisher's id (see Transport.subscribe_with_source)."""
+        """create_subscription whose callback also gets the sending publisher's id.
+
+        The callback gets ``(msg, source)`` (see Transport.subscribe_with_source).
+        """
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"subscription callback must be callable, got {callback!r}")
@@ -383,8 +389,10 @@ class Node:
         clock: Clock | None = None,
         autostart: bool = True,
     ) -> Timer:
-        """Timer calling ``callback()`` every ``timer_period_sec`` seconds of ``clock``
-        (default: the node clock, so sim time under use_sim_time)."""
+        """Timer calling ``callback()`` every ``timer_period_sec`` seconds of ``clock``.
+
+        The default clock is the node clock, so sim time under use_sim_time.
+        """
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"timer callback must be callable, got {callback!r}")
@@ -457,8 +465,10 @@ class Node:
         qos_profile: QoSProfile = qos_profile_services_default,
         callback_group: CallbackGroup | None = None,
     ) -> Service:
-        """Service server calling ``callback(request, response) -> response`` from the
-        executor for each request (see :mod:`posekit.runtime.services`)."""
+        """Service server calling ``callback(request, response) -> response`` for each request.
+
+        Called from the executor (see :mod:`posekit.runtime.services`).
+        """
         self._check_alive()
         if not callable(callback):
             raise TypeError(f"service callback must be callable, got {callback!r}")
@@ -661,9 +671,10 @@ class Node:
         descriptor: ParameterDescriptor | None = None,
         ignore_override: bool = False,
     ) -> Parameter:
-        """Declare ``name`` with a default value (or a ``Parameter.Type``); a launch or
-        override value wins. Returns the parameter (rclpy's rules, see
-        :mod:`posekit.runtime.parameters`)."""
+        """Declare ``name`` with a default value (or a ``Parameter.Type``) and return the parameter.
+
+        A launch or override value wins (rclpy's rules, see :mod:`posekit.runtime.parameters`).
+        """
         return self._parameters.declare(name, value, descriptor, ignore_override)
 
     def declare_parameters(
@@ -698,8 +709,11 @@ class Node:
         return self._parameters.get_or(name, alternative_value)
 
     def get_parameter_type(self, name: str) -> Any:
-        """The ParameterType constant (an int) of a declared parameter; ``Type.NOT_SET``
-        for an undeclared one when undeclared parameters are allowed (as rclpy)."""
+        """The ParameterType constant (an int) of a declared parameter.
+
+        ``Type.NOT_SET`` for an undeclared one when undeclared parameters are allowed (as
+        rclpy).
+        """
         return self._parameters.get_type(name)
 
     def get_parameter_types(self, names: Sequence[str]) -> list[Any]:
@@ -735,9 +749,11 @@ class Node:
         descriptor: ParameterDescriptor,
         alternative_value: ParameterValue | None = None,
     ) -> ParameterValue:
-        """Give a declared parameter a new descriptor; if its value does not fit it, use
-        ``alternative_value`` (InvalidParameterValueException if that does not fit either).
-        Returns the value afterwards."""
+        """Give a declared parameter a new descriptor; returns the value afterwards.
+
+        If its value does not fit the descriptor, ``alternative_value`` is used
+        (InvalidParameterValueException if that does not fit either).
+        """
         return self._parameters.set_descriptor(name, descriptor, alternative_value)
 
     def describe_parameters(self, names: Sequence[str]) -> list[ParameterDescriptor]:

@@ -1,5 +1,6 @@
-"""Passive observation of every topic of a graph: what ``ros2 bag record``, a visualizer and
-a bridge have in common.
+"""Passive observation of every topic of a graph.
+
+What ``ros2 bag record``, a visualizer and a bridge have in common.
 
 A :class:`TopicObserver` watches a :class:`~posekit.runtime.transport.Transport` (the
 in-process bus, Zenoh, DDS or the mirrored bus of a launch) and keeps one subscription per
@@ -76,14 +77,19 @@ _LATCHED_DEPTH = 100
 
 
 class TopicSkipped(Exception):  # noqa: N818 - a verdict, not an error condition
-    """Raised by a ``sink_for`` callback: the owner does not observe this topic (the
-    message is the reason, kept in :attr:`TopicObserver.skipped`)."""
+    """Raised by a ``sink_for`` callback: the owner does not observe this topic.
+
+    The message is the reason, kept in :attr:`TopicObserver.skipped`.
+    """
 
 
 @dataclass(frozen=True)
 class ObservedTopic:
-    """A topic being observed: its name, type, message class, the publishers' offers and
-    the profile the observer subscribed with."""
+    """A topic being observed.
+
+    Its name, type, message class, the publishers' offers and the profile the observer
+    subscribed with.
+    """
 
     name: str
     type_name: str
@@ -115,10 +121,12 @@ def offered_qos_profiles(transport: Transport, topic: str) -> list[QoSProfile]:
 
 
 def observing_qos(offered: Collection[QoSProfile], depth: int | None = 10) -> QoSProfile:
-    """A subscription profile every offer in ``offered`` matches (rosbag2's adaptive QoS):
+    """A subscription profile every offer in ``offered`` matches (rosbag2's adaptive QoS).
+
     TRANSIENT_LOCAL only when every publisher is transient local, BEST_EFFORT as soon as one
     publisher is best effort. ``depth`` None requests KEEP_ALL; a transient-local KEEP_LAST
-    request keeps at least 100 samples (every latched sample of several publishers)."""
+    request keeps at least 100 samples (every latched sample of several publishers).
+    """
     transient = bool(offered) and all(
         p.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL for p in offered
     )
@@ -239,8 +247,10 @@ class TopicObserver:
             return {name: e.topic for name, e in self._entries.items()}
 
     def graph(self) -> list[tuple[str, str]]:
-        """Every topic of the graph at the last :meth:`refresh` with its (first) type name,
-        observed or not."""
+        """Every topic of the graph at the last :meth:`refresh`, observed or not.
+
+        Each with its (first) type name.
+        """
         with self._lock:
             return list(self._graph)
 
@@ -252,8 +262,11 @@ class TopicObserver:
 
     # -- discovery ---------------------------------------------------------------------------
     def refresh(self) -> list[str]:
-        """Follow the graph once: observe new topics, let go of those whose publishers left,
-        re-subscribe topics whose offers need another request. Returns the topics added."""
+        """Follow the graph once; returns the topics added.
+
+        Observe new topics, let go of those whose publishers left, re-subscribe topics whose
+        offers need another request.
+        """
         if self._closed:
             return []
         with self._refreshing:
@@ -404,9 +417,11 @@ class TopicObserver:
             self._on_removed(topic)
 
     def release(self, topic: str) -> None:
-        """Stop observing ``topic`` now, as when its publishers leave (its subscription is
-        destroyed, ``on_removed`` called); a later :meth:`refresh` observes it again when
-        ``select`` still wants it."""
+        """Stop observing ``topic`` now, as when its publishers leave.
+
+        Its subscription is destroyed and ``on_removed`` called; a later :meth:`refresh`
+        observes it again when ``select`` still wants it.
+        """
         self._let_go(topic)
 
     # -- teardown ----------------------------------------------------------------------------

@@ -348,9 +348,11 @@ class Parameter:
 
 
 def get_parameter_value(string_value: str) -> ParameterValue:
-    """The ParameterValue a command-line string means (rclpy's ``get_parameter_value``,
-    what ``ros2 param set`` uses): parsed as YAML; a bool, int, float or a list of one of
-    them (or of strings) keeps that type, anything else is a STRING (the text itself)."""
+    """The ParameterValue a command-line string means (rclpy's ``get_parameter_value``).
+
+    What ``ros2 param set`` uses: the text is parsed as YAML; a bool, int, float or a list of
+    one of them (or of strings) keeps that type, anything else is a STRING (the text itself).
+    """
     import yaml
 
     msg = ParameterValue()
@@ -443,8 +445,11 @@ def parameter_dict_from_yaml_file(
 def _declaration_tuple(
     namespace: str, index: int, item: tuple[Any, ...],
 ) -> tuple[str, Any, ParameterDescriptor]:
-    """``(full name, value or Type, descriptor)`` of one ``declare_parameters`` tuple, with
-    rclpy's TypeErrors for a malformed one (a name alone: dynamically typed, deprecated)."""
+    """``(full name, value or Type, descriptor)`` of one ``declare_parameters`` tuple.
+
+    rclpy's TypeErrors for a malformed one; a name alone declares a dynamically typed parameter
+    (deprecated).
+    """
     if not 1 <= len(item) <= 3:
         raise TypeError(
             f"Invalid parameter tuple length at index {index} in parameters list: "
@@ -478,8 +483,10 @@ def _declaration_tuple(
 
 
 def _declared_default(name: str, second: Any, descriptor: ParameterDescriptor) -> Any:
-    """The default value a declaration gives (None for a ``Parameter.Type``); fixes the
-    descriptor's type unless it is dynamically typed. ValueError as rclpy's."""
+    """The default value a declaration gives (None for a ``Parameter.Type``).
+
+    Fixes the descriptor's type unless it is dynamically typed. ValueError as rclpy's.
+    """
     if isinstance(second, Type):
         if second is Type.NOT_SET:
             raise ValueError(
@@ -639,8 +646,11 @@ class ParameterStore:
         return param
 
     def get_type(self, name: str) -> int | _TypeEnum:
-        """The ParameterType constant of ``name``; ``Type.NOT_SET`` (the enum, as rclpy
-        returns it) for an undeclared name when undeclared parameters are allowed."""
+        """The ParameterType constant of ``name``.
+
+        ``Type.NOT_SET`` (the enum, as rclpy returns it) for an undeclared name when undeclared
+        parameters are allowed.
+        """
         if name in self._params:
             return int(self._params[name].type_.value)
         if self.allow_undeclared:
@@ -897,7 +907,9 @@ def _check_floating_point_range(param: Parameter, rng: FloatingPointRange) -> Se
 
 
 def declare_value(node: Node, name: str, default: Any) -> Any:
-    """Declare parameter ``name`` on ``node`` with ``default`` and return its value (a launch
-    or override value wins over ``default``): ``node.declare_parameter(name, default).value``,
-    the one line a node writes for each parameter it reads once at start-up."""
+    """Declare parameter ``name`` on ``node`` with ``default`` and return its value.
+
+    A launch or override value wins over ``default``: ``node.declare_parameter(name,
+    default).value``, the one line a node writes for each parameter it reads once at start-up.
+    """
     return node.declare_parameter(name, default).value

@@ -58,8 +58,10 @@ class RateLimitedLog:
         self.lines = 0
 
     def __call__(self, reason: str, detail: str = "") -> bool:
-        """Log ``reason: detail`` unless this reason logged less than ``period_s`` ago;
-        returns whether a line was emitted."""
+        """Log ``reason: detail`` unless this reason logged less than ``period_s`` ago.
+
+        Returns whether a line was emitted.
+        """
         now = self._clock()
         with self._lock:
             key = reason

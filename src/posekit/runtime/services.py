@@ -153,8 +153,10 @@ def set_current_executor(executor: Executor | None) -> Executor | None:
 
 
 class _Queued:
-    """The part of a Service/Client the executor sees: a queue drained through ``callback``
-    in the node's callback group, like a Subscription's."""
+    """The part of a Service/Client the executor sees.
+
+    A queue drained through ``callback`` in the node's callback group, like a Subscription's.
+    """
 
     def __init__(self, node: Node, name: str, callback_group: CallbackGroup,
                  run: Callable[[Any], None], what: str, limit: int | None = None) -> None:

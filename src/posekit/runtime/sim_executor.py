@@ -65,12 +65,14 @@ def _clock_publisher_names(transport: Transport) -> list[str]:
 
 
 def graph_clock_publishers(transport: Transport, *, settle_s: float = 0.3) -> list[str]:
-    """The publishers of ``/clock`` on ``transport``'s graph (node names where the graph
-    says, else ``"N publisher(s)"``); empty when there is none.
+    """The publishers of ``/clock`` on ``transport``'s graph; empty when there is none.
+
+    Node names where the graph says, else ``"N publisher(s)"``.
 
     A network graph is completed with its ``sync_graph`` query, repeated for up to
     ``settle_s`` wall seconds until a publisher shows up: one query right after a session
-    opened can come back before the network answered."""
+    opened can come back before the network answered.
+    """
     deadline = time.monotonic() + settle_s
     networked = transport.crosses_processes  # its graph completes over time
     while True:
@@ -154,6 +156,7 @@ class SimulatedTimeExecutor(Executor):
         return Time(nanoseconds=self._now_ns, clock_type=ClockType.ROS_TIME)
 
     def add_node(self, node: Node) -> bool:
+        """Add ``node`` with its clock driven by this executor (``use_sim_time`` set true)."""
         time_source = node.handoff.time_source
         # Driven first: the node never subscribes to /clock while the executor owns its time.
         time_source.set_driven(True)
@@ -163,6 +166,7 @@ class SimulatedTimeExecutor(Executor):
         return super().add_node(node)
 
     def remove_node(self, node: Node) -> None:
+        """Remove ``node``; a live node's clock follows ``/clock`` again."""
         super().remove_node(node)
         handoff = node.handoff
         if not self._is_shutdown and handoff.executor is None and not handoff.destroyed:
@@ -170,9 +174,11 @@ class SimulatedTimeExecutor(Executor):
 
     @property
     def publish_clock(self) -> bool:
-        """Whether ``/clock`` is published at every step. Default (``publish_clock=None``):
-        exactly when a node of the executor is visible to other processes; setting True or
-        False forces it."""
+        """Whether ``/clock`` is published at every step.
+
+        Default (``publish_clock=None``): exactly when a node of the executor is visible to
+        other processes; setting True or False forces it.
+        """
         return self._publish_clock
 
     @publish_clock.setter
@@ -196,14 +202,17 @@ class SimulatedTimeExecutor(Executor):
         return self._context.transport()
 
     def claim_clock(self, transport: Any = None, *, timeout_sec: float = 0.3) -> None:
-        """Refuse a second simulation clock. ``transport``: where the simulation's nodes are
-        (or will be: ``posekit.launch`` claims before it creates any node, so a refused run
-        never shows a node to others); default: the nodes' transport.
+        """Refuse a second simulation clock.
+
+        ``transport``: where the simulation's nodes are (or will be: ``posekit.launch`` claims
+        before it creates any node, so a refused run never shows a node to others); default: the
+        nodes' transport.
 
         When ``/clock`` is to be published there (``publish_clock`` True, or None and the
         transport crosses processes) and another publisher of ``/clock`` is already on its
         graph (see :func:`graph_clock_publishers`), raise :class:`ClockConflictError`;
-        otherwise start publishing ``/clock`` there."""
+        otherwise start publishing ``/clock`` there.
+        """
         if self._clock_pub is not None:
             return
         transport = transport if transport is not None else self._clock_transport()
@@ -305,7 +314,8 @@ class SimulatedTimeExecutor(Executor):
         (:attr:`measured_real_time_factor`); once a window ends more than
         :data:`BEHIND_LAG_S` behind, logs one warning with the factor (at most every
         :data:`BEHIND_LOG_PERIOD_S`) and re-anchors the pace there, so a run that cannot
-        keep up goes on at the speed it can (as Gazebo does) instead of racing to catch up."""
+        keep up goes on at the speed it can (as Gazebo does) instead of racing to catch up.
+        """
         now = time.monotonic()
         window = self._rtf_window
         if window is None or window[1] > ns:
@@ -333,8 +343,11 @@ class SimulatedTimeExecutor(Executor):
         return TimerSchedule(self._drives)
 
     def _drives(self, timer: Timer) -> bool:
-        """Whether ``timer`` is on a clock this executor sets: its own node's clock, that
-        node in this executor, on sim time (then the clock shows this executor's time)."""
+        """Whether ``timer`` is on a clock this executor sets.
+
+        Its own node's clock, that node in this executor, on sim time (then the clock shows this
+        executor's time).
+        """
         handoff = timer.handoff
         clock = timer.clock
         return (
@@ -364,8 +377,10 @@ class SimulatedTimeExecutor(Executor):
 
     # -- running ----------------------------------------------------------------------
     def _run_ready(self) -> int:
-        """Run every callback ready at the current sim time (the order of the module
-        docstring: tasks, due timers, then messages in arrival order)."""
+        """Run every callback ready at the current sim time.
+
+        In the order of the module docstring: tasks, due timers, then messages in arrival order.
+        """
         count = 0
         context = self._context
         tasks = self._tasks
@@ -398,8 +413,10 @@ class SimulatedTimeExecutor(Executor):
 
     @runs_callbacks
     def run_until(self, t: float | Time) -> int:
-        """Advance simulated time to ``t`` (seconds or Time), running every callback due on
-        the way in time order; returns the number of callbacks run."""
+        """Advance simulated time to ``t`` (seconds or Time); returns the number of callbacks run.
+
+        Every callback due on the way runs, in time order.
+        """
         target = _to_ns(t)
         if target < self._now_ns:
             raise ValueError(
@@ -423,8 +440,10 @@ class SimulatedTimeExecutor(Executor):
 
     @runs_callbacks
     def spin_once(self, timeout_sec: float | None = None) -> None:
-        """Run one ready callback; if none, jump to the next timer and run one there. With no
-        timers at all, wait up to ``timeout_sec`` wall seconds for an outside message."""
+        """Run one ready callback; if none, jump to the next timer and run one there.
+
+        With no timers at all, wait up to ``timeout_sec`` wall seconds for an outside message.
+        """
         work = self._take_ready()
         if work is None:
             nxt = self._next_timer_ns()
@@ -463,6 +482,7 @@ class SimulatedTimeExecutor(Executor):
                 self._advance(nxt)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
+        """Shut down as :meth:`Executor.shutdown`, and destroy the ``/clock`` publisher node."""
         result = super().shutdown(timeout_sec)
         if self._clock_node is not None and self._context.ok():
             self._clock_node.destroy_node()

@@ -69,7 +69,9 @@ class TimerSchedule:
 
     def invalidate(self) -> None:
         """A timer moved or the executor's clocks changed: re-sort at the next look.
-        Safe to call from any thread."""
+
+        Safe to call from any thread.
+        """
         self._dirty = True
 
     def _rebuild(self) -> None:
@@ -93,8 +95,10 @@ class TimerSchedule:
         self._heap, self._scanned = heap, zero + other
 
     def _heap_top(self) -> tuple[Timer, int] | None:
-        """The heap's timer due first and its clock's time, after re-keying or dropping
-        entries that moved."""
+        """The heap's timer due first and its clock's time.
+
+        Entries that moved are re-keyed or dropped first.
+        """
         heap = self._heap
         while heap:
             due, seq, timer = heap[0]
@@ -112,9 +116,11 @@ class TimerSchedule:
         return None
 
     def claim_due(self) -> Timer | None:
-        """The timer to call now, with its callback group claimed and the call marked (its
-        next call moved on), or None. One thread at a time (the executor's lock, or the
-        stepping thread)."""
+        """The timer to call now, or None.
+
+        Its callback group is claimed and the call marked (its next call moved on). One thread
+        at a time (the executor's lock, or the stepping thread).
+        """
         if self._dirty:
             self._rebuild()
         heap = self._heap
@@ -149,9 +155,11 @@ class TimerSchedule:
         return best
 
     def next_due_ns(self, now_ns: int) -> int | None:
-        """Simulated time (ns, at least ``now_ns``) of the next call of a timer on an active
-        ROS clock with a period, i.e. the next time a stepped executor must stop at; None if
-        there is no such timer."""
+        """Simulated time (ns, at least ``now_ns``) of the next call of a sim-clock timer.
+
+        A timer on an active ROS clock with a period, i.e. the next time a stepped executor must
+        stop at; None if there is no such timer.
+        """
         if self._dirty:
             self._rebuild()
         found = self._heap_top()
@@ -171,8 +179,10 @@ class TimerSchedule:
         return best
 
     def wall_wait_s(self) -> float | None:
-        """Wall seconds until the next timer not on an active ROS clock is due (those wake
-        up with the /clock messages that move them); None: no such timer."""
+        """Wall seconds until the next timer not on an active ROS clock is due (None: none).
+
+        Those on an active ROS clock wake up with the /clock messages that move them.
+        """
         best: int | None = None
         for timer in self._timers:
             clock = timer.clock

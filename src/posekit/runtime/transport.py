@@ -134,9 +134,11 @@ class EndpointInfo:
 
     @property
     def type_name(self) -> str:
-        """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``
-        (:func:`posekit.msgs.message_type_name`); a class that is no ROS message (the
-        in-process bus carries any class) is named by its qualified Python name."""
+        """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``.
+
+        As :func:`posekit.msgs.message_type_name` gives it. A class that is no ROS message (the
+        in-process bus carries any class) is named by its qualified Python name.
+        """
         try:
             return message_type_name(self.msg_type)
         except UnknownMessageTypeError:
@@ -145,8 +147,11 @@ class EndpointInfo:
 
 @dataclass(frozen=True, slots=True)
 class ServiceInfo:
-    """Who creates a service server or client, on which (fully qualified) service name,
-    with what service type (``SetBool``, with ``Request``/``Response``) and QoS."""
+    """Who creates a service server or client, on which service name, with what type and QoS.
+
+    The name is fully qualified; the type is a service class such as ``SetBool``, with
+    ``Request``/``Response``.
+    """
 
     service: str
     srv_type: type
@@ -197,8 +202,11 @@ class PublisherEndpoint(ABC):
         """Send ``msg`` to every matched subscription."""
 
     def publish_transfer(self, msg: Any) -> None:
-        """Send ``msg``, which the caller hands over and never touches again, so a
-        transport may deliver this very object instead of a copy. Default: :meth:`publish`."""
+        """Send ``msg``, which the caller hands over and never touches again.
+
+        A transport may therefore deliver this very object instead of a copy. Default:
+        :meth:`publish`.
+        """
         self.publish(msg)
 
     @abstractmethod
@@ -242,8 +250,10 @@ class Transport(ABC):
     def subscribe_with_source(
         self, info: EndpointInfo, sink: SourcedMessageSink
     ) -> SubscriptionEndpoint:
-        """:meth:`subscribe`, calling ``sink(msg, source)`` with the sending publisher's id
-        (default: None, the transport cannot tell publishers apart)."""
+        """:meth:`subscribe`, calling ``sink(msg, source)`` with the sending publisher's id.
+
+        The default passes None: the transport cannot tell publishers apart.
+        """
         return self.subscribe(info, lambda msg: sink(msg, None))
 
     @abstractmethod
@@ -259,10 +269,12 @@ class Transport(ABC):
         """Subscriptions on a fully qualified topic."""
 
     def publisher_qos_profiles(self, topic: str) -> list[QoSProfile] | None:
-        """The QoS each publisher on ``topic`` offers (one profile per publisher, as far as
-        the graph tells: reliability, durability, history and depth), or None when this
-        transport cannot tell (default). Passive observers subscribe with a profile every
-        offer matches (:mod:`posekit.runtime.observe`)."""
+        """The QoS each publisher on ``topic`` offers, or None when this transport cannot tell.
+
+        One profile per publisher, as far as the graph tells: reliability, durability, history
+        and depth (default: None). Passive observers subscribe with a profile every offer
+        matches (:mod:`posekit.runtime.observe`).
+        """
         return None
 
     #: Whether :meth:`create_service_server` / :meth:`create_service_client` work.
@@ -308,13 +320,17 @@ class Transport(ABC):
 
     # -- optional graph capabilities (defaults: the transport cannot tell) ----------------
     def get_node_names(self) -> list[str]:
-        """Fully qualified names of the nodes on the graph (duplicates kept), sorted;
-        default: none known."""
+        """Fully qualified names of the nodes on the graph (duplicates kept), sorted.
+
+        Default: none known.
+        """
         return []
 
     def get_publishers_info_by_topic(self, topic: str) -> list[Any]:
-        """Records of the publishers on ``topic`` (``node_fqn``, ``ros_type``, ``qos``...);
-        default: none known."""
+        """Records of the publishers on ``topic`` (``node_fqn``, ``ros_type``, ``qos``...).
+
+        Default: none known.
+        """
         return []
 
     def get_subscriptions_info_by_topic(self, topic: str) -> list[Any]:
@@ -322,15 +338,19 @@ class Transport(ABC):
         return []
 
     def graph_entities(self) -> list[Any]:
-        """Every node and endpoint on the graph as records with ``kind``
-        (:class:`~posekit.transport.zenoh_wire.EntityKind`), ``node_fqn``, ``topic`` and
-        ``ros_type`` (duplicates kept); default: none known."""
+        """Every node and endpoint on the graph, as records.
+
+        Each record has ``kind`` (:class:`~posekit.transport.zenoh_wire.EntityKind`),
+        ``node_fqn``, ``topic`` and ``ros_type`` (duplicates kept). Default: none known.
+        """
         return []
 
     def sync_graph(self, timeout: float = 2.0) -> int:
-        """Complete this transport's view of the graph, waiting at most ``timeout`` s (a
-        network transport asks its peers); returns a graph generation. Default: returns 0
-        at once (a process-local graph is always complete)."""
+        """Complete this transport's view of the graph; returns a graph generation.
+
+        Waits at most ``timeout`` s (a network transport asks its peers). Default: returns 0 at
+        once (a process-local graph is always complete).
+        """
         return 0
 
     def graph_description(self) -> str:
@@ -338,8 +358,11 @@ class Transport(ABC):
         return f"the {self.name} graph"
 
     def own_topic(self, topic: str) -> None:  # noqa: B027 - optional
-        """Keep ``topic`` from being taken from other processes (a mirrored transport: see
-        :class:`~posekit.runtime.mirror.MirroredTransport`); default: nothing to keep."""
+        """Keep ``topic`` from being taken from other processes.
+
+        For a mirrored transport (see :class:`~posekit.runtime.mirror.MirroredTransport`);
+        default: nothing to keep.
+        """
 
     def declare_node(self, name: str, namespace: str = "/") -> Any:  # noqa: B027 - optional
         """Announce a node on the graph (called by ``Node.__init__``); default: nothing."""

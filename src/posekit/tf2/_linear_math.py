@@ -91,8 +91,10 @@ def matrix_from_quat(q: Quat) -> Mat3:
 
 
 def quat_from_matrix(m: Mat3) -> Quat:
-    """tf2 ``Matrix3x3::getRotation``: w > 0 if the trace is positive, else the largest-diagonal
-    component is positive."""
+    """tf2 ``Matrix3x3::getRotation``.
+
+    w > 0 if the trace is positive, else the largest-diagonal component is positive.
+    """
     m00, m01, m02, m10, m11, m12, m20, m21, m22 = m
     trace = m00 + m11 + m22
     if trace > 0.0:
@@ -174,8 +176,9 @@ def matrix_get_rpy(m: Mat3) -> tuple[float, float, float]:
 
 
 def rpy_from_quat(q: Quat) -> tuple[float, float, float]:
-    """tf2 ``Matrix3x3(q).getRPY()``: (roll, pitch, yaw) in radians of a quaternion (x, y, z, w),
-    through tf2's matrix (any norm is normalised by ``setRotation``).
+    """tf2 ``Matrix3x3(q).getRPY()``: (roll, pitch, yaw) in radians of a quaternion (x, y, z, w).
+
+    Computed through tf2's matrix (any norm is normalised by ``setRotation``).
 
     (0, 0, 1, 1) has norm sqrt(2); setRotation normalises it to (0, 0, sin(pi/4), cos(pi/4)),
     a yaw of pi/2 (the pitch prints as -0.0 because tf2 computes it as -asin(0)):

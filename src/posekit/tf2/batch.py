@@ -120,8 +120,11 @@ def _canonical_rows(q: F64) -> F64:
 
 
 def _edge(cache: Any, t: I64) -> tuple[int, Cols, B | None] | None:
-    """One edge at every stamp: (parent id, columns, ok mask or None = all ok), or None if no
-    stamp has data. Raises _Fallback if the parent differs between successful stamps."""
+    """One edge at every stamp, or None if no stamp has data.
+
+    The edge is (parent id, columns, ok mask or None = all ok). Raises _Fallback if the parent
+    differs between successful stamps.
+    """
     if cache.is_static:
         p, s = cache.get(0)
         return p, s, None

@@ -170,8 +170,10 @@ class Buffer(BufferCore):
     def lookup_transform(
         self, target_frame: str, source_frame: str, time: Any, timeout: Any = _ZERO
     ) -> TransformStamped:
-        """T_target_source at ``time`` (``Time()`` = latest common time), waiting up to
-        ``timeout`` for the data; raises tf2's exception if still impossible."""
+        """T_target_source at ``time`` (``Time()`` = latest common time).
+
+        Waits up to ``timeout`` for the data; raises tf2's exception if still impossible.
+        """
         if timeout is not _ZERO and _duration_ns(timeout) > 0:
             self.can_transform(target_frame, source_frame, time, timeout)
         return self.lookup_transform_core(target_frame, source_frame, time)
@@ -202,8 +204,10 @@ class Buffer(BufferCore):
         timeout: Any = _ZERO,
         return_debug_tuple: bool = False,
     ) -> bool | tuple[bool, str]:
-        """Whether the lookup would succeed, waiting up to ``timeout``; with
-        ``return_debug_tuple=True`` returns ``(bool, tf2's reason)``."""
+        """Whether the lookup would succeed, waiting up to ``timeout``.
+
+        With ``return_debug_tuple=True`` returns ``(bool, tf2's reason)``.
+        """
         result = self._probe_waiting(
             lambda: self.can_transform_core(target_frame, source_frame, time), timeout
         )
@@ -227,8 +231,10 @@ class Buffer(BufferCore):
     def _probe_waiting(
         self, probe: Callable[[], tuple[bool, str]], timeout: Any
     ) -> tuple[bool, str]:
-        """``probe()``; if it fails, re-run it on new data for up to ``timeout`` until it
-        succeeds, and return its last answer."""
+        """``probe()``, re-run on new data for up to ``timeout`` until it succeeds.
+
+        Returns its last answer.
+        """
         timeout_ns = _duration_ns(timeout)
         result = probe()
         if not result[0] and timeout_ns > 0:
@@ -266,8 +272,10 @@ class Buffer(BufferCore):
     def wait_for_transform_async(
         self, target_frame: str, source_frame: str, time: Any
     ) -> Future[bool]:
-        """A future resolved (True) by the first ``set_transform*`` that makes the lookup
-        possible. No timeout (as tf2_ros); cancel it to stop waiting."""
+        """A future resolved (True) by the first ``set_transform*`` that makes the lookup possible.
+
+        No timeout (as tf2_ros); cancel it to stop waiting.
+        """
         return self._future_when(
             lambda: self.can_transform_core(target_frame, source_frame, time)[0]
         )
@@ -314,8 +322,10 @@ class Buffer(BufferCore):
     def transform(
         self, object_stamped: Any, target_frame: str, timeout: Any = _ZERO, new_type: Any = None
     ) -> Any:
-        """``object_stamped`` (PointStamped, PoseStamped, Vector3Stamped, TransformStamped)
-        expressed in ``target_frame``, looked up at its own ``header.stamp``."""
+        """``object_stamped`` expressed in ``target_frame``, looked up at its own ``header.stamp``.
+
+        A PointStamped, PoseStamped, Vector3Stamped or TransformStamped.
+        """
         do_transform = self.registration.get(type(object_stamped))
         header = object_stamped.header
         res = do_transform(

@@ -74,9 +74,11 @@ _UINT32 = 1 << 32
 
 
 def _check_stamp(sec: Any, nanosec: Any, child: Any) -> tuple[int, int]:
-    """``(sec, nanosec)`` as ints, or raise for a header stamp that is not a
-    builtin_interfaces/Time (int32 sec, uint32 nanosec), as rclpy refuses such values when
-    they are assigned to the message. numpy integers are accepted."""
+    """``(sec, nanosec)`` as ints; raises for a stamp that is no builtin_interfaces/Time.
+
+    The Time fields are int32 sec and uint32 nanosec; rclpy refuses other values when they are
+    assigned to the message. numpy integers are accepted.
+    """
     where = f"transform for child_frame_id {child!r}: header.stamp"
     out = []
     for field_name, value, low, high in (("sec", sec, -_INT32, _INT32),
@@ -125,15 +127,20 @@ def _duration_ns(duration: Any) -> int:
 
 
 def _make_stamped(target: str, source: str, stamp_ns: int, raw: Sample) -> TransformStamped:
-    """The result message of a raw walk result: its quaternion through tf2's matrix round
-    trip, the stamp split as builtin_interfaces/Time."""
+    """The result message of a raw walk result.
+
+    Its quaternion goes through tf2's matrix round trip; the stamp is split as
+    builtin_interfaces/Time.
+    """
     return stamped(target, source, result_python(stamp_ns, raw))
 
 
 class LockedView:
-    """The part of a :class:`BufferCore` that a lookup policy outside this module may use
-    while it holds the core's lock (``posekit.tf2.batch`` does): validated frame ids, each
-    frame's cache, tf2's latest common time, and the reference single lookup."""
+    """The part of a :class:`BufferCore` that a lookup policy outside this module may use.
+
+    The policy holds the core's lock meanwhile (``posekit.tf2.batch`` does): validated frame
+    ids, each frame's cache, tf2's latest common time, and the reference single lookup.
+    """
 
     __slots__ = ("_core",)
 
@@ -156,8 +163,10 @@ class LockedView:
         return self._core._latest_common_time(target_id, source_id)
 
     def lookup_raw(self, target: str, source: str, t: int) -> tuple[Sample, int]:
-        """The reference lookup: raw (qx, qy, qz, qw, tx, ty, tz) before the matrix round
-        trip, and the time used; raises tf2's exceptions."""
+        """The reference lookup: raw (qx, qy, qz, qw, tx, ty, tz) and the time used.
+
+        Raw means before the matrix round trip; raises tf2's exceptions.
+        """
         return self._core._lookup_raw(target, source, t)
 
 
@@ -197,12 +206,14 @@ class BufferCore:
     # insertion
     # ------------------------------------------------------------------------------------------
     def set_transform(self, transform: Any, authority: str) -> bool:
-        """Insert a dynamic ``TransformStamped`` (parent ``header.frame_id``, child
-        ``child_frame_id``). Returns True if stored, False if tf2 rejects it (reason logged
-        on logger ``posekit.tf2`` with tf2's text). A stamp that is no
+        """Insert a dynamic ``TransformStamped``; True if stored, False if tf2 rejects it.
+
+        The parent is ``header.frame_id``, the child ``child_frame_id``. A rejection's reason is
+        logged on logger ``posekit.tf2`` with tf2's text. A stamp that is no
         builtin_interfaces/Time (``sec`` not an int32, ``nanosec`` not a uint32, e.g. 1.5 or
         2**70) raises TypeError or ValueError naming the field, as rclpy refuses it on the
-        message."""
+        message.
+        """
         return self._set(transform, authority, False)
 
     def set_transform_static(self, transform: Any, authority: str) -> bool:
@@ -248,11 +259,14 @@ class BufferCore:
         return True
 
     def _checked_sample(self, msg: Any, authority: str) -> tuple[int, str, str, Sample] | None:
-        """(stamp ns, parent, child, stored sample) of a message, or None if tf2 rejects it
-        (reason logged with tf2's text); raises for a stamp that is no builtin_interfaces/Time.
+        """(stamp ns, parent, child, stored sample) of a message, or None if tf2 rejects it.
+
+        The reason is logged with tf2's text; raises for a stamp that is no
+        builtin_interfaces/Time.
 
         The reference conversion: the compiled ``sample_from_msg`` gives the same values for
-        the messages it accepts (exact floats and ints, names without a leading '/')."""
+        the messages it accepts (exact floats and ints, names without a leading '/').
+        """
         tr = msg.transform
         t = tr.translation
         r = tr.rotation
@@ -393,11 +407,13 @@ class BufferCore:
                     cache.clear()
 
     def forget_frames(self, frames: Iterable[str]) -> int:
-        """Forget frames entirely (posekit extension; tf2 has no way to drop a frame): their
-        transforms (dynamic and static), their authority, and their names unless a frame
-        that stays still has one of them as its parent; frames left with no data and no
-        child go too. Returns how many names were dropped. Waiting lookups are unaffected;
-        a forgotten frame is unknown until it is set again."""
+        """Forget frames entirely (posekit extension); returns how many names were dropped.
+
+        tf2 has no way to drop a frame. Their transforms (dynamic and static) and their
+        authority go, and their names unless a frame that stays still has one of them as its
+        parent; frames left with no data and no child go too. Waiting lookups are unaffected; a
+        forgotten frame is unknown until it is set again.
+        """
         with self._lock:
             self._version += 1
             self._prune_pending()
@@ -485,8 +501,11 @@ class BufferCore:
         )
 
     def _latest_common_time(self, tid: int, sid: int) -> int:
-        """tf2 ``getLatestCommonTime`` (lock held): min of the newest non-zero stamps below
-        the common ancestor, using each frame's current newest sample and parent."""
+        """tf2 ``getLatestCommonTime`` (lock held).
+
+        The minimum of the newest non-zero stamps below the common ancestor, using each frame's
+        current newest sample and parent.
+        """
         caches = self._caches
         if sid == tid:
             cache = caches[sid]
@@ -557,8 +576,9 @@ class BufferCore:
         )
 
     def _walk(self, tid: int, sid: int, t: int) -> Sample:
-        """tf2 ``walkToTopParent`` + ``TransformAccum`` at time ``t`` != 0 (lock held): the
-        reference for every lookup's values and errors.
+        """tf2 ``walkToTopParent`` + ``TransformAccum`` at time ``t`` != 0 (lock held).
+
+        The reference for every lookup's values and errors.
 
         Returns the raw T_target_source (qx, qy, qz, qw, tx, ty, tz) before tf2's final
         matrix round trip; raises tf2's exceptions.
@@ -643,8 +663,10 @@ class BufferCore:
     def lookup_transform_core(
         self, target_frame: str, source_frame: str, time: Any
     ) -> TransformStamped:
-        """T_target_source at ``time`` (0 / ``Time()`` = latest common time); raises tf2's
-        exceptions. ``header.stamp`` is the time actually used."""
+        """T_target_source at ``time`` (0 / ``Time()`` = latest common time).
+
+        Raises tf2's exceptions. ``header.stamp`` is the time actually used.
+        """
         t = time.nanoseconds if type(time) is Time else time_to_ns(time)
         with self._lock:
             key = (target_frame, source_frame)
@@ -672,8 +694,10 @@ class BufferCore:
         return stamped(target_frame, source_frame, result)
 
     def _lookup_uncached(self, key: tuple[str, str], t: int) -> TransformStamped:
-        """lookupTransform by the reference walk (lock held); caches the pair's path after a
-        successful walk between two known, distinct frames."""
+        """lookupTransform by the reference walk (lock held).
+
+        Caches the pair's path after a successful walk between two known, distinct frames.
+        """
         target, source = key
         ids = self._ids
         tid = ids.get(target)
@@ -697,8 +721,10 @@ class BufferCore:
         source_time: Any,
         fixed_frame: str,
     ) -> TransformStamped:
-        """Time travel: T_target(target_time)_source(source_time) through ``fixed_frame``,
-        which is assumed not to move. ``header.stamp`` = the resolved target time."""
+        """Time travel: T_target(target_time)_source(source_time) through ``fixed_frame``.
+
+        ``fixed_frame`` is assumed not to move. ``header.stamp`` = the resolved target time.
+        """
         tt = time_to_ns(target_time)
         st = time_to_ns(source_time)
         with self._lock:
@@ -873,8 +899,10 @@ def _transform_mul(
     q1: tuple[float, float, float, float],
     v1: tuple[float, float, float],
 ) -> tuple[tuple[float, float, float, float], tuple[float, float, float]]:
-    """tf2 ``Transform * Transform`` on matrices built from raw quaternions, read back with
-    getRotation: (R2 R1, R2 v1 + v2)."""
+    """tf2 ``Transform * Transform`` on matrices built from raw quaternions: (R2 R1, R2 v1 + v2).
+
+    The rotation is read back with getRotation.
+    """
     a = matrix_from_quat(q2)
     b = matrix_from_quat(q1)
     m = tuple(

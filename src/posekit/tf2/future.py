@@ -59,8 +59,10 @@ class Future(Generic[T]):
         return self._state == _CANCELLED
 
     def result(self) -> T | None:
-        """The result (None while pending); raises the stored exception, or
-        :class:`CancelledError` if the future was cancelled."""
+        """The result (None while pending).
+
+        Raises the stored exception, or :class:`CancelledError` if the future was cancelled.
+        """
         if self._state == _CANCELLED:
             raise CancelledError("the future was cancelled")
         if self._exception is not None:
@@ -115,8 +117,10 @@ class Future(Generic[T]):
             return True
 
     def wait(self, timeout: float | None = None) -> bool:
-        """Block the calling thread until done or ``timeout`` seconds passed (None: no
-        limit); True if done. Only useful while another thread completes the future."""
+        """Block the calling thread until done or ``timeout`` seconds passed; True if done.
+
+        ``timeout`` None means no limit. Only useful while another thread completes the future.
+        """
         with self._lock:
             if self._state != _PENDING:
                 return True

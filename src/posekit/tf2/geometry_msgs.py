@@ -74,8 +74,11 @@ def _pose(q: Quat, t: Vec3, pose: Any) -> Pose:
 
 
 def do_transform_pose(pose: Any, transform: Any) -> Any:
-    """A Pose (ROS 2 tf2_geometry_msgs signature) or a PoseStamped (ROS 1 style) in the target
-    frame: position R p + t, orientation q_T * q_pose. Returns the same kind it was given."""
+    """A Pose or a PoseStamped in the target frame; returns the same kind it was given.
+
+    Pose is ROS 2 tf2_geometry_msgs' signature, PoseStamped the ROS 1 style. Position R p + t,
+    orientation q_T * q_pose.
+    """
     if hasattr(pose, "header"):
         return do_transform_pose_stamped(pose, transform)
     q, t = _rt(transform)

@@ -131,8 +131,11 @@ class FramePath:
 
 def build_path(caches: Sequence[TimeCache | StaticCache | None], tid: int, sid: int,
                max_depth: int) -> FramePath | None:
-    """The path from the newest parents, or None where no cached path can serve the pair
-    (an edge without data, a walk longer than ``max_depth``: the reference walk decides)."""
+    """The path from the newest parents, or None where no cached path can serve the pair.
+
+    None for an edge without data or a walk longer than ``max_depth``: the reference walk
+    decides.
+    """
 
     def edge(frame: int) -> Edge | None:
         cache = caches[frame]
@@ -178,9 +181,11 @@ def build_path(caches: Sequence[TimeCache | StaticCache | None], tid: int, sid: 
 
 
 def latest_up(chain: tuple[Edge, ...]) -> int:
-    """tf2's latest common time when the target is an ancestor of the source: the oldest of
-    the chain's newest non-zero stamps (0 if none), provided every edge's newest sample has
-    the cached parent, which is when getLatestCommonTime walks exactly this chain; else -1."""
+    """tf2's latest common time when the target is an ancestor of the source, else -1.
+
+    The oldest of the chain's newest non-zero stamps (0 if none), provided every edge's newest
+    sample has the cached parent, which is when getLatestCommonTime walks exactly this chain.
+    """
     common = -1
     for stamps, parents, _, _, expected, static in chain:
         if stamps is None:
@@ -199,8 +204,11 @@ def latest_up(chain: tuple[Edge, ...]) -> int:
 # reference kernels (readable; the inlined copies below must equal them bit for bit)
 # ----------------------------------------------------------------------------------------------
 def accumulate(edge: Sample, chain: Sample) -> Sample:
-    """tf2 ``TransformAccum::accum``: the edge parent_T_child appended to the chain
-    child_T_source, giving parent_T_source: ``v = quatRotate(q_e, v) + t_e``, ``q = q_e * q``."""
+    """tf2 ``TransformAccum::accum``: the edge parent_T_child appended to the chain.
+
+    The chain child_T_source becomes parent_T_source: ``v = quatRotate(q_e, v) + t_e``, ``q =
+    q_e * q``.
+    """
     q_e, t_e = edge[:4], edge[4:]
     v = quat_rotate(q_e, chain[4:])
     q = quat_mul(q_e, chain[:4])
@@ -208,8 +216,11 @@ def accumulate(edge: Sample, chain: Sample) -> Sample:
 
 
 def interpolate(a: Sample, b: Sample, ratio: float) -> Sample:
-    """tf2's interpolation of two samples (``TimeCache::interpolate``): tf2 ``slerp`` of the
-    rotations, component-wise lerp ``(1 - ratio) * a + ratio * b`` of the translations."""
+    """tf2's interpolation of two samples (``TimeCache::interpolate``).
+
+    tf2 ``slerp`` of the rotations, component-wise lerp ``(1 - ratio) * a + ratio * b`` of the
+    translations.
+    """
     u = 1.0 - ratio
     q = slerp(a[:4], b[:4], ratio)
     return (q[0], q[1], q[2], q[3], u * a[4] + ratio * b[4], u * a[5] + ratio * b[5],
@@ -218,8 +229,10 @@ def interpolate(a: Sample, b: Sample, ratio: float) -> Sample:
 
 def canonical(q: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
     """tf2 ``Transform::setRotation`` then ``getRotation``: unit norm, canonical sign.
+
     Inlined (every getRotation branch unrolled); reference
-    :func:`posekit.tf2._linear_math.canonical_quat`."""
+    :func:`posekit.tf2._linear_math.canonical_quat`.
+    """
     x, y, z, w = q
     d = x * x + y * y + z * z + w * w
     s = 2.0 / d
@@ -263,9 +276,11 @@ def canonical(q: tuple[float, float, float, float]) -> tuple[float, float, float
 
 
 def inverse_compose(target_chain: Sample, source_chain: Sample | None) -> Sample:
-    """tf2 ``TransformAccum::finalize`` for a walk with a target half: with
-    ``inv = conj(q_t)``, ``v = rotate(inv, v_s) + rotate(inv, -v_t)`` and ``q = inv * q_s``;
-    a None source chain (the source is the top) gives the inverse of the target chain."""
+    """tf2 ``TransformAccum::finalize`` for a walk with a target half.
+
+    With ``inv = conj(q_t)``, ``v = rotate(inv, v_s) + rotate(inv, -v_t)`` and ``q = inv *
+    q_s``; a None source chain (the source is the top) gives the inverse of the target chain.
+    """
     tqx, tqy, tqz, tqw, vx, vy, vz = target_chain
     sx, sy, sz = (0.0, 0.0, 0.0) if source_chain is None else source_chain[4:]
     ix, iy, iz, iw = -tqx, -tqy, -tqz, tqw
@@ -302,7 +317,8 @@ def _chain(chain: tuple[Edge, ...], t: int) -> Sample | None:
     """The edges of ``chain`` at ``t`` accumulated (child first), or None to decline.
 
     Inlined per edge: TimeCache.get's bracket search and :func:`interpolate` (with the
-    per-interval slerp terms memoised in the cache), then :func:`accumulate`."""
+    per-interval slerp terms memoised in the cache), then :func:`accumulate`.
+    """
     sqx = sqy = sqz = sx = sy = sz = 0.0
     sqw = 1.0
     first = True
@@ -394,8 +410,10 @@ def raw_python(mode: int, up: tuple[Edge, ...], down: tuple[Edge, ...], check: E
 
 
 def result_python(stamp_ns: int, raw: Sample) -> Result:
-    """The finished values of a lookup at ``stamp_ns``: the stamp split as
-    builtin_interfaces/Time, the raw quaternion through :func:`canonical`."""
+    """The finished values of a lookup at ``stamp_ns``.
+
+    The stamp split as builtin_interfaces/Time, the raw quaternion through :func:`canonical`.
+    """
     sec, nanosec = divmod(stamp_ns, _NS)
     qx, qy, qz, qw = canonical((raw[0], raw[1], raw[2], raw[3]))
     return sec, nanosec, qx, qy, qz, qw, raw[4], raw[5], raw[6]
@@ -412,9 +430,11 @@ _new = object.__new__
 
 
 def stamped_python(target: str, source: str, r: Result) -> TransformStamped:
-    """A fresh TransformStamped from a :data:`Result`, field by field (skipping the dataclass
-    ``__init__`` chain, which costs more than a tree walk); tests check it equals the normally
-    built message."""
+    """A fresh TransformStamped from a :data:`Result`, field by field.
+
+    This skips the dataclass ``__init__`` chain, which costs more than a tree walk; tests check
+    it equals the normally built message.
+    """
     sec, nanosec, qx, qy, qz, qw, vx, vy, vz = r
     stamp = _new(TimeMsg)
     stamp.sec = sec

@@ -75,8 +75,11 @@ def _backward(t: int, oldest: int) -> BackwardExtrapolationException:
 def slerp_terms(
     x1: float, y1: float, z1: float, w1: float, x2: float, y2: float, z2: float, w2: float
 ) -> tuple[float, float, bool]:
-    """tf2 slerp's terms that depend only on the two samples: (angle, 1/sin(angle) or 0 when
-    the angle is 0, whether the second quaternion is negated for the shortest path)."""
+    """tf2 slerp's terms that depend only on the two samples.
+
+    (angle, 1/sin(angle) or 0 when the angle is 0, whether the second quaternion is negated for
+    the shortest path).
+    """
     dot = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
     c = (-dot if dot < 0.0 else dot) / _sqrt(
         (x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2)

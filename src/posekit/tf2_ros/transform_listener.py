@@ -188,8 +188,10 @@ class TransformListener:
             forget(frames)
 
     def forget_frame(self, frame: str) -> None:
-        """Forget ``frame`` in the buffer (its transforms and, unless another frame hangs
-        off it, its name); it comes back if it is sent again."""
+        """Forget ``frame`` in the buffer; it comes back if it is sent again.
+
+        Its transforms go and, unless another frame hangs off it, its name.
+        """
         with self._fed_lock:
             self._fed.pop(frame, None)
         self._forget([frame])

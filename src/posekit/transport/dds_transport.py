@@ -1,5 +1,6 @@
-"""The runtime's :class:`~posekit.runtime.transport.Transport` over DDS (Eclipse Cyclone DDS),
-interoperable with real ROS 2 nodes on rmw_fastrtps or rmw_cyclonedds.
+"""The runtime's :class:`~posekit.runtime.transport.Transport` over DDS (Eclipse Cyclone DDS).
+
+Interoperable with real ROS 2 nodes on rmw_fastrtps or rmw_cyclonedds.
 
 Select it with ``POSEKIT_TRANSPORT=dds``, ``init(transport="dds")``,
 ``Node(..., transport="dds")`` or ``--transport dds`` on the command-line tools. One DDS
@@ -114,8 +115,10 @@ _MAX_WARNED_TYPES = 1024
 
 
 def configure_domain(options: DiscoveryOptions) -> None:
-    """Create the process's Cyclone domain for ``options.domain_id`` with posekit's discovery
-    configuration (once per process and domain; later differing settings are logged)."""
+    """Create the process's Cyclone domain for ``options.domain_id``, with posekit's discovery.
+
+    Once per process and domain; later differing settings are logged.
+    """
     config = cyclone_config(options)
     with _domains_lock:
         known = _domains.get(options.domain_id)
@@ -140,9 +143,11 @@ def _ros_type(info: EndpointInfo) -> str:
 
 def endpoint_qos(qos: QoSProfile, user_data: bytes, *, writer: bool,
                  remote_only: bool = False) -> Qos:
-    """Cyclone QoS for a ROS profile, policy by policy as rmw_cyclonedds maps it;
+    """Cyclone QoS for a ROS profile, policy by policy as rmw_cyclonedds maps it.
+
     ``remote_only`` adds IGNORE_LOCAL (participant): no matching within this participant
-    (:attr:`EndpointInfo.remote_only`)."""
+    (:attr:`EndpointInfo.remote_only`).
+    """
     keep_all = qos.history == HistoryPolicy.KEEP_ALL
     depth = max(1, qos.depth)
     history = Policy.History.KeepAll if keep_all else Policy.History.KeepLast(depth)
@@ -295,8 +300,11 @@ class _Subscription(SubscriptionEndpoint):
             _log.exception("warning callback failed")
 
     def start(self, participant: DomainParticipant, reader: DataReader[Any]) -> None:
-        """Deliver on a thread of our own, woken by Cyclone (no Cyclone listeners: those run
-        Python on Cyclone's threads, which deadlocks against a write holding the GIL)."""
+        """Deliver on a thread of our own, woken by Cyclone.
+
+        No Cyclone listeners: those run Python on Cyclone's threads, which deadlocks against a
+        write holding the GIL.
+        """
         self.reader = reader
         self.gid = reader.guid.bytes
         # data wakes this thread; QoS reports go to the transport's graph thread
@@ -522,6 +530,7 @@ class DdsTransport(Transport):
 
     # -- endpoints -------------------------------------------------------------------
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        """A DDS writer on ``info``'s topic (see :meth:`Transport.advertise`)."""
         ros_type = _ros_type(info)
         dds_topic = dds_topic_name(info.topic)
         topic = self._topic(dds_topic, ros_type)
@@ -545,6 +554,7 @@ class DdsTransport(Transport):
         return pub
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        """A DDS reader on ``info``'s topic calling ``sink(msg)``."""
         return self._subscribe(info, sink, None)
 
     def subscribe_with_source(
@@ -732,15 +742,18 @@ class DdsTransport(Transport):
         return out
 
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every topic of the discovered graph, with its type names."""
         topics: dict[str, set[str]] = {}
         for ep in self._graph_endpoints():
             topics.setdefault(ep.topic, set()).add(ep.ros_type)
         return [(name, sorted(types)) for name, types in sorted(topics.items())]
 
     def count_publishers(self, topic: str) -> int:
+        """Number of discovered publishers on ``topic``."""
         return len(self._graph_endpoints(topic, EntityKind.PUBLISHER))
 
     def count_subscribers(self, topic: str) -> int:
+        """Number of discovered subscriptions on ``topic``."""
         return len(self._graph_endpoints(topic, EntityKind.SUBSCRIPTION))
 
     def get_publishers_info_by_topic(self, topic: str) -> list[DdsEndpoint]:
@@ -769,9 +782,11 @@ class DdsTransport(Transport):
                       for name, ns in self.get_node_names_and_namespaces())
 
     def sync_graph(self, timeout: float = 2.0) -> int:
-        """Wait (at most ``timeout`` s) until discovery has settled: every discovered
-        participant has announced its nodes and nothing changed for 0.3 s, and at least
-        0.6 s have passed since this participant joined. Returns the graph generation."""
+        """Wait (at most ``timeout`` s) until discovery has settled; returns the graph generation.
+
+        Settled: every discovered participant has announced its nodes and nothing changed for
+        0.3 s, and at least 0.6 s have passed since this participant joined.
+        """
         deadline = time.monotonic() + max(0.0, timeout)
         self._wake.set(True)
         with self._lock:
@@ -784,6 +799,7 @@ class DdsTransport(Transport):
                 self._changed.wait(min(0.1, max(0.0, deadline - now)))
 
     def close(self) -> None:
+        """Delete this transport's DDS entities and stop its delivery threads."""
         with self._lock:
             if self._closed:
                 return

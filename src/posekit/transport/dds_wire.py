@@ -1,5 +1,6 @@
-"""ROS 2's mapping onto DDS, as pure functions (no cyclonedds import): names, user data, the
-discovery configuration and the ``ros_discovery_info`` graph messages.
+"""ROS 2's mapping onto DDS, as pure functions (no cyclonedds import).
+
+Names, user data, the discovery configuration and the ``ros_discovery_info`` graph messages.
 
 What rmw_fastrtps and rmw_cyclonedds (ROS 2 Jazzy) do, and what this module reproduces:
 
@@ -136,8 +137,11 @@ class DiscoveryOptions:
 
     @classmethod
     def from_env(cls, env: Mapping[str, str] | None = None) -> DiscoveryOptions:
-        """From ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE``, ``ROS_STATIC_PEERS`` and
-        ``CYCLONEDDS_URI`` (appended, as rmw_cyclonedds does). Bad values raise ValueError."""
+        """The options the ROS environment variables give; bad values raise ValueError.
+
+        From ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE``, ``ROS_STATIC_PEERS`` and
+        ``CYCLONEDDS_URI`` (appended, as rmw_cyclonedds does).
+        """
         env = os.environ if env is None else env
         domain_text = env.get(ENV_DOMAIN, "").strip() or "0"
         try:

@@ -327,8 +327,9 @@ class ZenohSession:
             _quiet(token.undeclare)
 
     def sync_graph(self, timeout: float = 2.0) -> int:
-        """Complete :attr:`graph` with every live token of the domain; returns how many
-        tokens the graph holds.
+        """Complete :attr:`graph` with every live token of the domain.
+
+        Returns how many tokens the graph holds.
 
         A liveliness query alone is not enough: peers find each other by gossip after the
         session opens, and tokens travel over those direct peer links (the router does not
@@ -377,8 +378,11 @@ class ZenohSession:
         self, node: NodeEntity, topic: str, ros_type: str, qos: WireQoS, *,
         remote_only: bool = False,
     ) -> WirePublisher:
-        """A publisher of ``ros_type`` on the fully qualified ``topic`` (``remote_only``: its
-        samples reach other sessions only, never this session's subscribers)."""
+        """A publisher of ``ros_type`` on the fully qualified ``topic``.
+
+        ``remote_only``: its samples reach other sessions only, never this session's
+        subscribers.
+        """
         pub = WirePublisher(self, node, topic, normalize_type_name(ros_type), qos,
                             remote_only=remote_only)
         with self._lock:
@@ -397,9 +401,12 @@ class ZenohSession:
         remote_only: bool = False,
         message_only: bool = False,
     ) -> WireSubscription:
-        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)``, or to
-        ``callback(msg)`` with ``message_only`` (on the subscription's receive thread);
-        ``remote_only``: only samples published by other sessions."""
+        """Deliver decoded messages on ``topic`` to ``callback``, on the receive thread.
+
+        The subscription's receive thread calls ``callback(msg, attachment)``, or
+        ``callback(msg)`` with ``message_only``; ``remote_only``: only samples published by
+        other sessions.
+        """
         sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn,
                                remote_only=remote_only, message_only=message_only)
         with self._lock:
@@ -416,8 +423,10 @@ class ZenohSession:
         *,
         warn: Callable[[str], object] | None = None,
     ) -> WireServiceServer:
-        """Serve ``service``: ``on_request(request, respond)`` per query (zenoh thread);
-        ``respond(response)`` replies, from any thread."""
+        """Serve ``service``: ``on_request(request, respond)`` per query (zenoh thread).
+
+        ``respond(response)`` replies, from any thread.
+        """
         server = WireServiceServer(self, node, service, srv_type, qos, on_request, warn)
         with self._lock:
             self._entities.append(server)
@@ -886,8 +895,10 @@ class WireServiceServer:
 
 
 class WireServiceClient:
-    """A service client: each request is a zenoh query (target ALL_COMPLETE, consolidation
-    LATEST, as rmw_zenoh sends it); announced by ``SC``."""
+    """A service client: each request is a zenoh query; announced by ``SC``.
+
+    Target ALL_COMPLETE, consolidation LATEST, as rmw_zenoh sends it.
+    """
 
     def __init__(
         self,
@@ -922,8 +933,10 @@ class WireServiceClient:
             raise ZenohSessionError(f"cannot declare a client on {self.key}: {exc}") from exc
 
     def send_request(self, request: Any, on_response: Callable[[Any], None]) -> int:
-        """Send ``request``; ``on_response(response)`` (zenoh thread) for the first matching
-        reply. Returns the request's sequence number."""
+        """Send ``request``; returns the request's sequence number.
+
+        ``on_response(response)`` is called (on a zenoh thread) for the first matching reply.
+        """
         if self._destroyed:
             raise ZenohSessionError(f"client of {self.service} was destroyed")
         payload = to_cdr(request, self.srv_type.Request.__msgtype__)

@@ -178,8 +178,10 @@ class _Client(ServiceClientEndpoint):
 
     @property
     def server_count(self) -> int:
-        """Servers of this service *with this client's type and type hash* (a request only
-        reaches those: the hash is part of the key); others are reported once."""
+        """Servers of this service *with this client's type and type hash*.
+
+        A request only reaches those (the hash is part of the key); others are reported once.
+        """
         wire = self.wire
         if wire is None:
             return 0
@@ -268,6 +270,7 @@ class ZenohTransport(Transport):
 
     # -- endpoints ---------------------------------------------------------------------
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        """A Zenoh publisher on ``info``'s topic (see :meth:`Transport.advertise`)."""
         type_name = _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
@@ -282,6 +285,7 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        """A Zenoh subscriber on ``info``'s topic calling ``sink(msg)``."""
         if not getattr(getattr(sink, "__self__", None), "wants_message_info", False):
             # The hot path: the sink is called with the message alone, straight from the
             # receive thread (a destroyed endpoint's wire subscription stops calling it).
@@ -373,6 +377,7 @@ class ZenohTransport(Transport):
             )
 
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        """A Zenoh queryable serving ``info``'s service (rmw_zenoh's service server)."""
         self._check_service_type(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Server(self, info)
@@ -388,6 +393,7 @@ class ZenohTransport(Transport):
         return endpoint
 
     def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        """A client of ``info``'s service; each request is a Zenoh query."""
         self._check_service_type(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
@@ -401,22 +407,27 @@ class ZenohTransport(Transport):
         return _Client(self, info, wire)
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every service of the graph, with its type names."""
         return self._graph.service_names_and_types()
 
     def count_services(self, service: str) -> int:
+        """Number of servers of ``service`` on the graph."""
         return len(self._graph.services(service))
 
     def count_clients(self, service: str) -> int:
+        """Number of clients of ``service`` on the graph."""
         return len(self._graph.clients(service))
 
     def get_service_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
+        """The services a node serves, from the graph."""
         return self._graph.names_and_types_by_node(node_name, node_namespace, EntityKind.SERVICE)
 
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
+        """The services a node is a client of, from the graph."""
         return self._graph.names_and_types_by_node(node_name, node_namespace, EntityKind.CLIENT)
 
     def _forget(
@@ -429,8 +440,10 @@ class ZenohTransport(Transport):
         self._release_node(info.node_namespace, info.node_name)
 
     def _count(self, info: EndpointInfo, kind: EntityKind) -> int:
-        """Matched endpoints of ``kind`` on ``info``'s topic (other sessions' only when
-        ``info.remote_only``)."""
+        """Matched endpoints of ``kind`` on ``info``'s topic.
+
+        Other sessions' only when ``info.remote_only``.
+        """
         found = self._endpoints(info.topic, kind)
         if info.remote_only:
             own = self.session.zid
@@ -444,17 +457,22 @@ class ZenohTransport(Transport):
 
     # -- graph -------------------------------------------------------------------------
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every topic of the graph, with its type names."""
         return self._graph.topic_names_and_types()
 
     def count_publishers(self, topic: str) -> int:
+        """Number of publishers on ``topic`` on the graph."""
         return len(self._graph.publishers(topic))
 
     def count_subscribers(self, topic: str) -> int:
+        """Number of subscriptions on ``topic`` on the graph."""
         return len(self._graph.subscriptions(topic))
 
     def get_node_names(self) -> list[str]:
-        """Fully qualified names of every node on the graph (this and other processes),
-        duplicates kept (``ros2 node list`` warns about them), sorted."""
+        """Fully qualified names of every node on the graph (this and other processes), sorted.
+
+        Duplicates are kept (``ros2 node list`` warns about them).
+        """
         return sorted(t.node_fqn for t in self._graph.entities() if t.kind is EntityKind.NODE)
 
     def graph_entities(self) -> list[TokenInfo]:
@@ -490,4 +508,5 @@ class ZenohTransport(Transport):
         return self._graph.subscriptions(topic)
 
     def close(self) -> None:
+        """Close the Zenoh session."""
         self.session.close()

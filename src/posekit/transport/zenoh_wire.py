@@ -493,8 +493,7 @@ class GraphCache:
         self.overflowed = 0
 
     def add(self, keyexpr: str) -> TokenInfo | None:
-        """Record a token; returns the parsed entity or None if malformed or over the
-        bound."""
+        """Record a token; returns the parsed entity or None if malformed or over the bound."""
         if keyexpr not in self._tokens and len(self._tokens) >= self.max_tokens:
             self.overflowed += 1
             return None
@@ -528,8 +527,10 @@ class GraphCache:
         return [(name, sorted(types)) for name, types in sorted(topics.items())]
 
     def service_names_and_types(self) -> list[tuple[str, list[str]]]:
-        """Sorted services (servers or clients) with their sorted type names
-        (``ros2 service list -t``)."""
+        """Sorted services (servers or clients) with their sorted type names.
+
+        What ``ros2 service list -t`` prints.
+        """
         services: dict[str, set[str]] = {}
         for t in self._tokens.values():
             if t.kind in (EntityKind.SERVICE, EntityKind.CLIENT) and t.topic:

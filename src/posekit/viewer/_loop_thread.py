@@ -1,5 +1,8 @@
-"""An asyncio event loop serving from a daemon thread (the viewer's page server and the
-Foxglove bridge's front both run their aiohttp servers this way)."""
+"""An asyncio event loop serving from a daemon thread.
+
+The viewer's page server and the Foxglove bridge's front both run their aiohttp servers this
+way.
+"""
 
 from __future__ import annotations
 
@@ -13,9 +16,11 @@ __all__ = ["LoopThread"]
 
 
 class LoopThread:
-    """Runs ``startup()`` on a new event loop in a daemon thread, then the loop until
-    :meth:`stop`, which cancels the tasks ``pending()`` lists, awaits ``cleanup()`` and
-    closes the loop. ``on_started(loop)`` runs on the loop's thread right after startup."""
+    """Runs ``startup()`` on a new event loop in a daemon thread, then the loop until :meth:`stop`.
+
+    :meth:`stop` cancels the tasks ``pending()`` lists, awaits ``cleanup()`` and closes the
+    loop. ``on_started(loop)`` runs on the loop's thread right after startup.
+    """
 
     def __init__(
         self,
@@ -35,8 +40,11 @@ class LoopThread:
         self._error: BaseException | None = None
 
     def start(self, timeout: float = 15.0) -> None:
-        """Start and wait for ``startup()``. Raises what it raised (e.g. OSError: address in
-        use), or TimeoutError when it did not finish within ``timeout`` s."""
+        """Start and wait for ``startup()``.
+
+        Raises what it raised (e.g. OSError: address in use), or TimeoutError when it did not
+        finish within ``timeout`` s.
+        """
         self.thread = threading.Thread(target=self._run, name=self.name, daemon=True)
         self.thread.start()
         if not self._ready.wait(timeout):

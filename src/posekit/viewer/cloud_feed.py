@@ -37,10 +37,12 @@ def _empty_u8() -> npt.NDArray[np.uint8]:
 
 @dataclass(slots=True)
 class CompactCloud:
-    """What the PointCloud2 display draws: ``points`` (3N float32 x, y, z, m, in
-    ``header.frame_id``), ``intensity`` (N float32, empty if the cloud has none), ``rgb``
-    (3N uint8, empty if none); ``total`` points in the message, ``stride`` of the thinning,
-    ``fields`` of the message (names)."""
+    """What the PointCloud2 display draws.
+
+    ``points`` (3N float32 x, y, z, m, in ``header.frame_id``), ``intensity`` (N float32, empty
+    if the cloud has none), ``rgb`` (3N uint8, empty if none); ``total`` points in the message,
+    ``stride`` of the thinning, ``fields`` of the message (names).
+    """
 
     header: Header = field(default_factory=Header)
     total: int = 0

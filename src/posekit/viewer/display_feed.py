@@ -57,8 +57,7 @@ def _packed(array: np.ndarray) -> dict[str, Any] | None:
 
 
 def message_to_json(value: Any) -> Any:
-    """``value`` (a message, or any field of one) as JSON-ready data (see the module
-    docstring)."""
+    """``value`` (a message, or any field of one) as JSON-ready data (see the module docstring)."""
     if isinstance(value, PointCloud2):
         value = compact_point_cloud(value)
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
@@ -77,8 +76,10 @@ def message_to_json(value: Any) -> Any:
 
 
 class MessageQueue:
-    """The newest ``depth`` messages of one topic, numbered from 1 (thread-safe: the sink
-    appends on the transport's thread, the server reads on its own)."""
+    """The newest ``depth`` messages of one topic, numbered from 1.
+
+    Thread-safe: the sink appends on the transport's thread, the server reads on its own.
+    """
 
     def __init__(self, depth: int = 1) -> None:
         self._lock = threading.Lock()

@@ -307,8 +307,10 @@ class FoxgloveBridge:
         return self._observer.skipped
 
     def refresh(self) -> list[str]:
-        """Serve topics that appeared since the last call (and unadvertise those whose
-        publishers left); returns the topics added."""
+        """Serve topics that appeared since the last call; returns the topics added.
+
+        Topics whose publishers left are unadvertised.
+        """
         if self._closed or self._server is None:
             return []
         return self._observer.refresh()
@@ -325,8 +327,11 @@ class FoxgloveBridge:
 
     # -- time ------------------------------------------------------------------------------
     def now_ns(self) -> int:
-        """The server's clock (ns): the newest ``/clock`` while it is published (within the
-        last second), else ``clock_ns`` (the wall clock by default)."""
+        """The server's clock (ns).
+
+        The newest ``/clock`` while it is published (within the last second), else ``clock_ns``
+        (the wall clock by default).
+        """
         sim = self._sim_clock_ns
         if sim is not None and time.monotonic() - self._sim_clock_seen <= _CLOCK_SILENT_S:
             return sim
@@ -503,8 +508,9 @@ class FoxgloveBridge:
 
 
 def message_from_json(data: bytes, msg_class: type) -> Any:
-    """A message of ``msg_class`` from a client's ``json`` payload (UTF-8 JSON object of the
-    message's fields; those left out keep their defaults).
+    """A message of ``msg_class`` from a client's ``json`` payload.
+
+    A UTF-8 JSON object of the message's fields; those left out keep their defaults.
 
     Raises:
         ValueError: not UTF-8 JSON (``UnicodeDecodeError`` and ``json.JSONDecodeError`` are
@@ -533,9 +539,12 @@ def _channel_class(type_name: str) -> type:
 
 
 class _SubprotocolFront:
-    """An aiohttp WebSocket server on the bridge's ``host:port`` that accepts every name of
-    :data:`FOXGLOVE_SUBPROTOCOLS` and relays each connection, frame by frame and unchanged,
-    to foxglove-sdk's server on ``127.0.0.1:backend_port`` (which accepts only the first)."""
+    """A WebSocket server that accepts every Foxglove subprotocol and relays to foxglove-sdk.
+
+    It listens on the bridge's ``host:port``, accepts every name of
+    :data:`FOXGLOVE_SUBPROTOCOLS` and relays each connection, frame by frame and unchanged, to
+    foxglove-sdk's server on ``127.0.0.1:backend_port`` (which accepts only the first).
+    """
 
     def __init__(self, bridge: FoxgloveBridge, backend_port: int) -> None:
         self.bridge = bridge

@@ -121,8 +121,10 @@ _MAX_CONFIG_BYTES = 1 << 20
 
 
 def load_view_config(path: str | Path) -> dict[str, Any]:
-    """A saved view configuration (what the page's *Save view* downloads) read from
-    ``path``; what the page cannot use in it is skipped there and named in a note.
+    """A saved view configuration read from ``path``.
+
+    What the page's *Save view* downloads; what the page cannot use in it is skipped there and
+    named in a note.
 
     Raises:
         ViewerOptionError: the file cannot be read, is larger than 1 MiB, is not JSON, or is
@@ -170,9 +172,11 @@ class _Client:
         self.wake.set()
 
     def put_display(self, topic: str, messages: list[str], keep: int) -> None:
-        """Queue display messages of ``topic``; unsent ones are kept up to ``keep`` (the
-        oldest beyond it are dropped), so a queued display (markers) loses nothing a fast
-        enough client could have drawn, and memory stays bounded."""
+        """Queue display messages of ``topic``, keeping up to ``keep`` unsent ones.
+
+        The oldest beyond it are dropped, so a queued display (markers) loses nothing a fast
+        enough client could have drawn, and memory stays bounded.
+        """
         pending = self.display_out.setdefault(topic, [])
         pending.extend(messages)
         if len(pending) > keep:
@@ -314,8 +318,10 @@ class ViewerServer:
         return f"http://{host}:{self.port}/"
 
     def start(self) -> str:
-        """Bind and serve in a daemon thread; returns :attr:`url`. Raises :class:`ViewerError`
-        when the address cannot be bound."""
+        """Bind and serve in a daemon thread; returns :attr:`url`.
+
+        Raises :class:`ViewerError` when the address cannot be bound.
+        """
         if self._thread is not None:
             raise ViewerError("viewer server already started")
         runner = LoopThread(
@@ -470,8 +476,10 @@ class ViewerServer:
 
     @property
     def stats(self) -> dict[str, int]:
-        """Messages produced per kind, clients connected, and payloads dropped for slow
-        clients (replaced before they were sent)."""
+        """Messages produced per kind, clients connected, and payloads dropped for slow clients.
+
+        A dropped payload was replaced before it was sent.
+        """
         out = dict(self._counters)
         out["connected"] = len(self._clients)
         out["dropped"] = sum(c.dropped for c in self._clients)
@@ -490,8 +498,10 @@ class ViewerServer:
         return web.FileResponse(path)
 
     async def _display_modules(self, request: web.Request) -> web.Response:
-        """The page's display modules: every ``web/app/displays/*.js`` not starting with
-        ``_`` (helpers), as module paths the page imports (see docs/viewer.md)."""
+        """The page's display modules, as module paths the page imports.
+
+        Every ``web/app/displays/*.js`` not starting with ``_`` (helpers); see docs/viewer.md.
+        """
         del request
         root = WEB_ROOT / "app" / "displays"
         names = sorted(p.name for p in root.glob("*.js") if not p.name.startswith("_"))
@@ -640,8 +650,11 @@ class ViewerServer:
 
     # -- displays --------------------------------------------------------------------------
     def _display_subscribe(self, client: _Client, request: Mapping[str, Any]) -> None:
-        """``{"op": "display_subscribe", "topic", "type", "queue"}``: send this client the
-        topic's messages as JSON (``display`` messages; :mod:`posekit.viewer.display_feed`)."""
+        """Handle ``{"op": "display_subscribe", "topic", "type", "queue"}``.
+
+        Send this client the topic's messages as JSON (``display`` messages;
+        :mod:`posekit.viewer.display_feed`).
+        """
         topic, type_name = request.get("topic"), request.get("type")
         queue = request.get("queue", 1)
         if not isinstance(topic, str) or not topic.startswith("/") or len(topic) > _MAX_NAME:
@@ -663,8 +676,10 @@ class ViewerServer:
              "queue": queue}))
 
     def _update_message_watches(self) -> None:
-        """Tell the tap which topics' messages the open pages' displays want, and how many
-        of them to keep between two sends (the largest queue any page asked for)."""
+        """Tell the tap which topics' messages the open pages' displays want.
+
+        And how many of them to keep between two sends (the largest queue any page asked for).
+        """
         depths: dict[str, int] = {}
         for c in self._clients:
             for topic, (_, queue) in c.displays.items():
@@ -672,9 +687,11 @@ class ViewerServer:
         self.tap.set_message_watches(depths)
 
     def _display_round(self, active: list[_Client]) -> dict[_Client, dict[str, list[str]]]:
-        """The display messages each active client has not had yet, converted to JSON (in
-        a worker thread: a large message takes a while). A message that cannot be
-        converted is logged (rate-limited) and skipped."""
+        """The display messages each active client has not had yet, converted to JSON.
+
+        Converted in a worker thread: a large message takes a while. A message that cannot be
+        converted is logged (rate-limited) and skipped.
+        """
         wanted: dict[str, int] = {}
         for c in active:
             for topic in c.displays:
@@ -721,9 +738,11 @@ class ViewerServer:
 
     def _publish_tool(self, topic: str, msg: Any, what: str,
                       pose: tuple[str, float, float, float]) -> dict[str, Any]:
-        """Publish ``msg`` (the tool's ``pose``: frame, x, y, yaw) on ``topic``, count and log
-        it; returns the pose as the page is answered. The publisher is created on first use
-        (the viewer adds no topic until a tool is used) and kept until :meth:`stop`."""
+        """Publish ``msg`` on ``topic``, count and log it; returns the pose as the page is answered.
+
+        ``msg`` carries the tool's ``pose`` (frame, x, y, yaw). The publisher is created on
+        first use (the viewer adds no topic until a tool is used) and kept until :meth:`stop`.
+        """
         with self._tool_lock:
             publisher = self._tool_pubs.get(topic)
             created = publisher is None
@@ -745,9 +764,11 @@ class ViewerServer:
         header.stamp.sec, header.stamp.nanosec = divmod(self.tap.now_ns(), 1_000_000_000)
 
     def publish_goal(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
-        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose`` (RViz2's "2D Goal Pose"):
-        position ``(x, y, 0)`` m and heading ``yaw`` rad about z in ``frame``, stamped with
-        the tap's "now". Returns what was published.
+        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose``; returns what was published.
+
+        RViz2's "2D Goal Pose": position ``(x, y, 0)`` m and heading ``yaw`` rad about z in
+        ``frame``, stamped with the tap's "now". The publisher is created on first use (the
+        viewer adds no topic until a goal is sent).
 
         Raises:
             ValueError: see :meth:`_tool_pose`.
@@ -762,10 +783,11 @@ class ViewerServer:
         return self._publish_tool(GOAL_TOPIC, msg, "goal", (frame_id, gx, gy, gyaw))
 
     def publish_initial_pose(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
-        """Publish a ``geometry_msgs/PoseWithCovarianceStamped`` on ``/initialpose`` (RViz2's
-        "2D Pose Estimate"): position ``(x, y, 0)`` m, heading ``yaw`` rad in ``frame``,
-        stamped with the tap's "now", with RViz2's covariance (:data:`INITIAL_POSE_VARIANCES`
-        on x, y and yaw, zero elsewhere). Returns what was published.
+        """Publish a ``geometry_msgs/PoseWithCovarianceStamped`` on ``/initialpose``.
+
+        RViz2's "2D Pose Estimate": position ``(x, y, 0)`` m, heading ``yaw`` rad in ``frame``,
+        stamped with the tap's "now", with RViz2's covariance (:data:`INITIAL_POSE_VARIANCES` on
+        x, y and yaw, zero elsewhere). Returns what was published.
 
         Raises:
             ValueError: see :meth:`_tool_pose`.
@@ -811,8 +833,11 @@ class ViewerServer:
         )
 
     async def _produce(self) -> None:
-        """Feed every client; a failing round is logged (rate-limited) and skipped, so no
-        data (a non-finite pose, a broken message) can stop the feed."""
+        """Feed every client.
+
+        A failing round is logged (rate-limited) and skipped, so no data (a non-finite pose, a
+        broken message) can stop the feed.
+        """
         period = 1.0 / self.tf_rate
         feed = _Feed()
         while not self._stopping:

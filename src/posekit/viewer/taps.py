@@ -154,8 +154,10 @@ class TopicInfo:
     error: str = ""
 
     def rate_hz(self, now: float) -> float:
-        """Messages per second over the last :data:`RATE_WINDOW_S` s before ``now`` (s, on
-        the clock of ``receipts``)."""
+        """Messages per second over the last :data:`RATE_WINDOW_S` s before ``now``.
+
+        ``now`` is in s, on the clock of ``receipts``.
+        """
         r = self.receipts
         while r and (now - r[0] > RATE_WINDOW_S or r[0] > now):
             r.popleft()
@@ -204,9 +206,11 @@ class OdometryTrail:
 
 
 def _resolve_class(type_name: str) -> type:
-    """The class for a ROS type name: posekit's registry, else rosbags' typestore; raises
-    LookupError if neither knows it. Type names come from other peers, so nothing is ever
-    imported by name here."""
+    """The class for a ROS type name: posekit's registry, else rosbags' typestore.
+
+    Raises LookupError if neither knows it. Type names come from other peers, so nothing is ever
+    imported by name here.
+    """
     try:
         return find_message_class(type_name)
     except UnknownMessageTypeError:
@@ -279,8 +283,11 @@ class ViewerTap:
 
     # -- discovery -------------------------------------------------------------------------
     def refresh(self) -> None:
-        """Follow the graph: list its topics, subscribe to new ones that have a publisher,
-        let go of those whose publishers left."""
+        """Follow the graph.
+
+        List its topics, subscribe to new ones that have a publisher, let go of those whose
+        publishers left.
+        """
         if self._closed:
             return
         self._observer.refresh()
@@ -325,8 +332,10 @@ class ViewerTap:
                 info.subscribed = False
 
     def _not_shown(self, topic: str, reason: str) -> None:
-        """A topic the observer does not subscribe: its reason shows in the topic panel
-        (set by :meth:`refresh`); a type conflict is worth a log line too."""
+        """A topic the observer does not subscribe; its reason shows in the topic panel.
+
+        Set by :meth:`refresh`; a type conflict is worth a log line too.
+        """
         if not reason.startswith(("unknown message type", "not subscribed")):
             self.logger.warning(f"viewer: not showing {topic}: {reason}")
 
@@ -474,16 +483,20 @@ class ViewerTap:
 
     # -- snapshots for the server -----------------------------------------------------------
     def goal(self) -> dict[str, Any] | None:
-        """The current goal: ``{frame, pose: [x, y, z, qx, qy, qz, qw], stamp}`` (m,
-        quaternion, s) from the newest ``/goal_pose``, or None."""
+        """The current goal from the newest ``/goal_pose``, or None.
+
+        ``{frame, pose: [x, y, z, qx, qy, qz, qw], stamp}`` (m, quaternion, s).
+        """
         with self._lock:
             return None if self._goal is None else dict(self._goal)
 
     def now_ns(self) -> int:
-        """"Now" (ns) for frame ages: the ``clock_ns`` given, else ``/clock`` when the system
-        publishes it, else the wall clock; but when the newest /tf stamp is more than an
-        hour away from the wall clock (sim time without /clock), that stamp plus the wall
-        time elapsed since it arrived."""
+        """"Now" (ns) for frame ages.
+
+        The ``clock_ns`` given, else ``/clock`` when the system publishes it, else the wall
+        clock; but when the newest /tf stamp is more than an hour away from the wall clock (sim
+        time without /clock), that stamp plus the wall time elapsed since it arrived.
+        """
         if self._clock_fn is not None:
             return int(self._clock_fn())
         if self._clock_ns is not None:
@@ -560,24 +573,31 @@ class ViewerTap:
         return sorted(out, key=lambda d: d["name"])
 
     def _sim_ns(self) -> int | None:
-        """Sim time (ns): the ``clock_ns`` given, else the newest ``/clock``; None on the wall
-        clock."""
+        """Sim time (ns): the ``clock_ns`` given, else the newest ``/clock``.
+
+        None on the wall clock.
+        """
         if self._clock_fn is not None:
             return int(self._clock_fn())
         return self._clock_ns
 
     def _data_time(self) -> tuple[str, float]:
-        """``(clock, seconds)`` on the clock the data uses: ``("sim", sim time)`` when there
-        is one, else ``("wall", monotonic time)``."""
+        """``(clock, seconds)`` on the clock the data uses.
+
+        ``("sim", sim time)`` when there is one, else ``("wall", monotonic time)``.
+        """
         sim = self._sim_ns()
         return ("sim", sim / NS) if sim is not None else ("wall", time.monotonic())
 
     def time_state(self) -> dict[str, Any]:
-        """What the page's clock shows: ``source`` (``"executor"``: the run's simulated time
-        in this process; ``"/clock"``; or ``"wall"``), ``sim`` (s, None on the wall clock),
-        ``wall`` (Unix time, s), ``rtf`` (sim seconds per wall second over the last
-        :data:`RTF_WINDOW_S` s; 1.0 on the wall clock; None until measured) and
-        ``rate_clock`` (the clock topic rates are measured on: ``"sim"`` or ``"wall"``)."""
+        """What the page's clock shows.
+
+        ``source`` (``"executor"``: the run's simulated time in this process; ``"/clock"``; or
+        ``"wall"``), ``sim`` (s, None on the wall clock), ``wall`` (Unix time, s), ``rtf`` (sim
+        seconds per wall second over the last :data:`RTF_WINDOW_S` s; 1.0 on the wall clock;
+        None until measured) and ``rate_clock`` (the clock topic rates are measured on:
+        ``"sim"`` or ``"wall"``).
+        """
         mono, wall = time.monotonic(), time.time()
         sim = self._sim_ns()
         if sim is None:
@@ -598,8 +618,10 @@ class ViewerTap:
                 "rate_clock": "sim"}
 
     def topics(self) -> list[dict[str, Any]]:
-        """The topic panel: name, type, rate (Hz, on the clock the data uses: see
-        :meth:`time_state`), messages received, publisher count."""
+        """The topic panel: name, type, rate, messages received, publisher count.
+
+        The rate is in Hz, on the clock the data uses (see :meth:`time_state`).
+        """
         clock, now = self._data_time()
         with self._lock:
             infos = list(self._topics.values())
@@ -631,8 +653,10 @@ class ViewerTap:
             return self._images.get(topic)
 
     def set_message_watches(self, depths: dict[str, int]) -> None:
-        """Keep the newest ``depths[topic]`` messages of each topic for the displays (a new
-        watch starts with the newest message already received); other topics' queues go."""
+        """Keep the newest ``depths[topic]`` messages of each topic for the displays.
+
+        A new watch starts with the newest message already received; other topics' queues go.
+        """
         with self._lock:
             on_demand = {n for n, i in self._topics.items() if i.type_name in ON_DEMAND_TYPES}
             released = [t for t in self._queues if t not in depths and t in on_demand]
@@ -653,8 +677,10 @@ class ViewerTap:
             self.refresh()  # subscribe the newly displayed ones now
 
     def messages_after(self, topic: str, seq: int) -> list[tuple[int, Any]]:
-        """``(number, message)`` of the kept messages of a watched ``topic`` newer than
-        ``seq`` (oldest first; empty when the topic is not watched)."""
+        """``(number, message)`` of the kept messages of a watched ``topic`` newer than ``seq``.
+
+        Oldest first; empty when the topic is not watched.
+        """
         with self._lock:
             queue = self._queues.get(topic)
         return [] if queue is None else queue.after(seq)

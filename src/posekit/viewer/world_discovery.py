@@ -1,6 +1,8 @@
-"""Which world a system simulates, asked over its transport: the ``world`` parameter of a
-node that declares one (the simulator's), read through the standard parameter service
-(``<node>/get_parameters``, rcl_interfaces/srv/GetParameters) as ``ros2 param get`` does.
+"""Which world a system simulates, asked over its transport.
+
+The ``world`` parameter of a node that declares one (the simulator's), read through the standard
+parameter service (``<node>/get_parameters``, rcl_interfaces/srv/GetParameters) as ``ros2 param
+get`` does.
 
 Used by the viewer when it attaches to other processes without ``--world``, so the boxes
 and markers of the simulated world appear with no flag. Every wait is bounded.
@@ -63,9 +65,11 @@ def _ask(transport: Transport, service: str, logger: RcutilsLogger, timeout: flo
 
 def discover_world(transport: Transport, logger: RcutilsLogger, *, timeout: float = 1.0,
                    max_nodes: int = 16) -> str | None:
-    """The first non-empty string ``world`` parameter among the nodes that serve parameters
-    on ``transport`` (nodes named like a simulator first, at most ``max_nodes``, ``timeout``
-    seconds each), or None (also when the transport has no services)."""
+    """The first non-empty string ``world`` parameter among the nodes on ``transport``, or None.
+
+    Among the nodes that serve parameters (nodes named like a simulator first, at most
+    ``max_nodes``, ``timeout`` seconds each); None also when the transport has no services.
+    """
     try:
         services = _candidates(transport, max_nodes)
     except Exception as exc:  # no services on this transport, or a failing graph query

@@ -1,5 +1,6 @@
-"""ArUco detection and marker pose by PnP (``SOLVEPNP_IPPE_SQUARE``), as in the course, plus
-both IPPE solutions with their reprojection errors.
+"""ArUco detection and marker pose by PnP (``SOLVEPNP_IPPE_SQUARE``), as in the course.
+
+Plus both IPPE solutions with their reprojection errors.
 
 Conventions
 -----------

@@ -83,8 +83,11 @@ ARUCO_BOX_FACES: tuple[BoxFace, ...] = tuple(
 
 def box_pose_matrix(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0.0,
                     yaw: float = 0.0) -> F64Array:
-    """``T_world_box`` (4x4) from an SDF ``<pose>`` (metres; rpy radians, fixed-axis x-y-z):
-    :meth:`posekit.geometry.Transform.from_xyz_rpy` as a matrix, by keyword."""
+    """``T_world_box`` (4x4) from an SDF ``<pose>``, by keyword.
+
+    Metres; rpy radians, fixed-axis x-y-z: :meth:`posekit.geometry.Transform.from_xyz_rpy` as a
+    matrix.
+    """
     return Transform.from_xyz_rpy((x, y, z), (roll, pitch, yaw)).as_matrix()
 
 
@@ -126,8 +129,10 @@ class ArucoBoxModel:
         return sorted(face.marker_id for face in self.faces)
 
     def T_box_marker(self, face: BoxFace | int) -> F64Array:
-        """Pose (4x4) of the marker frame of ``face`` (a face or its marker id) in the box
-        frame: columns x, y, normal; origin at the face centre."""
+        """Pose (4x4) of the marker frame of ``face`` (a face or its marker id) in the box frame.
+
+        Columns x, y, normal; origin at the face centre.
+        """
         if not isinstance(face, BoxFace):
             face = self.face_by_id(face)
         m = np.eye(4)

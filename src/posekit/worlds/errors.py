@@ -6,5 +6,7 @@ __all__ = ["WorldError"]
 
 
 class WorldError(ValueError):
-    """A world description (or a box model) is malformed; the message names the world and
-    the field."""
+    """A world description (or a box model) is malformed.
+
+    The message names the world and the field.
+    """

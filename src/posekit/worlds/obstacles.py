@@ -34,8 +34,11 @@ _BOXES_PER_CHUNK = 8
 
 @dataclass(frozen=True, slots=True)
 class BoxObstacles:
-    """Oriented boxes: ``centres`` (M, 3) m, ``rotations`` (M, 3, 3) R_world_box,
-    ``half_extents`` (M, 3) m, ``names`` (M,)."""
+    """Oriented boxes.
+
+    ``centres`` (M, 3) m, ``rotations`` (M, 3, 3) R_world_box, ``half_extents`` (M, 3) m,
+    ``names`` (M,).
+    """
 
     centres: _FloatArray
     rotations: _FloatArray
@@ -129,8 +132,10 @@ def _nearest_first(
     out: _FloatArray,
     cast: Callable[[npt.NDArray[np.intp], npt.NDArray[np.intp]], _FloatArray],
 ) -> None:
-    """Cast obstacles nearest first, ``chunk`` at a time: ``cast(indices, active_rays)``
-    returns each active ray's nearest hit among those obstacles; ``out`` keeps the minimum.
+    """Cast obstacles nearest first, ``chunk`` at a time.
+
+    ``cast(indices, active_rays)`` returns each active ray's nearest hit among those obstacles;
+    ``out`` keeps the minimum.
 
     ``near[k]`` is obstacle k's nearest possible hit (m): obstacles beyond ``max_range``
     are skipped, and a ray already hit nearer than a chunk's nearest possible hit is done

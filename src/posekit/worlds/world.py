@@ -100,8 +100,11 @@ _MODELS: dict[str, ArucoBoxModel] = {ARUCO_BOX.name: ARUCO_BOX}
 
 @dataclass(frozen=True, slots=True)
 class BoxSpec:
-    """A static box: ``name``, ``model`` (``"aruco_box"``), ``pose`` (x, y, z, roll, pitch,
-    yaw), ``collision`` (the robot cannot drive through it)."""
+    """A static box.
+
+    ``name``, ``model`` (``"aruco_box"``), ``pose`` (x, y, z, roll, pitch, yaw), ``collision``
+    (the robot cannot drive through it).
+    """
 
     name: str
     model: str

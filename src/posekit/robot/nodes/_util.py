@@ -30,8 +30,11 @@ class WheelGeometry(TypedDict):
 
 
 def declare_wheel_geometry(node: Node) -> WheelGeometry:
-    """Declare the diff_drive_controller wheel parameters that both the simulated drive and
-    the wheel odometry read, defaults from :data:`DEFAULT_DRIVE`; ``DriveParams`` keywords."""
+    """Declare the diff_drive_controller wheel parameters; returns ``DriveParams`` keywords.
+
+    Both the simulated drive and the wheel odometry read them; defaults from
+    :data:`DEFAULT_DRIVE`.
+    """
     d = DEFAULT_DRIVE
     return WheelGeometry(
         wheel_separation=float(declare_value(node, "wheel_separation", d.wheel_separation)),

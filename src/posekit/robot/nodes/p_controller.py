@@ -65,8 +65,11 @@ _LIVE = frozenset(
 
 
 class PControllerNode(Node):
-    """The P-controller node (see the module docstring). ``controller`` is the model;
-    ``goal_reached_ns`` the sim time (ns) of the last "Goal reached", else None."""
+    """The P-controller node (see the module docstring).
+
+    ``controller`` is the model; ``goal_reached_ns`` the sim time (ns) of the last "Goal
+    reached", else None.
+    """
 
     def __init__(self, node_name: str = "p_controller", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
@@ -177,8 +180,10 @@ class PControllerNode(Node):
         return NavigateToPose.Result(distance_remaining=self._last_rho)
 
     def _action_tick(self, rho: float, just_reached: bool) -> bool:
-        """Feedback, cancel and success of the running goal; True when it was cancelled
-        (the tick then stops the robot instead of commanding)."""
+        """Feedback, cancel and success of the running goal; True when it was cancelled.
+
+        After a cancel the tick stops the robot instead of commanding.
+        """
         if self._action_goal is None:
             return False
         handle, _ = self._action_goal

@@ -41,16 +41,21 @@ _FloatArray = npt.NDArray[np.float64]
 
 @dataclass
 class OdometryRecording:
-    """Recorded odometry: ``series[name]`` is an (N, 6) array with columns :data:`COLUMNS`
-    (stamp in s, pose in the message's frame, yaw wrapped to [-pi, pi], body twist);
-    ``goal_reached`` the sim times (s) at which ``goal_reached`` was True."""
+    """Recorded odometry.
+
+    ``series[name]`` is an (N, 6) array with columns :data:`COLUMNS` (stamp in s, pose in the
+    message's frame, yaw wrapped to [-pi, pi), body twist); ``goal_reached`` the sim times (s)
+    at which ``goal_reached`` was True.
+    """
 
     series: dict[str, _FloatArray] = field(default_factory=dict)
     goal_reached: list[float] = field(default_factory=list)
 
     def final_errors(self, reference: str = "ground_truth") -> dict[str, tuple[float, float]]:
-        """Per series: (position error m, |yaw error| rad) of its last row against the
-        ``reference`` row with the closest stamp at or before it."""
+        """Per series: (position error m, |yaw error| rad) of its last row.
+
+        Against the ``reference`` row with the closest stamp at or before it.
+        """
         ref = self.series[reference]
         if len(ref) == 0:
             raise ValueError(f"series '{reference}' is empty")

@@ -1,7 +1,9 @@
-"""Shared machinery of the simulated camera nodes: a timer at the camera rate renders the
-world's boxes and walls from the camera's optical-frame pose at the current sim time and
-publishes the image and its ``CameraInfo`` with the same stamp (as gz-sensors + ros_gz_bridge
-do)."""
+"""Shared machinery of the simulated camera nodes.
+
+A timer at the camera rate renders the world's boxes and walls from the camera's optical-frame
+pose at the current sim time and publishes the image and its ``CameraInfo`` with the same stamp
+(as gz-sensors + ros_gz_bridge do).
+"""
 
 from __future__ import annotations
 
@@ -28,8 +30,10 @@ F64Array = npt.NDArray[np.float64]
 
 
 class SimulatedCamera(Node):
-    """Base of the camera nodes. Subclasses set up ``camera`` and topics, then call
-    :meth:`_start` and implement :meth:`T_world_optical_at`.
+    """Base of the camera nodes.
+
+    Subclasses set up ``camera`` and topics, then call :meth:`_start` and implement
+    :meth:`T_world_optical_at`.
 
     Common parameters: ``world`` (a world name or file), ``noise_sigma`` (grey levels, 0),
     ``seed`` (0), ``supersample`` (1), ``lazy`` (true: render only while someone subscribes
@@ -73,8 +77,7 @@ class SimulatedCamera(Node):
         )
 
     def T_world_optical_at(self, t_ns: int) -> F64Array:
-        """Pose (4x4) of the optical frame (x right, y down, z forward) in the world at
-        ``t_ns``."""
+        """Pose (4x4) of the optical frame (x right, y down, z forward) in the world at ``t_ns``."""
         raise NotImplementedError
 
     def render_at(self, t_ns: int) -> npt.NDArray[np.uint8]:

@@ -1,5 +1,8 @@
-"""Helpers shared by the vision nodes: image decoding with named rejections, intrinsics from
-``CameraInfo``, per-id marker sizes, TF messages from PnP results and poses."""
+"""Helpers shared by the vision nodes.
+
+Image decoding with named rejections, intrinsics from ``CameraInfo``, per-id marker sizes, TF
+messages from PnP results, stamps and poses.
+"""
 
 from __future__ import annotations
 
@@ -43,9 +46,10 @@ class ImageRejectedError(ValueError):
 
 
 def decode_for_detection(msg: Any) -> U8Array:
-    """The pixels of an Image message as the detector takes them: ``(H, W)`` or ``(H, W, 3)``
-    uint8, a view of ``msg.data`` when possible (read-only if published; draw on
-    :func:`bgr_canvas`). Four-channel images become grey.
+    """The pixels of an Image message as the detector takes them.
+
+    ``(H, W)`` or ``(H, W, 3)`` uint8, a view of ``msg.data`` when possible (read-only if
+    published; draw on :func:`bgr_canvas`). Four-channel images become grey.
 
     Raises:
         ImageRejectedError: unsupported encoding, empty image, or sizes inconsistent with data.

@@ -1,6 +1,7 @@
-"""What the static and dynamic ArUco detector nodes share: the course's parameters, caching
-``CameraInfo`` once (then dropping that subscription), and decoding images with every bad
-input logged and skipped rather than raised.
+"""What the static and dynamic ArUco detector nodes share.
+
+The course's parameters, caching ``CameraInfo`` once (then dropping that subscription), and
+decoding images with every bad input logged and skipped rather than raised.
 
 Course parameters: ``camera_image_topic``, ``camera_info_topic``, ``marker_size`` (m),
 ``dictionary_id`` (``DICT_5X5_250``), ``parent_frame_id`` (empty: the image's

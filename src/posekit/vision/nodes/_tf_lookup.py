@@ -1,5 +1,7 @@
-"""Base of the lecture's periodic TF-lookup nodes (``aruco_marker_listener``,
-``kdl_chain_demo``): a tf2 ``Buffer`` filled by a ``TransformListener`` and a timer.
+"""Base of the lecture's periodic TF-lookup nodes.
+
+``aruco_marker_listener`` and ``kdl_chain_demo``: a tf2 ``Buffer`` filled by a
+``TransformListener`` and a timer.
 
 Parameters it declares: ``period`` (1.0 s, > 0) and ``lookup_timeout`` (0.1 s, the course's;
 negative means 0). Subclasses declare their own parameters after ``super().__init__`` and

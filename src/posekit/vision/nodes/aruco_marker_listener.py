@@ -1,5 +1,6 @@
-"""``aruco_marker_listener``: the lecture's ``aruco_marker_listener.py`` (Listening for Marker
-Frames).
+"""``aruco_marker_listener``: the lecture's ``aruco_marker_listener.py``.
+
+Section "Listening for Marker Frames".
 
 A ``Buffer`` (10 s) filled by a ``TransformListener``; every ``period`` seconds the node
 discovers the frames whose names start with ``marker_prefix`` from

@@ -120,8 +120,11 @@ def image_saver_entry(output_dir: str | Path, *, topic: str = "aruco_detection_i
 def attach_image_saver(run: Any, output_dir: str | Path, *,
                        topic: str = "aruco_detection_image", period: float = 1.0,
                        max_images: int = 0) -> ImageSaver:
-    """``on_start`` hook body: add an :class:`ImageSaver` to a started launch run (its
-    context and executor); it is destroyed - writing the last image - with the run."""
+    """``on_start`` hook body: add an :class:`ImageSaver` to a started launch run.
+
+    It joins the run's context and executor and is destroyed - writing the last image - with the
+    run.
+    """
     node = ImageSaver(
         "image_saver", context=run.context,
         parameter_overrides={"topic": topic, "output_dir": str(output_dir),
