@@ -23,8 +23,13 @@ the LaserScan and its CDR bytes) against its period (100 ms at 10 Hz), in aruco_
 (3 boxes), in a 399-box grid and in husarion_world (505 wall faces); ``--lidar-only`` runs
 just that.
 
+``--depth`` times one OAK-D depth frame (z-buffer of the world's boxes, walls and ground at
+1280x720, noise, range limits), the 32FC1 Image and the organised PointCloud2 with their CDR
+bytes, against the frame period (33.3 ms at 30 Hz), and one colour frame of the OAK camera
+(boxes and walls) for comparison; ``--depth-only`` runs just that.
+
 Run:  .venv/bin/python benchmarks/sim.py [--duration 60] [--repeats 5] [--profile] [--ekf]
-      [--lidar | --lidar-only]
+      [--lidar | --lidar-only] [--depth | --depth-only]
 """
 
 from __future__ import annotations
@@ -43,10 +48,10 @@ from typing import Any
 
 import numpy as np
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.ekf import Ekf2D
 from posekit.robot.headless import run_headless
-from posekit.robot.kinematics import wrap_angle
 from posekit.robot.scenarios import run_robot_scenario
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 
@@ -193,7 +198,7 @@ def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
     from posekit.msgs.cdr import to_cdr
     from posekit.robot.description import T_base_frame
     from posekit.robot.lidar import Lidar
-    from posekit.robot.obstacles import BoxObstacles, WallSegments
+    from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
     lidar = Lidar(BoxObstacles.from_world(world), seed=1, walls=WallSegments.from_world(world))
     x, y, yaw = world.spawn
@@ -208,7 +213,7 @@ def _scan_cpu_ms(world: Any, repeats: int = 30) -> tuple[float, float]:
 
 def _lidar_report() -> None:
     from posekit.robot.lidar import DEFAULT_LIDAR
-    from posekit.robot.worlds import World, load_world
+    from posekit.worlds import World, load_world
 
     period_ms = 1e3 / DEFAULT_LIDAR.rate_hz
     grid = World.from_dict({
@@ -226,6 +231,59 @@ def _lidar_report() -> None:
         median, best = _scan_cpu_ms(world)
         print(f"  {label:28s} median {median:6.2f} ms  best {best:6.2f} ms  "
               f"= {100 * median / period_ms:5.1f} % of the period")
+
+
+def _depth_cpu_ms(world: Any, yaw_offset: float, repeats: int = 20) -> dict[str, float]:
+    """Median CPU ms of a depth frame, its Image + CDR, its cloud + CDR and a colour frame."""
+    from posekit.geometry import Rotation, Transform
+    from posekit.msgs.cdr import to_cdr
+    from posekit.msgs.std_msgs import Header
+    from posekit.robot.depth import DepthCamera, depth_cloud, depth_image_msg
+    from posekit.robot.description import T_base_frame
+    from posekit.vision.camera import OAK_RGB_CAMERA
+    from posekit.vision.render import BoxRenderer
+    from posekit.worlds.obstacles import WallSegments
+
+    camera = DepthCamera(world, seed=1)
+    colour = BoxRenderer(OAK_RGB_CAMERA, walls=WallSegments.from_world(world))
+    boxes = [b.T_world_box for b in world.boxes]
+    x, y, yaw = world.spawn
+    T = (Transform(Rotation.from_rpy(0.0, 0.0, yaw + yaw_offset), (x, y, 0.0))
+         * T_base_frame(camera.params.frame_id)).as_matrix()
+    header = Header(frame_id=camera.params.frame_id)
+    times: dict[str, list[float]] = {"frame": [], "image": [], "cloud": [], "colour": []}
+    for k in range(repeats):
+        c0 = time.process_time()
+        z = camera.frame(T, k)
+        c1 = time.process_time()
+        to_cdr(depth_image_msg(z, header))
+        c2 = time.process_time()
+        to_cdr(depth_cloud(z, camera.params, header))
+        c3 = time.process_time()
+        colour.render(T, boxes)
+        c4 = time.process_time()
+        for key, dt in zip(times, (c1 - c0, c2 - c1, c3 - c2, c4 - c3), strict=True):
+            times[key].append(dt * 1e3)
+    return {key: statistics.median(v) for key, v in times.items()}
+
+
+def _depth_report() -> None:
+    from posekit.robot.depth import DEFAULT_DEPTH
+    from posekit.worlds import load_world
+
+    period_ms = 1e3 / DEFAULT_DEPTH.rate_hz
+    print(f"\nOAK-D depth frame {DEFAULT_DEPTH.width}x{DEFAULT_DEPTH.height}, median CPU ms vs "
+          f"its {period_ms:.1f} ms period (load {_load()}):")
+    print(f"  {'world, view':34s} {'depth':>7s} {'+Image':>7s} {'+cloud':>7s} "
+          f"{'all':>7s} {'share':>6s} {'colour':>7s}")
+    for label, name, yaw in (("empty_world", "empty_world", 0.0),
+                             ("aruco_box_world, at the boxes", "aruco_box_world", 0.0),
+                             ("husarion_world, spawn view", "husarion_world", 0.0),
+                             ("husarion_world, facing the H", "husarion_world", 1.6)):
+        t = _depth_cpu_ms(load_world(name), yaw)
+        total = t["frame"] + t["image"] + t["cloud"]
+        print(f"  {label:34s} {t['frame']:7.1f} {t['image']:7.1f} {t['cloud']:7.1f} "
+              f"{total:7.1f} {100 * total / period_ms:5.0f}% {t['colour']:7.1f}")
 
 
 def _load() -> str:
@@ -278,9 +336,14 @@ def main() -> None:
     parser.add_argument("--ekf", action="store_true", help="EKF tick: posekit vs numpy forms")
     parser.add_argument("--lidar", action="store_true", help="one LiDAR scan vs its period")
     parser.add_argument("--lidar-only", action="store_true", help="only the LiDAR figures")
+    parser.add_argument("--depth", action="store_true", help="one depth frame vs its period")
+    parser.add_argument("--depth-only", action="store_true", help="only the depth figures")
     args = parser.parse_args()
-    if args.lidar_only:
-        _lidar_report()
+    if args.lidar_only or args.depth_only:
+        if args.lidar_only:
+            _lidar_report()
+        if args.depth_only:
+            _depth_report()
         return
 
     quiet: list[LogRecord] = []
@@ -333,6 +396,8 @@ def main() -> None:
             _ekf_report()
         if args.lidar:
             _lidar_report()
+        if args.depth:
+            _depth_report()
     finally:
         remove_sink(quiet.append)
         add_sink(_stderr_sink)

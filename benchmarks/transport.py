@@ -1,40 +1,46 @@
-"""TF messages between two processes over Zenoh on loopback: posekit vs a raw zenoh baseline;
-with ``--dds``, posekit over DDS vs a real ROS 2 rclpy (Fast DDS) vs raw cyclonedds.
+"""Messages between two processes over Zenoh and over DDS on loopback: posekit against the
+raw libraries it is built on, in interleaved rounds of the same run.
 
-Run: ``.venv/bin/python benchmarks/transport.py`` (``--quick`` for a short run; ``--dds`` for
-the DDS comparison, which needs ``make ros2-ref``). Figures are recorded in
-docs/performance.md.
+Run: ``.venv/bin/python benchmarks/transport.py`` (every transport and message, 3 rounds,
+about 4 minutes); ``--transport zenoh`` or ``dds``, ``--messages tf`` or ``image``,
+``--rounds N``, ``--quick`` (one short round); ``--references`` adds, on DDS, the real ROS 2
+rclpy (Fast DDS, needs ``make ros2-ref``) and cyclonedds' own Python API. Figures are
+recorded in docs/performance.md.
 
-DDS mode (``--dds``): the same ``geometry_msgs/TransformStamped`` (RELIABLE, KEEP_ALL, so a
-burst is paced by flow control, not dropped) between a publisher process and a subscriber
-process of one implementation, each pair on its own ROS domain on loopback: ``rclpy`` (the
-real Jazzy rclpy on rmw_fastrtps_cpp, executor spin_once), ``cyclone`` (cyclonedds' own
-Python API and serializer, reader taken from a WaitSet loop), ``raw`` (cyclonedds' C layer
-moving CDR bytes that rosbags (de)serializes, no executor: the floor for Python + Cyclone
-DDS + rosbags) and ``posekit`` (a runtime ``Node`` on the dds transport,
-SingleThreadedExecutor). Same phases as below.
+Messages: ``tf``, a ``geometry_msgs/TransformStamped`` (100 B of CDR), and ``image``, a
+``sensor_msgs/Image`` 128x128 rgb8 (49,152 B of pixels, 49,212 B of CDR). Both sides use
+RELIABLE + KEEP_ALL, so a burst is paced by the transport's flow control, never dropped.
 
-Each mode runs a publisher process and a subscriber process (plus a router in this process,
-the role ``rmw_zenohd`` plays; both children are peers with posekit's session config, so
-data flows peer to peer over loopback TCP):
+Modes, each a publisher process and a subscriber process of the same implementation:
 
-* ``posekit``: a runtime ``Node`` over ``ZenohTransport`` (``POSEKIT_TRANSPORT=zenoh``)
-  publishes ``tf2_msgs/TFMessage`` (1 transform, 100 B CDR + 33 B attachment) on ``/tf``; the
-  subscriber is a ``Node`` subscription spun by a ``SingleThreadedExecutor``: the whole path
-  (CDR decode, attachment check, type-hash check, queue, executor, user callback).
-* ``raw``: plain ``zenoh`` put/subscribe on the same data key with the same attachment, CDR
-  (de)serialized by rosbags (``typestore.serialize_cdr`` / ``deserialize_cdr``), the user
-  callback run directly in zenoh's callback. The floor for Python + zenoh + rosbags.
+* ``raw``: the library alone, doing the work a user of posekit gets done: the message is
+  serialized by rosbags (``typestore.serialize_cdr``) and sent; the receiver takes the
+  bytes and deserializes them into a rosbags message object (``deserialize_cdr``), then
+  calls the user callback on the thread that received it. Zenoh: ``put`` with rmw_zenoh's
+  attachment (which the receiver decodes), a subscriber callback (zenoh-python runs it on
+  a thread of its own). DDS: cyclonedds' C layer moving the CDR bytes (``ddspy_write`` /
+  ``ddspy_take``), the receiver a WaitSet loop.
+* ``posekit``: a runtime ``Node`` publisher, and a ``Node`` subscription whose callback a
+  ``SingleThreadedExecutor`` runs, as in rclpy (receive, checks, CDR decode into posekit's
+  message classes, queue, executor thread, callback).
+* ``transport``: posekit's transport layer alone, the callback run where the transport
+  delivers (no executor): the same receive path as ``posekit`` up to the queue.
+* with ``--references`` on DDS: ``rclpy`` (the real Jazzy rclpy on rmw_fastrtps_cpp) and
+  ``cyclone`` (cyclonedds' own Python API and serializer, reader taken in a WaitSet loop).
 
-Two phases per mode:
+Phases:
 
-* throughput: the publisher sends a burst of ``N`` messages as fast as it can; the
-  subscriber's received rate = received / (last - first receive time), and its CPU cost per
-  received message (process CPU time, all threads).
-* latency: 1 kHz for 2 s; one-way latency = receive wall clock - ``header.stamp`` written just
-  before publishing (same host, same clock). Percentiles p50 / p90 / p99.
+* throughput: the publisher sends a burst back to back; the received rate is
+  (received - 1) / (last receive - first receive), measured in the subscriber; the CPU
+  time of each process (all threads) per message.
+* latency: one message per millisecond; one-way latency = receive wall clock minus the
+  ``header.stamp`` written just before publishing (same host, same clock). p50 / p99 of
+  all but the first 5 % (warm-up: discovery, reliable repairs of the first samples).
 
-The ratio line is posekit's cost over raw's (CPU µs per message, and median latency).
+Each round runs every mode once per message and phase, in alternating order from round to
+round, so a burst of load from other processes falls on all modes alike. Ratios are taken
+within a round (posekit over raw: time per message, median latency) and summarised as the
+median and the range over rounds; the best of the rounds is printed as well.
 """
 
 from __future__ import annotations
@@ -43,15 +49,37 @@ import argparse
 import json
 import os
 import socket
+import statistics
 import subprocess
 import sys
+import threading
 import time
+from collections.abc import Callable
 from typing import Any
 
 LATENCY_RATE_HZ = 1000.0
-LATENCY_SECONDS = 2.0
-IDLE_END_S = 1.0
+IDLE_END_S = 0.6
+#: The first 1/WARM_UP_SHARE of the latency phase's messages are not counted.
+WARM_UP_SHARE = 20
 FIRST_MESSAGE_TIMEOUT_S = 30.0
+ROS2_VENV = os.environ.get(
+    "POSEKIT_ROS2_VENV",
+    os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".venv-ros2"))
+
+TYPES = {"tf": "geometry_msgs/msg/TransformStamped", "image": "sensor_msgs/msg/Image"}
+TOPICS = {"tf": "/bench_tf", "image": "/bench_image"}
+IMAGE_H, IMAGE_W = 128, 128
+#: (throughput burst, latency messages) per message, full run and --quick.
+SIZES = {"tf": (20_000, 2_000), "image": (2_000, 2_000)}
+QUICK_SIZES = {"tf": (5_000, 1_000), "image": (500, 1_000)}
+#: Fast DDS fails a KEEP_ALL publish once ~5000 samples wait for a slow rclpy reader.
+RCLPY_BURST = 5_000
+
+Publish = Callable[[], None]
+#: ``serve(done)``: receive (run the callbacks) until ``done()`` is true.
+Spin = Callable[[Callable[[], bool]], None]
+Close = Callable[[], None]
+OnStamp = Callable[[int, int], None]
 
 
 def free_port() -> int:
@@ -61,355 +89,172 @@ def free_port() -> int:
 
 
 # ---------------------------------------------------------------------------------------
-# child processes
+# the messages, built once per process; publish() only writes the stamp
 
 
-def _peer_session(endpoint: str) -> Any:
-    import zenoh
+def _rosbags_message(message: str) -> tuple[Any, Any]:
+    """(message, its Time class) of rosbags' generated types."""
+    import numpy as np
 
-    from posekit.transport.zenoh_session import SessionOptions, build_peer_config
+    from posekit.msgs.cdr import get_typestore
 
-    return zenoh.open(build_peer_config(SessionOptions(router_endpoint=endpoint)))
-
-
-def _report(stamps_recv: list[int], latencies: list[int], cpu: float, count: int,
-            first_sent_to_last_recv_ns: int | None = None) -> None:
-    out = {"count": count, "cpu_s": cpu}
-    if len(stamps_recv) >= 2:
-        out["rate"] = (len(stamps_recv) - 1) / ((stamps_recv[-1] - stamps_recv[0]) * 1e-9)
-    if first_sent_to_last_recv_ns:
-        # end to end: from the first message's send stamp to the last receive
-        out["e2e_rate"] = (count - 1) / (first_sent_to_last_recv_ns * 1e-9)
-    if latencies:
-        lat = sorted(latencies)
-        out.update(p50=lat[len(lat) // 2], p90=lat[int(len(lat) * 0.9)],
-                   p99=lat[int(len(lat) * 0.99)])
-    print(json.dumps(out), flush=True)
-
-
-def child_sub(mode: str, endpoint: str) -> None:
-    """Receive until the stream has been idle for IDLE_END_S after the first message."""
-    recv: list[int] = []
-    lat: list[int] = []
-    now_wall = time.time_ns
-    now_mono = time.monotonic_ns
-
-    def on_tf(stamp_sec: int, stamp_nsec: int) -> None:
-        t = now_wall()
-        recv.append(now_mono())
-        lat.append(t - (stamp_sec * 1_000_000_000 + stamp_nsec))
-
-    if mode == "raw":
-        from posekit.msgs.cdr import get_typestore
-        from posekit.transport.zenoh_wire import data_key, decode_attachment
-
-        store = get_typestore()
-        deserialize = store.deserialize_cdr
-        session = _peer_session(endpoint)
-
-        def callback(sample: Any) -> None:
-            att = sample.attachment
-            if att is None:
-                return
-            decode_attachment(att.to_bytes())
-            msg = deserialize(sample.payload.to_bytes(), "tf2_msgs/msg/TFMessage")
-            stamp = msg.transforms[0].header.stamp
-            on_tf(stamp.sec, stamp.nanosec)
-
-        sub = session.declare_subscriber(data_key(0, "/tf", "tf2_msgs/msg/TFMessage"), callback)
-        print("ready", flush=True)
-        cpu0 = time.process_time()
-        _wait_idle(recv)
-        cpu = time.process_time() - cpu0
-        sub.undeclare()
-        session.close()
-    elif mode == "wire":
-        from posekit.msgs.tf2_msgs import TFMessage
-        from posekit.transport.zenoh_session import SessionOptions, open_session
-        from posekit.transport.zenoh_wire import WireQoS
-
-        wsession = open_session(SessionOptions(router_endpoint=endpoint))
-
-        def wire_callback(msg: TFMessage, _att: Any) -> None:
-            stamp = msg.transforms[0].header.stamp
-            on_tf(stamp.sec, stamp.nanosec)
-
-        wsession.create_subscription(wsession.create_node("tf_sink"), "/tf", TFMessage,
-                                     WireQoS(depth=1000), wire_callback)
-        print("ready", flush=True)
-        cpu0 = time.process_time()
-        _wait_idle(recv)
-        cpu = time.process_time() - cpu0
-        wsession.close()
-    else:
-        from posekit.msgs.tf2_msgs import TFMessage
-        from posekit.runtime.context import Context
-        from posekit.runtime.executors import SingleThreadedExecutor
-        from posekit.runtime.node import Node
-
-        ctx = Context()
-        ctx.init()  # POSEKIT_TRANSPORT=zenoh
-        node = Node("tf_sink", context=ctx)
-
-        def callback(msg: TFMessage) -> None:
-            stamp = msg.transforms[0].header.stamp
-            on_tf(stamp.sec, stamp.nanosec)
-
-        node.create_subscription(TFMessage, "/tf", callback, 1000)
-        executor = SingleThreadedExecutor(context=ctx)
-        executor.add_node(node)
-        print("ready", flush=True)
-        cpu0 = time.process_time()
-        give_up = time.monotonic() + FIRST_MESSAGE_TIMEOUT_S
-        while not recv and time.monotonic() < give_up:
-            executor.spin_once(0.1)
-        last = (len(recv), time.monotonic())
-        while time.monotonic() - last[1] < IDLE_END_S:
-            executor.spin_once(0.05)
-            if len(recv) != last[0]:
-                last = (len(recv), time.monotonic())
-        cpu = time.process_time() - cpu0
-        ctx.shutdown()
-    _report(recv, lat, cpu, len(recv))
-
-
-def _wait_idle(recv: list[int]) -> None:
-    give_up = time.monotonic() + FIRST_MESSAGE_TIMEOUT_S
-    while not recv and time.monotonic() < give_up:
-        time.sleep(0.01)
-    last = (len(recv), time.monotonic())
-    while time.monotonic() - last[1] < IDLE_END_S:
-        time.sleep(0.02)
-        if len(recv) != last[0]:
-            last = (len(recv), time.monotonic())
-
-
-def child_pub(mode: str, endpoint: str, phase: str, count: int) -> None:
-    """Publish ``count`` messages (throughput: back to back; latency: at 1 kHz)."""
-    import itertools
-
-    mode = "posekit" if mode == "wire" else mode
-
-    if mode == "raw":
-        import zenoh
-
-        from posekit.msgs.cdr import get_typestore
-        from posekit.transport.zenoh_wire import data_key, encode_attachment
-
-        store = get_typestore()
-        T = store.types
-        session = _peer_session(endpoint)
-        pub = session.declare_publisher(
-            data_key(0, "/tf", "tf2_msgs/msg/TFMessage"),
-            reliability=zenoh.Reliability.RELIABLE,
-            congestion_control=zenoh.CongestionControl.BLOCK,
-        )
-        gid = bytes(16)
-        seq = itertools.count(1)
-        Time = T["builtin_interfaces/msg/Time"]
-        tf = T["geometry_msgs/msg/TransformStamped"](
-            header=T["std_msgs/msg/Header"](stamp=Time(sec=0, nanosec=0), frame_id="odom"),
-            child_frame_id="base_link",
+    T = get_typestore().types
+    time_cls = T["builtin_interfaces/msg/Time"]
+    header = T["std_msgs/msg/Header"](stamp=time_cls(sec=0, nanosec=0), frame_id="odom")
+    if message == "tf":
+        return T[TYPES["tf"]](
+            header=header, child_frame_id="base_link",
             transform=T["geometry_msgs/msg/Transform"](
                 translation=T["geometry_msgs/msg/Vector3"](x=1.0, y=2.0, z=3.0),
                 rotation=T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)),
-        )
-        TFMessage = T["tf2_msgs/msg/TFMessage"]
-        serialize = store.serialize_cdr
+        ), time_cls
+    header.frame_id = "camera"
+    return T[TYPES["image"]](
+        header=header, height=IMAGE_H, width=IMAGE_W, encoding="rgb8", is_bigendian=0,
+        step=3 * IMAGE_W, data=np.arange(3 * IMAGE_H * IMAGE_W, dtype=np.uint8),
+    ), time_cls
 
-        def publish() -> None:
-            now = time.time_ns()
-            tf.header.stamp = Time(sec=now // 1_000_000_000, nanosec=now % 1_000_000_000)
-            payload = serialize(TFMessage(transforms=[tf]), "tf2_msgs/msg/TFMessage")
-            pub.put(bytes(payload), attachment=encode_attachment(next(seq), now, gid))
 
-        close = session.close
-        time.sleep(1.0)  # let the peers link (the subscriber is already declared)
-    else:
+def _posekit_message(message: str) -> Any:
+    import numpy as np
+
+    if message == "tf":
         from posekit.msgs.geometry_msgs import TransformStamped
-        from posekit.msgs.tf2_msgs import TFMessage as PkTF
-        from posekit.runtime.context import Context
-        from posekit.runtime.node import Node
-        from posekit.runtime.qos import HistoryPolicy, QoSProfile
 
-        ctx = Context()
-        ctx.init()
-        node = Node("tf_source", context=ctx)
-        # KEEP_ALL + RELIABLE maps to zenoh's BLOCK congestion control (as rmw_zenoh does),
-        # so a burst is paced by the network instead of dropped: both modes publish alike.
-        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0)
-        pk_pub = node.create_publisher(PkTF, "/tf", qos)
-        t = TransformStamped(child_frame_id="base_link")
-        t.header.frame_id = "odom"
-        t.transform.translation.x, t.transform.translation.y = 1.0, 2.0
-        t.transform.translation.z = 3.0
-        msg = PkTF(transforms=[t])
-        stamp = t.header.stamp
+        tf = TransformStamped(child_frame_id="base_link")
+        tf.header.frame_id = "odom"
+        tf.transform.translation.x, tf.transform.translation.y = 1.0, 2.0
+        tf.transform.translation.z = 3.0
+        return tf
+    from posekit.msgs.sensor_msgs import Image
 
-        def publish() -> None:
-            now = time.time_ns()
-            stamp.sec, stamp.nanosec = divmod(now, 1_000_000_000)
-            pk_pub.publish(msg)
+    img = Image(height=IMAGE_H, width=IMAGE_W, encoding="rgb8", step=3 * IMAGE_W,
+                data=np.arange(3 * IMAGE_H * IMAGE_W, dtype=np.uint8))
+    img.header.frame_id = "camera"
+    return img
 
-        close = ctx.shutdown
-        deadline = time.monotonic() + 10
-        while pk_pub.get_subscription_count() < 1 and time.monotonic() < deadline:
-            time.sleep(0.05)
-        time.sleep(1.0)  # let the peers link
-    if phase == "throughput":
-        cpu0, t0 = time.process_time(), time.perf_counter()
-        for _ in range(count):
-            publish()
-        cpu, wall = time.process_time() - cpu0, time.perf_counter() - t0
-    else:
-        period = 1.0 / LATENCY_RATE_HZ
-        next_at = time.perf_counter()
-        for _ in range(count):
-            publish()
-            next_at += period
-            while time.perf_counter() < next_at:  # sub-ms pacing: sleep is too coarse
-                pass
-        cpu = wall = 0.0
-    time.sleep(0.5)
-    close()
-    print(json.dumps({"send_rate": count / wall if wall else 0.0,
-                      "send_cpu_us": 1e6 * cpu / count}), flush=True)
+
+def _stamp_now(stamp: Any) -> None:
+    stamp.sec, stamp.nanosec = divmod(time.time_ns(), 1_000_000_000)
 
 
 # ---------------------------------------------------------------------------------------
-# orchestration
+# endpoints: (publish, serve, close) of one mode, transport and message
 
 
-def run_pair(pub_mode: str, sub_mode: str, phase: str, count: int) -> dict[str, Any]:
-    """One publisher process and one subscriber process; the subscriber's figures plus the
-    publisher's send rate and CPU per message."""
-    from posekit.transport.zenoh_session import open_router
+def _loop(step: Callable[[float], Any]) -> Spin:
+    """``serve`` from a step that waits up to the given seconds for data and handles it."""
 
-    endpoint = f"tcp/127.0.0.1:{free_port()}"
-    router = open_router(endpoint)
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("ZENOH_", "ROS_DOMAIN"))}
-    env.update(POSEKIT_TRANSPORT="zenoh", POSEKIT_ZENOH_ROUTER=endpoint)
-    me = [sys.executable, os.path.abspath(__file__)]
-    try:
-        return _run_children([*me, "--child", "sub", sub_mode, endpoint],
-                             [*me, "--child", "pub", pub_mode, endpoint, phase, str(count)],
-                             env, sub_mode, pub_mode)
-    finally:
-        router.close()
+    def serve(done: Callable[[], bool]) -> None:
+        while not done():
+            step(0.02)
+
+    return serve
 
 
-def _run_children(sub_cmd: list[str], pub_cmd: list[str], env: dict[str, str],
-                  sub_name: str, pub_name: str) -> dict[str, Any]:
-    """Start the subscriber, wait for its "ready", run the publisher to its end; the
-    subscriber's JSON figures updated with the publisher's."""
-    sub = subprocess.Popen(sub_cmd, env=env, stdout=subprocess.PIPE, text=True)
-    pub = None
-    try:
-        assert sub.stdout is not None
-        if sub.stdout.readline().strip() != "ready":
-            raise RuntimeError(f"{sub_name} subscriber did not start")
-        pub = subprocess.Popen(pub_cmd, env=env, stdout=subprocess.PIPE, text=True)
-        pub_out, _ = pub.communicate(timeout=120)
-        if pub.returncode != 0:
-            raise RuntimeError(f"{pub_name} publisher failed ({pub.returncode})")
-        line = sub.stdout.readline()
-        sub.wait(timeout=30)
-        result = dict(json.loads(line))
-        result.update(json.loads(pub_out.strip().splitlines()[-1]))
-        return result
-    finally:
-        for proc in (pub, sub):
-            if proc is not None and proc.poll() is None:
-                proc.kill()
-                proc.wait()
-
-
-def best_run(runs: list[dict[str, Any]], key: str, lowest: bool = False) -> dict[str, Any]:
-    """The least disturbed of repeated runs (the machine is shared)."""
-    pick = min if lowest else max
-    return pick(runs, key=lambda r: r.get(key, 0.0))
-
-
-
-# ---------------------------------------------------------------------------------------
-# DDS: posekit (dds transport) vs a real ROS 2 rclpy (Fast DDS) vs raw cyclonedds
-
-DDS_TOPIC = "/bench_tf"
-
-
-def DDS_HISTORY() -> Any:
-    from cyclonedds.qos import Policy
-
-    return Policy.History.KeepAll
-ROS2_VENV = os.environ.get(
-    "POSEKIT_ROS2_VENV", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
-                                      ".venv-ros2"))
-
-
-def _dds_endpoints(mode: str, role: str, on_tf: Any = None) -> tuple[Any, Any, Any]:
-    """(publish(), spin(seconds), close()) for ``mode`` in {posekit, rclpy, cyclone, raw}."""
-    if mode == "rclpy":
-        import rclpy  # noqa: I001 - the real rclpy, from .venv-ros2
-        from geometry_msgs.msg import TransformStamped
-        from rclpy.qos import HistoryPolicy, QoSProfile
-
-        rclpy.init()
-        node = rclpy.create_node(f"bench_{role}")
-        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0)
-        if role == "sub":
-            node.create_subscription(TransformStamped, DDS_TOPIC, lambda m: on_tf(
-                m.header.stamp.sec, m.header.stamp.nanosec), qos)
-            return None, lambda s: rclpy.spin_once(node, timeout_sec=s), rclpy.shutdown
-        pub = node.create_publisher(TransformStamped, DDS_TOPIC, qos)
-        msg = TransformStamped(child_frame_id="base_link")
-        msg.header.frame_id = "odom"
-        msg.transform.translation.x, msg.transform.translation.y = 1.0, 2.0
-        msg.transform.translation.z = 3.0
-        msg.transform.rotation.w = 1.0
-        stamp = msg.header.stamp
-
-        def publish_rclpy() -> None:
-            stamp.sec, stamp.nanosec = divmod(time.time_ns(), 1_000_000_000)
-            pub.publish(msg)
-
-        _wait_matched(pub.get_subscription_count)
-        return publish_rclpy, None, rclpy.shutdown
-    if mode in ("cyclone", "raw"):
-        return _cyclone_endpoints(mode, role, on_tf)
-    from posekit.msgs.geometry_msgs import TransformStamped as PkTransform
+def _posekit_endpoints(transport: str, mode: str, message: str, role: str,
+                       on_stamp: OnStamp | None) -> tuple[Publish | None, Spin | None, Close]:
     from posekit.runtime.context import Context
     from posekit.runtime.executors import SingleThreadedExecutor
     from posekit.runtime.node import Node
     from posekit.runtime.qos import HistoryPolicy, QoSProfile
 
     ctx = Context()
-    ctx.init(transport="dds")
+    ctx.init(transport=transport)
     node = Node(f"bench_{role}", context=ctx)
     keep_all = QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0)
+    cls = type(_posekit_message(message))
+    topic = TOPICS[message]
     if role == "sub":
-        node.create_subscription(PkTransform, DDS_TOPIC, lambda m: on_tf(
-            m.header.stamp.sec, m.header.stamp.nanosec), keep_all)
+        assert on_stamp is not None
+
+        def callback(msg: Any) -> None:
+            stamp = msg.header.stamp
+            on_stamp(stamp.sec, stamp.nanosec)
+
+        if mode == "transport":  # the transport layer alone: no executor
+            from posekit.runtime.transport import EndpointInfo
+
+            endpoint = node.transport.subscribe(
+                EndpointInfo(topic, cls, keep_all, node.get_name(), node.get_namespace(),
+                             node.get_logger()), callback)
+            return None, _loop(time.sleep), lambda: (endpoint.destroy(), ctx.shutdown())[1]
+        node.create_subscription(cls, topic, callback, keep_all)
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
-        return None, lambda s: executor.spin_once(s), ctx.shutdown
-    pk_pub = node.create_publisher(PkTransform, DDS_TOPIC, keep_all)
-    pk_msg = PkTransform(child_frame_id="base_link")
-    pk_msg.header.frame_id = "odom"
-    pk_msg.transform.translation.x, pk_msg.transform.translation.y = 1.0, 2.0
-    pk_msg.transform.translation.z = 3.0
-    pk_stamp = pk_msg.header.stamp
 
-    def publish_posekit() -> None:
-        pk_stamp.sec, pk_stamp.nanosec = divmod(time.time_ns(), 1_000_000_000)
-        pk_pub.publish(pk_msg)
+        def serve(done: Callable[[], bool]) -> None:
+            # executor.spin(), as a user calls it (rclpy.spin); a watcher thread ends it
+            def watch() -> None:
+                while not done():
+                    time.sleep(0.02)
+                executor.shutdown()
 
-    _wait_matched(pk_pub.get_subscription_count)
-    return publish_posekit, None, ctx.shutdown
+            threading.Thread(target=watch, daemon=True).start()
+            executor.spin()
+
+        return None, serve, ctx.shutdown
+    pub = node.create_publisher(cls, topic, keep_all)
+    msg = _posekit_message(message)
+    stamp = msg.header.stamp
+
+    def publish() -> None:
+        _stamp_now(stamp)
+        pub.publish(msg)
+
+    _wait_matched(pub.get_subscription_count)
+    return publish, None, ctx.shutdown
 
 
-def _cyclone_endpoints(mode: str, role: str, on_tf: Any) -> tuple[Any, Any, Any]:
-    """``cyclone``: cyclonedds' own API and serializer. ``raw``: cyclonedds' C layer moving
-    CDR bytes, (de)serialized by rosbags, no executor: the floor posekit builds on."""
+def _zenoh_raw_endpoints(message: str, role: str, endpoint: str,
+                         on_stamp: OnStamp | None) -> tuple[Publish | None, Spin | None, Close]:
+    import itertools
+
+    import zenoh
+
+    from posekit.msgs.cdr import get_typestore
+    from posekit.transport.zenoh_session import SessionOptions, build_peer_config
+    from posekit.transport.zenoh_wire import data_key, decode_attachment, encode_attachment
+
+    type_name = TYPES[message]
+    store = get_typestore()
+    session = zenoh.open(build_peer_config(SessionOptions(router_endpoint=endpoint)))
+    key = data_key(int(os.environ.get("ROS_DOMAIN_ID", "0")), TOPICS[message], type_name)
+    if role == "sub":
+        assert on_stamp is not None
+        deserialize = store.deserialize_cdr
+
+        def callback(sample: Any) -> None:
+            att = sample.attachment
+            if att is None:
+                return
+            decode_attachment(att.to_bytes())
+            stamp = deserialize(sample.payload.to_bytes(), type_name).header.stamp
+            on_stamp(stamp.sec, stamp.nanosec)
+
+        sub = session.declare_subscriber(key, callback)
+        return None, _loop(time.sleep), lambda: (sub.undeclare(), session.close())[1]
+    pub = session.declare_publisher(key, reliability=zenoh.Reliability.RELIABLE,
+                                    congestion_control=zenoh.CongestionControl.BLOCK)
+    msg, time_cls = _rosbags_message(message)
+    serialize = store.serialize_cdr
+    gid = bytes(16)
+    seq = itertools.count(1)
+
+    def publish() -> None:
+        now = time.time_ns()
+        msg.header.stamp = time_cls(sec=now // 1_000_000_000, nanosec=now % 1_000_000_000)
+        pub.put(bytes(serialize(msg, type_name)), attachment=encode_attachment(next(seq), now,
+                                                                               gid))
+
+    time.sleep(1.0)  # let the peers link (the subscriber is already declared)
+    return publish, None, session.close
+
+
+def _cyclone_endpoints(mode: str, message: str, role: str,
+                       on_stamp: OnStamp | None) -> tuple[Publish | None, Spin | None, Close]:
+    """``raw``: cyclonedds' C layer moving CDR bytes, (de)serialized by rosbags.
+    ``cyclone``: cyclonedds' own API and serializer."""
     from cyclonedds._clayer import ddspy_take, ddspy_write
     from cyclonedds.core import DDSStatus, InstanceState, SampleState, ViewState, WaitSet
     from cyclonedds.domain import DomainParticipant
@@ -426,264 +271,385 @@ def _cyclone_endpoints(mode: str, role: str, on_tf: Any) -> tuple[Any, Any, Any]
 
     options = DiscoveryOptions.from_env()
     configure_domain(options)  # the same loopback discovery settings as posekit
-    type_name = "geometry_msgs/msg/TransformStamped"
-    tf_t = idl_struct(type_name)
+    type_name = TYPES[message]
     participant = DomainParticipant(options.domain_id)
-    topic = Topic(participant, "rt" + DDS_TOPIC, tf_t)
-    qos = Qos(Policy.Reliability.Reliable(duration(seconds=1)), DDS_HISTORY())
+    topic = Topic(participant, "rt" + TOPICS[message], idl_struct(type_name))
+    qos = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.History.KeepAll)
     store = get_typestore()
     if role == "sub":
+        assert on_stamp is not None
         reader = DataReader(participant, topic, qos)
         reader.set_status_mask(DDSStatus.DataAvailable)  # wake on data only
         waitset = WaitSet(participant)
         waitset.attach(reader)
         mask = SampleState.Any | ViewState.Any | InstanceState.Any
-        deserialize = store.deserialize_cdr
+        deserialize, ref = store.deserialize_cdr, reader._ref
 
-        def spin_cyclone(seconds: float) -> None:
+        def spin(seconds: float) -> None:
             waitset.wait(duration(seconds=seconds))
             if mode == "raw":
-                for data, info in ddspy_take(reader._ref, mask, 256):
+                for data, info in ddspy_take(ref, mask, 256):
                     if info.valid_data:
                         stamp = deserialize(data, type_name).header.stamp
-                        on_tf(stamp.sec, stamp.nanosec)
+                        on_stamp(stamp.sec, stamp.nanosec)
                 return
             for m in reader.take(N=256):
                 if m.sample_info.valid_data:
-                    on_tf(m.header.stamp.sec, m.header.stamp.nanosec)
+                    on_stamp(m.header.stamp.sec, m.header.stamp.nanosec)
 
-        return None, spin_cyclone, lambda: None
+        return None, _loop(spin), lambda: None
     writer = DataWriter(participant, topic, qos)
+    _wait_matched(lambda: len(writer.get_matched_subscriptions()))
     if mode == "raw":
-        T = store.types
-        time_cls = T["builtin_interfaces/msg/Time"]
-        raw_msg = T[type_name](
-            header=T["std_msgs/msg/Header"](stamp=time_cls(sec=0, nanosec=0), frame_id="odom"),
-            child_frame_id="base_link",
-            transform=T["geometry_msgs/msg/Transform"](
-                translation=T["geometry_msgs/msg/Vector3"](x=1.0, y=2.0, z=3.0),
-                rotation=T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)))
-        serialize, ref = store.serialize_cdr, writer._ref
+        msg, time_cls = _rosbags_message(message)
+        serialize, wref = store.serialize_cdr, writer._ref
 
         def publish_raw() -> None:
             sec, nsec = divmod(time.time_ns(), 1_000_000_000)
-            raw_msg.header.stamp = time_cls(sec=sec, nanosec=nsec)
-            ddspy_write(ref, bytes(serialize(raw_msg, type_name)))
+            msg.header.stamp = time_cls(sec=sec, nanosec=nsec)
+            ddspy_write(wref, bytes(serialize(msg, type_name)))
 
         publish_raw.writer = writer  # type: ignore[attr-defined]  # alive as long as used
-
-        _wait_matched(lambda: len(writer.get_matched_subscriptions()))
         return publish_raw, None, lambda: None
-    time_t = idl_struct("builtin_interfaces/msg/Time")
-    vec = idl_struct("geometry_msgs/msg/Vector3")
-    msg = tf_t(
-        header=idl_struct("std_msgs/msg/Header")(stamp=time_t(sec=0, nanosec=0),
-                                                 frame_id="odom"),
-        child_frame_id="base_link",
-        transform=idl_struct("geometry_msgs/msg/Transform")(
-            translation=vec(x=1.0, y=2.0, z=3.0),
-            rotation=idl_struct("geometry_msgs/msg/Quaternion")(x=0.0, y=0.0, z=0.0, w=1.0)))
+    cy_msg = _cyclone_message(message)
 
     def publish_cyclone() -> None:
-        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(time.time_ns(), 1_000_000_000)
-        writer.write(msg)
+        _stamp_now(cy_msg.header.stamp)
+        writer.write(cy_msg)
 
-    _wait_matched(lambda: len(writer.get_matched_subscriptions()))
     return publish_cyclone, None, lambda: None
 
 
-def _wait_matched(count: Any) -> None:
+def _cyclone_message(message: str) -> Any:
+    """The message as cyclonedds IdlStruct objects, built from the rosbags one."""
+    from posekit.transport.dds_types import idl_struct
+
+    def convert(value: Any, type_name: str) -> Any:
+        import numpy as np
+
+        from posekit.msgs.cdr import get_typestore
+
+        _, fields = get_typestore().fielddefs[type_name]
+        kwargs = {}
+        for name, node in fields:
+            field = getattr(value, name)
+            if int(node[0]) == 2:  # a nested message
+                kwargs[name] = convert(field, node[1])
+            elif isinstance(field, np.ndarray):
+                kwargs[name] = field.tolist()
+            else:
+                kwargs[name] = field
+        return idl_struct(type_name)(**kwargs)
+
+    return convert(_rosbags_message(message)[0], TYPES[message])
+
+
+def _rclpy_endpoints(message: str, role: str,
+                     on_stamp: OnStamp | None) -> tuple[Publish | None, Spin | None, Close]:
+    import rclpy  # noqa: I001 - the real rclpy, from .venv-ros2
+    from geometry_msgs.msg import TransformStamped
+    from rclpy.qos import HistoryPolicy, QoSProfile
+    from sensor_msgs.msg import Image
+
+    rclpy.init()
+    node = rclpy.create_node(f"bench_{role}")
+    qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0)
+    cls: Any = TransformStamped if message == "tf" else Image
+    if role == "sub":
+        assert on_stamp is not None
+        node.create_subscription(cls, TOPICS[message], lambda m: on_stamp(
+            m.header.stamp.sec, m.header.stamp.nanosec), qos)
+        return None, _loop(lambda s: rclpy.spin_once(node, timeout_sec=s)), rclpy.shutdown
+    pub = node.create_publisher(cls, TOPICS[message], qos)
+    msg = cls()
+    if message == "tf":
+        msg.header.frame_id, msg.child_frame_id = "odom", "base_link"
+        msg.transform.translation.x, msg.transform.translation.y = 1.0, 2.0
+        msg.transform.translation.z, msg.transform.rotation.w = 3.0, 1.0
+    else:
+        msg.header.frame_id, msg.encoding = "camera", "rgb8"
+        msg.height, msg.width, msg.step = IMAGE_H, IMAGE_W, 3 * IMAGE_W
+        msg.data = bytes(i % 256 for i in range(3 * IMAGE_H * IMAGE_W))
+    stamp = msg.header.stamp
+
+    def publish() -> None:
+        _stamp_now(stamp)
+        pub.publish(msg)
+
+    _wait_matched(pub.get_subscription_count)
+    return publish, None, rclpy.shutdown
+
+
+def _endpoints(transport: str, mode: str, message: str, role: str, endpoint: str,
+               on_stamp: OnStamp | None = None) -> tuple[Publish | None, Spin | None, Close]:
+    if mode in ("posekit", "transport", "before"):
+        mode = "posekit" if mode == "before" else mode
+        return _posekit_endpoints(transport, mode, message, role, on_stamp)
+    if mode == "rclpy":
+        return _rclpy_endpoints(message, role, on_stamp)
+    if transport == "dds":
+        return _cyclone_endpoints(mode, message, role, on_stamp)
+    return _zenoh_raw_endpoints(message, role, endpoint, on_stamp)
+
+
+def _wait_matched(count: Callable[[], int]) -> None:
     deadline = time.monotonic() + 15
     while count() < 1 and time.monotonic() < deadline:
         time.sleep(0.05)
-    time.sleep(0.5)  # let reliable delivery settle (discovery of the reader's locators)
+    time.sleep(0.5)  # let reliable delivery settle (the peers' locators, links)
 
 
-def dds_child_sub(mode: str) -> None:
+# ---------------------------------------------------------------------------------------
+# child processes
+
+
+def child_sub(transport: str, mode: str, message: str, endpoint: str) -> None:
+    """Receive until the stream has been idle for IDLE_END_S after the first message."""
     recv: list[int] = []
     lat: list[int] = []
-    span = [0, 0]  # first send stamp, last receive (wall ns)
     now_wall, now_mono = time.time_ns, time.monotonic_ns
 
-    def on_tf(sec: int, nsec: int) -> None:
+    cpu_first = [0.0]  # process CPU time at the first message
+
+    def on_stamp(sec: int, nsec: int) -> None:
         t = now_wall()
-        sent = sec * 1_000_000_000 + nsec
         if not recv:
-            span[0] = sent
-        span[1] = t
+            cpu_first[0] = time.process_time()
         recv.append(now_mono())
-        lat.append(t - sent)
+        lat.append(t - (sec * 1_000_000_000 + nsec))
 
-    _, spin, close = _dds_endpoints(mode, "sub", on_tf)
+    _, serve, close = _endpoints(transport, mode, message, "sub", endpoint, on_stamp)
+    assert serve is not None
     print("ready", flush=True)
-    cpu0 = time.process_time()
     give_up = time.monotonic() + FIRST_MESSAGE_TIMEOUT_S
-    while not recv and time.monotonic() < give_up:
-        spin(0.1)
-    last = (len(recv), time.monotonic())
-    while time.monotonic() - last[1] < IDLE_END_S:
-        spin(0.05)
-        if len(recv) != last[0]:
-            last = (len(recv), time.monotonic())
-    cpu = time.process_time() - cpu0
+    state = {"count": 0, "since": 0.0}
+
+    def done() -> bool:
+        """Idle for IDLE_END_S after the first message (or no message at all)."""
+        now = time.monotonic()
+        if not state["since"]:
+            if not recv and now < give_up:
+                return False
+            state["since"] = now
+        if len(recv) != state["count"]:
+            state.update(count=len(recv), since=now)
+        return now - state["since"] >= IDLE_END_S
+
+    serve(done)
+    cpu = time.process_time() - cpu_first[0]
     close()
-    _report(recv, lat, cpu, len(recv), span[1] - span[0])
+    out: dict[str, Any] = {"count": len(recv), "cpu_s": cpu}
+    if len(recv) >= 2:
+        out["rate"] = (len(recv) - 1) / ((recv[-1] - recv[0]) * 1e-9)
+    lat = lat[len(lat) // WARM_UP_SHARE:]  # discovery and first-sample repairs excluded
+    if lat:
+        lat.sort()
+        out.update(p50=lat[len(lat) // 2], p99=lat[int(len(lat) * 0.99)])
+    print(json.dumps(out), flush=True)
 
 
-def dds_child_pub(mode: str, phase: str, count: int) -> None:
-    publish, _, close = _dds_endpoints(mode, "pub")
+def child_pub(transport: str, mode: str, message: str, endpoint: str, phase: str,
+              count: int) -> None:
+    """Publish ``count`` messages (throughput: back to back; latency: at 1 kHz)."""
+    publish, _, close = _endpoints(transport, "posekit" if mode == "transport" else mode,
+                                   message, "pub", endpoint)
+    assert publish is not None
+    cpu = 0.0
     if phase == "throughput":
-        cpu0, t0 = time.process_time(), time.perf_counter()
+        cpu0 = time.process_time()
         for _ in range(count):
             publish()
-        cpu, wall = time.process_time() - cpu0, time.perf_counter() - t0
+        cpu = time.process_time() - cpu0
     else:
         period = 1.0 / LATENCY_RATE_HZ
         next_at = time.perf_counter()
         for _ in range(count):
             publish()
             next_at += period
-            while time.perf_counter() < next_at:
+            while time.perf_counter() < next_at:  # sub-ms pacing: sleep is too coarse
                 pass
-        cpu = wall = 0.0
-    time.sleep(0.5)
+    print(json.dumps({"send_cpu_us": 1e6 * cpu / count}), flush=True)
+    # Stay connected until the subscriber is done (the parent closes our stdin then):
+    # what is still queued for a slower subscriber must not be dropped by closing.
+    sys.stdin.read()
     close()
-    print(json.dumps({"send_rate": count / wall if wall else 0.0,
-                      "send_cpu_us": 1e6 * cpu / count}), flush=True)
 
 
-def run_dds_pair(mode: str, phase: str, count: int, domain_id: int) -> dict[str, Any]:
-    """A publisher process and a subscriber process of ``mode`` on their own DDS domain."""
+# ---------------------------------------------------------------------------------------
+# orchestration
+
+
+def run_pair(transport: str, mode: str, message: str, phase: str, count: int,
+             domain_id: int, before_src: str | None = None) -> dict[str, Any]:
+    """One publisher process and one subscriber process of ``mode``: the subscriber's
+    figures plus the publisher's CPU per message. Mode ``before`` is ``posekit`` importing
+    posekit from ``before_src`` (another checkout's ``src``)."""
     env = {k: v for k, v in os.environ.items()
-           if not k.startswith(("ROS_", "RMW_", "POSEKIT_", "CYCLONEDDS_"))}
+           if not k.startswith(("ZENOH_", "ROS_", "RMW_", "POSEKIT_", "CYCLONEDDS_"))}
     env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONUNBUFFERED="1")
+    if mode == "before" and before_src:
+        env["PYTHONPATH"] = os.path.abspath(before_src)
     python = os.path.join(ROS2_VENV, "bin", "python") if mode == "rclpy" else sys.executable
-    me = [python, os.path.abspath(__file__)]
-    return _run_children([*me, "--child", "ddssub", mode, "-"],
-                         [*me, "--child", "ddspub", mode, "-", phase, str(count)],
-                         env, mode, mode)
+    me = [python, os.path.abspath(__file__), "--child"]
+    router = None
+    endpoint = "-"
+    if transport == "zenoh":
+        from posekit.transport.zenoh_session import open_router
+
+        endpoint = f"tcp/127.0.0.1:{free_port()}"
+        router = open_router(endpoint)  # the role rmw_zenohd plays
+        env.update(POSEKIT_ZENOH_ROUTER=endpoint)
+    try:
+        sub = subprocess.Popen([*me, "sub", transport, mode, message, endpoint], env=env,
+                               stdout=subprocess.PIPE, text=True)
+        pub = None
+        try:
+            assert sub.stdout is not None
+            if sub.stdout.readline().strip() != "ready":
+                raise RuntimeError(f"{transport} {mode} subscriber did not start")
+            pub = subprocess.Popen(
+                [*me, "pub", transport, mode, message, endpoint, phase, str(count)],
+                env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+            assert pub.stdin is not None
+            assert pub.stdout is not None
+            # the publisher's figures once it has sent everything, the subscriber's once
+            # the stream went idle; then the publisher may disconnect
+            give_up = threading.Timer(300, lambda: [p.kill() for p in (pub, sub) if p])
+            give_up.start()
+            try:
+                pub_line = pub.stdout.readline()
+                line = sub.stdout.readline()
+                pub.stdin.close()
+                pub.wait(timeout=60)
+                sub.wait(timeout=60)
+            finally:
+                give_up.cancel()
+            if not pub_line or not line:
+                raise RuntimeError(f"{transport} {mode}: a child ended without its figures")
+            result = dict(json.loads(line))
+            result.update(json.loads(pub_line))
+            return result
+        finally:
+            for proc in (pub, sub):
+                if proc is not None and proc.poll() is None:
+                    proc.kill()
+                    proc.wait()
+    finally:
+        if router is not None:
+            router.close()
 
 
-def main_dds(burst: int, repeat: int) -> None:
-    """posekit over DDS vs real rclpy (Fast DDS) vs raw cyclonedds, same message and QoS."""
-    n_latency = int(LATENCY_RATE_HZ * LATENCY_SECONDS)
-    print(f"geometry_msgs/TransformStamped between two processes over DDS on loopback "
-          f"(RELIABLE, KEEP_ALL); best of {repeat} runs each")
-    print(f"throughput: burst of {burst}, end to end (received - 1) / (last receive - first "
-          f"send); latency: {LATENCY_RATE_HZ:.0f} Hz for {n_latency} msgs (receive wall clock - "
-          f"header.stamp set before publish)")
-    print(f"{'both sides':<10}{'e2e msgs/s':>12}{'received':>10}{'sent msgs/s':>12}"
-          f"{'recv CPU us':>12}{'p50 us':>9}{'p90 us':>9}{'p99 us':>9}")
-    figures: dict[str, dict[str, float]] = {}
-    domain = 180  # each pair on its own domain (valid ids: 0..232)
-    for mode in ("rclpy", "cyclone", "raw", "posekit"):
-        tputs, lats = [], []
-        for _ in range(repeat):
-            domain = 180 + (domain - 179) % 50
-            tputs.append(run_dds_pair(mode, "throughput", burst, domain))
-            domain = 180 + (domain - 179) % 50
-            lats.append(run_dds_pair(mode, "latency", n_latency, domain))
-        best = best_run(tputs, "e2e_rate")
-        lat = best_run(lats, "p50", lowest=True)
-        cpu_us = min(1e6 * r["cpu_s"] / max(1, r["count"]) for r in tputs)
-        figures[mode] = {"rate": best.get("e2e_rate", 0.0), "p50": lat["p50"] / 1e3}
-        print(f"{mode:<10}{best.get('e2e_rate', 0.0):>12,.0f}{best['count']:>10}"
-              f"{best['send_rate']:>12,.0f}{cpu_us:>12.2f}{lat['p50'] / 1e3:>9.1f}"
-              f"{lat['p90'] / 1e3:>9.1f}{lat['p99'] / 1e3:>9.1f}"
-              f"   rates: {[round(r.get('e2e_rate', 0.0)) for r in tputs]}"
-              f" p50s: {[round(r['p50'] / 1e3, 1) for r in lats]}")
-    pk, ros, raw = figures["posekit"], figures["rclpy"], figures["raw"]
-    print(f"\nposekit / rclpy: throughput {pk['rate'] / ros['rate']:.2f}x, median latency "
-          f"{pk['p50'] / ros['p50']:.2f}x")
-    print(f"posekit / raw (cyclonedds C layer + rosbags): throughput "
-          f"{pk['rate'] / raw['rate']:.2f}x, median latency {pk['p50'] / raw['p50']:.2f}x")
-    print(f"posekit / cyclonedds' own Python API: throughput "
-          f"{pk['rate'] / figures['cyclone']['rate']:.2f}x, median latency "
-          f"{pk['p50'] / figures['cyclone']['p50']:.2f}x")
-    print(f"goals: throughput >= 2x rclpy: {pk['rate'] >= 2 * ros['rate']}; median no slower "
-          f"than rclpy: {pk['p50'] <= ros['p50']}; within 1.1x of raw (throughput and median): "
-          f"{raw['rate'] <= 1.1 * pk['rate'] and pk['p50'] <= 1.1 * raw['p50']}")
+def _spread(values: list[float], fmt: str) -> str:
+    if not values:
+        return "-"
+    med = statistics.median(values)
+    if len(values) == 1:
+        return format(med, fmt)
+    return f"{format(med, fmt)} ({format(min(values), fmt)}-{format(max(values), fmt)})"
+
+
+def _cpu_per_msg(figures: dict[str, dict[str, Any]]) -> float:
+    """The subscriber process's CPU µs (all threads) per message received in the burst."""
+    tput = figures["throughput"]
+    return float(tput["cpu_s"]) * 1e6 / max(1, int(tput["count"]))
+
+
+def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int],
+           rounds: list[dict[str, dict[str, dict[str, Any]]]]) -> None:
+    """One table per transport and message: each mode's median (range) over the rounds,
+    then posekit's ratios to raw taken within each round (> 1: posekit costs more)."""
+    burst, n_lat = sizes
+    print(f"\n== {transport}, {message} ({TYPES[message]}); throughput: burst of {burst}; "
+          f"latency: {n_lat} msgs at {LATENCY_RATE_HZ:.0f} Hz; {len(rounds)} round(s): "
+          "median (min-max)")
+    print(f"{'mode':<10}{'recv msgs/s':>26}{'recv CPU us/msg':>24}{'send CPU us/msg':>24}"
+          f"{'p50 us':>24}{'p99 us':>24}")
+
+    def col(mode: str, phase: str, key: str, scale: float = 1.0) -> list[float]:
+        return [r[mode][phase][key] * scale for r in rounds
+                if key in r.get(mode, {}).get(phase, {})]
+
+    for mode in modes:
+        cpu = [_cpu_per_msg(r[mode]) for r in rounds if mode in r]
+        counts = {r[mode]["throughput"]["count"] for r in rounds if mode in r}
+        short = "" if counts <= {burst} else f"  received {sorted(counts)} of {burst}"
+        print(f"{mode:<10}{_spread(col(mode, 'throughput', 'rate'), ',.0f'):>26}"
+              f"{_spread(cpu, '.1f'):>24}"
+              f"{_spread(col(mode, 'throughput', 'send_cpu_us'), '.1f'):>24}"
+              f"{_spread(col(mode, 'latency', 'p50', 1e-3), '.0f'):>24}"
+              f"{_spread(col(mode, 'latency', 'p99', 1e-3), '.0f'):>24}{short}")
+    for mode in [m for m in modes if m not in ("raw",)]:
+        both = [r for r in rounds if mode in r and "raw" in r]
+        tput = [r["raw"]["throughput"]["rate"] / r[mode]["throughput"]["rate"] for r in both]
+        cpu_ratio = [_cpu_per_msg(r[mode]) / _cpu_per_msg(r["raw"]) for r in both]
+        p50 = [r[mode]["latency"]["p50"] / r["raw"]["latency"]["p50"] for r in both]
+        best_t = (max(col("raw", "throughput", "rate"))
+                  / max(col(mode, "throughput", "rate")))
+        best_l = min(col(mode, "latency", "p50")) / min(col("raw", "latency", "p50"))
+        print(f"  {mode} / raw, per round: time per message {_spread(tput, '.2f')}, median "
+              f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}; "
+              f"receive CPU per message {_spread(cpu_ratio, '.2f')}")
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--child", nargs="+")
-    parser.add_argument("--dds", action="store_true",
-                        help="compare posekit over DDS with a real rclpy and raw cyclonedds")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--transport", choices=("zenoh", "dds", "all"), default="all")
+    parser.add_argument("--messages", default="tf,image", help="comma-separated: tf,image")
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--quick", action="store_true", help="one round of short runs")
+    parser.add_argument("--no-transport-mode", action="store_true",
+                        help="skip the transport-layer-alone mode")
+    parser.add_argument("--references", action="store_true",
+                        help="DDS: add the real rclpy (Fast DDS) and cyclonedds' Python API")
+    parser.add_argument("--before", metavar="SRC",
+                        help="add mode 'before': posekit imported from SRC, another checkout's "
+                             "src directory (e.g. git worktree add /tmp/before <commit>)")
+    parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        role, mode, endpoint, *rest = args.child
-        if role == "ddssub":
-            dds_child_sub(mode)
-            return
-        if role == "ddspub":
-            dds_child_pub(mode, rest[0], int(rest[1]))
-            return
+        role, transport, mode, message, endpoint, *rest = args.child
         if role == "sub":
-            child_sub(mode, endpoint)
+            child_sub(transport, mode, message, endpoint)
         else:
-            child_pub(mode, endpoint, rest[0], int(rest[1]))
+            child_pub(transport, mode, message, endpoint, rest[0], int(rest[1]))
         return
-    burst = 20_000 if args.quick else 100_000
-    repeat = 1 if args.quick else args.repeat
-    if args.dds:
-        # Fast DDS fails a KEEP_ALL publish once ~5000 samples wait for a slow rclpy reader,
-        # so the DDS burst stays at 5000 messages for every implementation.
-        main_dds(5000, repeat)
-        return
-    n_latency = int(LATENCY_RATE_HZ * LATENCY_SECONDS)
+    messages = [m for m in args.messages.split(",") if m]
+    transports = ["zenoh", "dds"] if args.transport == "all" else [args.transport]
+    rounds_n = 1 if args.quick else args.rounds
+    import platform
+    from importlib.metadata import version
 
-    def runs(pub_mode: str, sub_mode: str, phase: str, n: int) -> list[dict[str, Any]]:
-        return [run_pair(pub_mode, sub_mode, phase, n) for _ in range(repeat)]
-
-    print(f"TFMessage (1 transform, 100 B CDR + 33 B attachment) between two processes over "
-          f"zenoh on loopback; best of {repeat} runs each")
-    # 1. receive side: the same (raw) publisher feeds every subscriber implementation
-    print(f"\nreceive: raw publisher bursts {burst} msgs; subscriber CPU per received message")
-    print(f"{'subscriber':<12}{'recv msgs/s':>12}{'received':>10}{'CPU us/msg':>12}")
-    recv: dict[str, dict[str, Any]] = {}
-    for sub_mode in ("raw", "wire", "posekit"):
-        rs = runs("raw", sub_mode, "throughput", burst)
-        best = best_run(rs, "rate")
-        cpu_us = min(1e6 * r["cpu_s"] / max(1, r["count"]) for r in rs)
-        recv[sub_mode] = {"rate": best.get("rate", 0.0), "cpu_us": cpu_us}
-        print(f"{sub_mode:<12}{best.get('rate', 0.0):>12,.0f}{best['count']:>10}{cpu_us:>12.2f}"
-              f"   runs: {[round(r.get('rate', 0.0)) for r in rs]}")
-    # 2. send side: every publisher implementation into a raw subscriber
-    print(f"\nsend: burst of {burst} msgs into a raw subscriber; publisher CPU per message")
-    print(f"{'publisher':<12}{'sent msgs/s':>12}{'CPU us/msg':>12}")
-    send: dict[str, dict[str, Any]] = {}
-    for pub_mode in ("raw", "posekit"):
-        rs = runs(pub_mode, "raw", "throughput", burst)
-        best = best_run(rs, "send_rate")
-        cpu_us = min(r["send_cpu_us"] for r in rs)
-        send[pub_mode] = {"rate": best["send_rate"], "cpu_us": cpu_us}
-        print(f"{pub_mode:<12}{best['send_rate']:>12,.0f}{cpu_us:>12.2f}")
-    # 3. end to end, same implementation on both sides: received rate and latency
-    print(f"\nend to end: throughput of a {burst} burst; latency at {LATENCY_RATE_HZ:.0f} Hz for "
-          f"{n_latency} msgs (receive wall clock - header.stamp set before publish)")
-    print(f"{'both sides':<12}{'recv msgs/s':>12}{'p50 us':>9}{'p90 us':>9}{'p99 us':>9}")
-    e2e: dict[str, dict[str, Any]] = {}
-    for mode in ("raw", "posekit"):
-        best = best_run(runs(mode, mode, "throughput", burst), "rate")
-        lat_runs = runs(mode, mode, "latency", n_latency)
-        lat = best_run(lat_runs, "p50", lowest=True)
-        e2e[mode] = {"rate": best.get("rate", 0.0), "p50": lat["p50"] / 1e3}
-        print(f"{mode:<12}{best.get('rate', 0.0):>12,.0f}{lat['p50'] / 1e3:>9.1f}"
-              f"{lat['p90'] / 1e3:>9.1f}{lat['p99'] / 1e3:>9.1f}"
-              f"   p50 runs: {[round(r['p50'] / 1e3, 1) for r in lat_runs]}")
-    print("\nratios posekit / raw (cost: lower is better)")
-    print(f"  receive CPU per message: {recv['posekit']['cpu_us'] / recv['raw']['cpu_us']:.2f}x "
-          f"(transport layer alone, 'wire': {recv['wire']['cpu_us'] / recv['raw']['cpu_us']:.2f}x)")
-    print(f"  send CPU per message:    {send['posekit']['cpu_us'] / send['raw']['cpu_us']:.2f}x")
-    print(f"  end-to-end throughput:   {e2e['raw']['rate'] / e2e['posekit']['rate']:.2f}x "
-          f"(time per message); median latency {e2e['posekit']['p50'] / e2e['raw']['p50']:.2f}x")
-    print(f"goals: >= 50,000 msgs/s received: {e2e['posekit']['rate'] >= 50_000}; median <= "
-          f"100 us: {e2e['posekit']['p50'] <= 100}; receive cost <= 1.3x raw: "
-          f"{recv['posekit']['cpu_us'] <= 1.3 * recv['raw']['cpu_us']}")
+    print(f"python {platform.python_version()}, eclipse-zenoh {version('eclipse-zenoh')}, "
+          f"cyclonedds {version('cyclonedds')}, rosbags {version('rosbags')}; load average "
+          f"at start "
+          f"{os.getloadavg()[0]:.1f}")
+    domain = 180
+    for transport in transports:
+        modes = ["raw", "posekit"] + ([] if args.no_transport_mode else ["transport"])
+        modes += ["before"] if args.before else []
+        if args.references and transport == "dds":
+            modes += ["cyclone", "rclpy"]
+        for message in messages:
+            sizes = (QUICK_SIZES if args.quick else SIZES)[message]
+            rounds: list[dict[str, dict[str, dict[str, Any]]]] = []
+            for i in range(rounds_n):
+                order = modes if i % 2 == 0 else modes[::-1]
+                this: dict[str, dict[str, dict[str, Any]]] = {m: {} for m in order}
+                for phase, n in (("throughput", sizes[0]), ("latency", sizes[1])):
+                    for mode in order:
+                        if mode == "rclpy" and phase == "throughput":
+                            n = min(n, RCLPY_BURST)
+                        domain = 180 + (domain - 179) % 50  # each pair on its own domain
+                        this[mode][phase] = run_pair(transport, mode, message, phase, n,
+                                                     domain, args.before)
+                rounds.append(this)
+                print(f"   round {i + 1}: " + ", ".join(
+                    f"{m} {this[m]['throughput'].get('rate', 0):,.0f}/s "
+                    f"{this[m]['latency'].get('p50', 0) / 1e3:.0f}us" for m in order),
+                    flush=True)
+            report(transport, message, modes, sizes, rounds)
+    print(f"\nload average at end {os.getloadavg()[0]:.1f}")
 
 
 if __name__ == "__main__":

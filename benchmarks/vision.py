@@ -23,11 +23,11 @@ from collections.abc import Callable
 import cv2
 import numpy as np
 
-from posekit.vision.box_model import box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.evaluation import accuracy_grid
 from posekit.vision.render import BoxRenderer
+from posekit.worlds import box_pose_matrix
 
 BOX_WORLD = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
              box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]

@@ -15,7 +15,7 @@ pose (yaw -1.57 about z, then (13, 16)) and rounded to 1 mm; the height is the s
 top z in the world.
 
 Run:  python scripts/derive_husarion_world.py PATH/TO/husarion_logo.dae > \
-          src/posekit/robot/_husarion_world.py
+          src/posekit/worlds/_husarion_world.py
 """
 
 from __future__ import annotations

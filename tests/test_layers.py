@@ -1,12 +1,12 @@
 """The layer contract: which posekit package may import which.
 
 Oracle: the table below, which is the architecture the README and docs/architecture describe
-(msgs at the bottom; geometry and tf2 on numpy alone; runtime and transports above; robot,
-vision and launch above them; demos, cli, viewer and bag on top). Every ``import`` in the
-source, including function-level (lazy) ones, is read with :mod:`ast`; a package may import
-only packages of a strictly lower layer. A new package fails this test until it is given a
-layer here, so the contract is decided, not drifted into. A second test checks that the core
-imports with numpy alone, in a fresh interpreter.
+(msgs at the bottom; geometry, tf2 and the worlds on numpy alone; runtime and transports
+above; robot, vision and launch above them; demos, cli, viewer and bag on top). Every
+``import`` in the source, including function-level (lazy) ones, is read with :mod:`ast`; a
+package may import only packages of a strictly lower layer. A new package fails this test
+until it is given a layer here, so the contract is decided, not drifted into. A second test
+checks that the core imports with numpy alone, in a fresh interpreter.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ LAYERS: dict[str, int] = {
     "cv_bridge": 1,  # msgs <-> OpenCV arrays (OpenCV loaded only to convert colours)
     "tf2": 2,
     "kdl": 2,
+    "worlds": 2,  # the scenes (world files, the ArUco box model): numpy and geometry alone
     "runtime": 3,
     "transport": 4,
     "rclpy": 4,
@@ -83,7 +84,8 @@ def test_imports_point_down_the_layers() -> None:
     assert not violations, "imports against the layer contract:\n" + "\n".join(violations)
 
 
-@pytest.mark.parametrize("module", ["posekit.geometry", "posekit.msgs", "posekit.tf2"])
+@pytest.mark.parametrize("module", ["posekit.geometry", "posekit.msgs", "posekit.tf2",
+                                    "posekit.worlds"])
 def test_core_imports_with_numpy_alone(module: str) -> None:
     heavy = ["rosbags", "cv2", "zenoh", "cyclonedds", "aiohttp", "matplotlib", "scipy",
              "posekit.runtime", "posekit.transport"]

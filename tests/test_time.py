@@ -1,4 +1,5 @@
-"""posekit.time against rclpy's documented semantics (integer nanoseconds, messages, arithmetic)."""
+"""posekit.time against rclpy's documented semantics (integer nanoseconds, messages, arithmetic),
+and the stamp conversions against exact integer / rational arithmetic (``fractions``)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,16 @@ import pytest
 
 from posekit.msgs.builtin_interfaces import Duration as DurationMsg
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
-from posekit.time import ClockType, Duration, Time
+from posekit.time import (
+    NS_PER_S,
+    ClockType,
+    Duration,
+    Time,
+    stamp_from_ns,
+    stamp_from_seconds,
+    stamp_to_ns,
+    stamp_to_seconds,
+)
 
 
 def test_time_zero_default_means_latest() -> None:
@@ -113,3 +123,31 @@ def test_duration() -> None:
     assert Duration(seconds=0.25).to_seconds() == 0.25
     with pytest.raises(TypeError):
         _ = Duration(seconds=1) < 3  # type: ignore[operator]
+
+
+@pytest.mark.parametrize("ns", [0, 1, 999_999_999, 1_000_000_000, 1_700_000_000_123_456_789])
+def test_stamp_ns_round_trip_splits_whole_seconds(ns: int) -> None:
+    msg = stamp_from_ns(ns)
+    assert (msg.sec, msg.nanosec) == (ns // NS_PER_S, ns % NS_PER_S)
+    assert 0 <= msg.nanosec < NS_PER_S
+    assert stamp_to_ns(msg) == ns
+    assert stamp_from_ns(ns) == Time(nanoseconds=ns).to_msg()  # the same split as rclpy's
+
+
+def test_stamp_to_ns_is_duck_typed_and_exact() -> None:
+    class Stamp:
+        sec, nanosec = 2**40, 999_999_999
+
+    assert stamp_to_ns(Stamp()) == 2**40 * NS_PER_S + 999_999_999
+
+
+def test_stamp_seconds_round_to_the_nearest_nanosecond() -> None:
+    for t in (0.0, 1e-9, 0.1, 2.5, 12.3456789012, 1_700_000_000.25):
+        msg = stamp_from_seconds(t)
+        exact = Fraction(t) * NS_PER_S  # the double's exact value, in ns
+        assert abs(Fraction(stamp_to_ns(msg)) - exact) <= Fraction(1, 2) + abs(exact) * Fraction(
+            1, 2**52)
+    assert stamp_to_seconds(TimeMsg(sec=1, nanosec=500_000_000)) == 1.5
+    assert stamp_to_seconds(TimeMsg(sec=3, nanosec=1)) == 3.0 + 1e-9
+    with pytest.raises(ValueError, match="negative"):
+        stamp_from_seconds(-0.5)

@@ -1,6 +1,10 @@
 """Time and Duration modelled on rclpy: integer nanoseconds inside, never float seconds.
 
 ``Time()`` is time zero, which tf2 lookups read as "the latest common time".
+
+The stamp conversions every layer above uses live here too, on
+``builtin_interfaces/Time``-like objects (``sec``, ``nanosec``): :func:`stamp_to_ns`,
+:func:`stamp_from_ns`, :func:`stamp_to_seconds` and :func:`stamp_from_seconds`.
 """
 
 from __future__ import annotations
@@ -10,9 +14,54 @@ from typing import Any, overload
 
 from posekit.msgs import builtin_interfaces
 
-__all__ = ["ClockType", "Duration", "Time"]
+__all__ = [
+    "NS_PER_S",
+    "ClockType",
+    "Duration",
+    "Time",
+    "stamp_from_ns",
+    "stamp_from_seconds",
+    "stamp_to_ns",
+    "stamp_to_seconds",
+]
 
-_NS_PER_S = 1_000_000_000
+#: Nanoseconds per second.
+NS_PER_S = 1_000_000_000
+_NS_PER_S = NS_PER_S
+
+
+def stamp_to_ns(stamp: Any) -> int:
+    """Nanoseconds of a ``builtin_interfaces/Time``-like object (``sec``, ``nanosec``)."""
+    return int(stamp.sec) * _NS_PER_S + int(stamp.nanosec)
+
+
+def stamp_from_ns(ns: int) -> builtin_interfaces.Time:
+    """``builtin_interfaces/Time`` of ``ns`` nanoseconds (``sec, nanosec = divmod(ns, 1e9)``)."""
+    sec, nanosec = divmod(int(ns), _NS_PER_S)
+    return builtin_interfaces.Time(sec, nanosec)  # positional: 2x faster than keywords
+
+
+def stamp_to_seconds(stamp: Any) -> float:
+    """Seconds (float) of a ``builtin_interfaces/Time``-like object: ``sec + 1e-9 * nanosec``.
+
+    A double keeps nanoseconds below about 100 days (simulated time); a wall-clock stamp
+    (seconds since 1970) keeps about 0.2 us. Compare or subtract stamps with
+    :func:`stamp_to_ns`.
+    """
+    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
+
+
+def stamp_from_seconds(t: float) -> builtin_interfaces.Time:
+    """``builtin_interfaces/Time`` of ``t`` seconds, rounded to the nearest nanosecond.
+
+    Raises:
+        ValueError: ``t`` is negative (a stamp is a time since the clock's epoch).
+    """
+    ns = round(t * _NS_PER_S)
+    if ns < 0:
+        raise ValueError(f"a stamp cannot be negative, got {t} s")
+    sec, nanosec = divmod(ns, _NS_PER_S)
+    return builtin_interfaces.Time(sec, nanosec)
 
 
 class ClockType(enum.IntEnum):

@@ -247,3 +247,15 @@ def test_bad_input(tmp_path: Path, recorded: Any, ctx: Context) -> None:
     assert issubclass(BagFormatError, Exception)
     # The recorded bag is untouched by failed players.
     assert sum(1 for _ in read_messages(recorded.path)) == sum(recorded.counts.values())
+
+
+def test_bag_clock_follows_rate_pause_and_rate_changes_without_jumps() -> None:
+    # Closed form: bag time = anchor + elapsed wall time * rate, frozen while paused.
+    clock = player_module._BagClock(wall=10.0, bag=1_000_000_000, rate=2.0)
+    assert clock.at(10.5, paused=False, rate=2.0) == 2_000_000_000
+    assert clock.at(11.0, paused=True, rate=2.0) == 3_000_000_000  # paused where it was...
+    assert clock.at(12.0, paused=True, rate=2.0) == 3_000_000_000
+    assert clock.at(12.5, paused=False, rate=2.0) == 3_000_000_000  # ...resumes from there
+    assert clock.at(13.0, paused=False, rate=2.0) == 4_000_000_000
+    assert clock.at(14.0, paused=False, rate=0.5) == 6_000_000_000  # re-anchored, no jump
+    assert clock.at(16.0, paused=False, rate=0.5) == 7_000_000_000

@@ -8,6 +8,7 @@ import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -320,3 +321,181 @@ def test_play_keyboard_pause_step_resume_on_a_terminal(small_bag: Path, tmp_path
         proc.kill()
         os.close(master)
         os.close(slave)
+
+
+def _introspected_server(ctx: Context) -> Node:
+    from posekit.msgs.std_srvs import SetBool
+    from posekit.runtime.services import ServiceIntrospectionState
+
+    node = Node("switch", context=ctx)
+    service = node.create_service(SetBool, "switch", lambda req, resp: resp)
+    service.configure_introspection(node.get_clock(), QoSProfile(depth=10),
+                                    ServiceIntrospectionState.CONTENTS)
+    return node
+
+
+def _call_switch_in_background(ctx: Context) -> tuple[threading.Event, threading.Thread]:
+    """A client in its own executor calling /switch every 10 ms until the event is set."""
+    from posekit.msgs.std_srvs import SetBool
+
+    stop = threading.Event()
+
+    def run() -> None:
+        caller = Node("caller", context=ctx)
+        client = caller.create_client(SetBool, "switch")
+        while not stop.is_set():
+            client.call(SetBool.Request(data=True), timeout_sec=0.5)
+            time.sleep(0.01)
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return stop, thread
+
+
+@pytest.mark.parametrize("selection", [["--services", "switch"], ["--all-services"],
+                                       ["--all"], ["-e", "swi"]])
+def test_record_services(selection: list[str], ctx: Context, tmp_path: Path) -> None:
+    server = _introspected_server(ctx)
+    executor = SingleThreadedExecutor(context=ctx)
+    executor.add_node(server)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    stop, caller = _call_switch_in_background(ctx)
+    try:
+        code = record(["-o", str(tmp_path / "svc"), *selection, "--duration", "0.4"],
+                      context=ctx)
+    finally:
+        stop.set()
+        caller.join(timeout=5)
+        executor.shutdown()
+        spinner.join(timeout=5)
+    assert code == 0
+    summary = bag_info(tmp_path / "svc")
+    events = [t for t in summary.topics if t.name == "/switch/_service_event"]
+    assert [t.msgtype for t in events] == ["std_srvs/srv/SetBool_Event"]
+    assert events[0].message_count >= 2  # REQUEST_RECEIVED and RESPONSE_SENT per call
+    text = format_info(summary)
+    assert ("Service information: Service: /switch | Type: std_srvs/srv/SetBool | Event Count: "
+            f"{events[0].message_count} | Serialization Format: cdr") in text
+    if selection[0] == "--all-services":  # services only: no topic
+        assert [t.name for t in summary.topics] == ["/switch/_service_event"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["-o", "X"], "Need to specify at least one option out of --all, --all-topics, "
+                      "--all-services, --services, --topics, --topic-types or --regex"),
+        (["-o", "X", "--services", "s", "--exclude-services", "s"],
+         "--exclude-services argument requires either --all, --all-services or --regex"),
+        (["-o", "X", "--services", "s", "--exclude-regex", "s"],
+         "--exclude-regex argument requires either --all, --all-topics, --topic-types, "
+         "--all-services or --regex"),
+        (["-o", "X", "--topics", "/a", "--exclude-topic-types", "std_msgs/msg/String"],
+         "--exclude-topic-types argument requires either --all, --all-topics or --regex"),
+    ],
+)
+def test_record_service_usage_errors_use_jazzys_wording(
+    argv: list[str], message: str, tmp_path: Path, ctx: Context,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    argv = [str(tmp_path / a) if a == "X" else a for a in argv]
+    assert record(argv, context=ctx) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_record_topic_types(ctx: Context, tmp_path: Path) -> None:
+    node = Node("typed", context=ctx)
+    node.create_publisher(String, "text", 10)
+    node.create_publisher(Clock, "not_text", 10)
+    code = record(["-o", str(tmp_path / "t"), "--topic-types", "std_msgs/msg/String",
+                   "--duration", "0.05"], context=ctx)
+    assert code == 0
+    assert [t.name for t in bag_info(tmp_path / "t").topics] == ["/text"]
+
+
+def test_play_services_selection_and_request_replay(ctx: Context, tmp_path: Path) -> None:
+    """``--topics`` alone still plays services (rosbag2 Jazzy); ``--exclude-services``
+    drops them; ``--publish-service-requests`` calls the service instead."""
+    from posekit.msgs.std_srvs import SetBool
+
+    server = _introspected_server(ctx)
+    words = Node("speaker", context=ctx).create_publisher(String, "words", 10)
+    executor = SingleThreadedExecutor(context=ctx)
+    executor.add_node(server)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    stop, caller = _call_switch_in_background(ctx)
+    talk_stop = threading.Event()
+
+    def talk() -> None:
+        while not talk_stop.is_set():
+            words.publish(String(data="w"))
+            time.sleep(0.02)
+
+    talker = threading.Thread(target=talk, daemon=True)
+    talker.start()
+    try:
+        assert record(["-o", str(tmp_path / "b"), "--topics", "/words", "--services",
+                       "switch", "--duration", "0.4"], context=ctx) == 0
+    finally:
+        stop.set()
+        talk_stop.set()
+        caller.join(timeout=5)
+        talker.join(timeout=5)
+        executor.shutdown()
+        spinner.join(timeout=5)
+    bag = tmp_path / "b"
+    recorded = {t.name: t.message_count for t in bag_info(bag).topics}
+    assert set(recorded) == {"/words", "/switch/_service_event"}
+
+    other = Context()
+    other.init(transport="inprocess")
+    try:
+        from posekit.msgs.cdr import get_typestore
+
+        listener = Node("listener", context=other)
+        got: dict[str, int] = {"/words": 0, "/switch/_service_event": 0}
+        listener.create_subscription(String, "/words", lambda m: got.__setitem__(
+            "/words", got["/words"] + 1), 100)
+        listener.create_subscription(
+            get_typestore().types["std_srvs/srv/SetBool_Event"], "/switch/_service_event",
+            lambda m: got.__setitem__("/switch/_service_event",
+                                      got["/switch/_service_event"] + 1), 100)
+        assert play([str(bag), "--topics", "/words", "--rate", "20", "--no-clock",
+                     "--progress-bar", "0", "--disable-keyboard-controls"], context=other) == 0
+        listen = SingleThreadedExecutor(context=other)
+        listen.add_node(listener)
+        listen.spin_some(0.2)
+        assert got == recorded  # both kinds played
+
+        got.update({"/words": 0, "/switch/_service_event": 0})
+        assert play([str(bag), "--exclude-services", "switch", "--rate", "20", "--no-clock",
+                     "--progress-bar", "0", "--disable-keyboard-controls"], context=other) == 0
+        listen.spin_some(0.2)
+        assert got == {"/words": recorded["/words"], "/switch/_service_event": 0}
+
+        seen: list[bool] = []
+
+        def serve(request: Any, response: Any) -> Any:
+            seen.append(bool(request.data))
+            return response
+
+        replier = Node("replier", context=other)
+        replier.create_service(SetBool, "switch", serve, qos_profile=QoSProfile(depth=1000))
+        listen.add_node(replier)
+        spin = threading.Thread(target=listen.spin, daemon=True)
+        spin.start()
+        requests = recorded["/switch/_service_event"] // 2  # REQUEST_RECEIVED of each call
+        assert play([str(bag), "--services", "switch", "--exclude-topics", "/words",
+                     "--publish-service-requests", "--rate", "20", "--no-clock",
+                     "--progress-bar", "0", "--disable-keyboard-controls"],
+                    context=other) == 0
+        deadline = time.monotonic() + 5.0
+        while len(seen) < requests and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert seen == [True] * requests, (len(seen), requests)
+        listen.shutdown()
+        spin.join(timeout=5)
+    finally:
+        other.try_shutdown()

@@ -1,7 +1,7 @@
 """Bounded, seeded fuzzer: world files (the simulator's input) with mutated structure, values
 and bytes.
 
-Oracle: the loader's contract in posekit.robot.worlds: every input either loads into a World
+Oracle: the loader's contract in posekit.worlds: every input either loads into a World
 whose cameras respect the documented limits, or raises WorldError (a ValueError naming the
 world and the field); nothing else, and no input takes memory proportional to its numbers.
 """
@@ -15,7 +15,7 @@ import random
 from pathlib import Path
 from typing import Any
 
-from posekit.robot.worlds import (
+from posekit.worlds import (
     MAX_CAMERA_PIXELS,
     MAX_CAMERA_RATE_HZ,
     WORLDS,

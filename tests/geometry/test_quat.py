@@ -8,6 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from posekit.geometry import _quat as sk
+from posekit.geometry import wrap_angle
 from posekit.geometry.errors import InvalidQuaternionError, UnknownSequenceError
 
 finite = st.floats(-1.0, 1.0, allow_nan=False)
@@ -154,3 +155,16 @@ def test_wrap_angle(a):
     assert -math.pi <= w <= math.pi
     assert math.cos(w) == pytest.approx(math.cos(a), abs=1e-12)
     assert math.sin(w) == pytest.approx(math.sin(a), abs=1e-12)
+
+
+@given(st.floats(-100.0, 100.0))
+def test_wrap_angle_convention(a: float) -> None:
+    """Oracle: cos/sin of the input; in-range angles come back bit-identical."""
+    w = wrap_angle(a)
+    assert -math.pi <= w <= math.pi
+    if -math.pi <= a <= math.pi:
+        assert w == a
+    else:
+        assert w != -math.pi  # outside the range lands in (-pi, pi]
+    assert math.cos(w) == pytest.approx(math.cos(a), abs=1e-9)
+    assert math.sin(w) == pytest.approx(math.sin(a), abs=1e-9)

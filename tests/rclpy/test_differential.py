@@ -52,6 +52,10 @@ DEVIATIONS: dict[str, dict[str, str]] = {
             "durability=<DurabilityPolicy.VOLATILE: 2>, lifespan=None)"
         ),
     },
+    "parameter_files": {
+        # a top level that is not a mapping is a named RuntimeError (rclpy: AttributeError)
+        "not a mapping": "raise RuntimeError",
+    },
     "parameters": {
         # an integer override of a DOUBLE parameter is taken as a float; rclpy raises
         "declare int override of a double": "1.0",

@@ -17,10 +17,10 @@ from scipy.spatial.transform import Rotation as ScipyRotation
 
 from posekit.robot.contact import ROBOT_HALF_EXTENTS, Contact, boxes_overlap
 from posekit.robot.drive import RosbotBase
-from posekit.robot.obstacles import BoxObstacles
 from posekit.robot.odometry import WheelOdometry
 from posekit.robot.params import DEFAULT_DRIVE, SlipParams
-from posekit.robot.worlds import World
+from posekit.worlds import World
+from posekit.worlds.obstacles import BoxObstacles
 
 HX, HY, _ = ROBOT_HALF_EXTENTS
 
@@ -167,7 +167,7 @@ def test_turning_in_place_against_a_face_is_blocked_and_leaving_a_spawn_overlap_
 
 
 def test_walls_stop_the_robot_at_their_face_even_below_the_scan_plane() -> None:
-    from posekit.robot.obstacles import WallSegments
+    from posekit.worlds.obstacles import WallSegments
 
     for height in (1.0, 0.05):
         square = [[-2.0, -2.0], [2.0, -2.0], [2.0, 2.0], [-2.0, 2.0]]
@@ -186,8 +186,8 @@ def test_walls_stop_the_robot_at_their_face_even_below_the_scan_plane() -> None:
 
 
 def test_husarion_world_spawn_is_free() -> None:
-    from posekit.robot.obstacles import WallSegments
-    from posekit.robot.worlds import load_world
+    from posekit.worlds import load_world
+    from posekit.worlds.obstacles import WallSegments
 
     world = load_world("husarion_world")
     contact = Contact(BoxObstacles.from_world(world), WallSegments.from_world(world))

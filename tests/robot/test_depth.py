@@ -30,8 +30,8 @@ from posekit.robot.depth import (
     depth_points,
 )
 from posekit.robot.description import FIXED_JOINTS, T_base_frame
-from posekit.robot.obstacles import BoxObstacles, WallSegments, cast_rays
-from posekit.robot.worlds import World, load_world
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import BoxObstacles, WallSegments, cast_rays
 
 NOISELESS = DepthParams(disparity_stddev=0.0)
 OPTICAL = "oak_rgb_camera_optical_frame"
@@ -153,6 +153,9 @@ def test_out_of_range_pixels_are_signed_infinities() -> None:
 
 
 def test_noise_is_seeded_per_frame_and_follows_the_stereo_formula() -> None:
+    """Same seed and frame index -> the same frame, whatever was drawn before; the inverse
+    depth error is Gaussian-like with sigma_d / (f B) (1/m) and zero mean; a constant term
+    adds noise_stddev in depth."""
     world = _wall_world(5.0)
     T = _T_world_optical()
     a = DepthCamera(world, seed=3)
@@ -161,13 +164,19 @@ def test_noise_is_seeded_per_frame_and_follows_the_stereo_formula() -> None:
     a.frame(T, 8)
     np.testing.assert_array_equal(f7, b.frame(T, 7))  # independent of frames drawn before
     assert not np.array_equal(f7, a.frame(T, 9))
-    truth = DepthCamera(world, NOISELESS).true_depth(T)
-    upper = f7[: int(DEFAULT_DEPTH.cy) - 1]
-    err = (upper - truth[: int(DEFAULT_DEPTH.cy) - 1]).ravel().astype(np.float64)
-    sigma = float(DEFAULT_DEPTH.noise_sigma(5.0 - CAM_X))
-    n = err.size
-    assert abs(err.mean()) < 5 * sigma / math.sqrt(n)
-    assert err.std() == pytest.approx(sigma, rel=0.02)
+    assert not np.array_equal(f7, DepthCamera(world, seed=4).frame(T, 7))
+    rows = slice(0, int(DEFAULT_DEPTH.cy) - 1)  # the wall only
+    truth = DepthCamera(world, NOISELESS).true_depth(T)[rows].astype(np.float64)
+    p = DEFAULT_DEPTH
+    k = p.disparity_stddev / (p.stereo_focal_px * p.baseline)
+    err = (1.0 / f7[rows] - 1.0 / truth).ravel()
+    assert abs(err.mean()) < 5 * k / math.sqrt(err.size)
+    assert err.std() == pytest.approx(k, rel=0.02)
+    # Depth sigma ~ z^2 k to first order.
+    assert (f7[rows] - truth).std() == pytest.approx(p.noise_sigma(5.0 - CAM_X), rel=0.03)
+    const = DepthCamera(world, DepthParams(disparity_stddev=0.0, noise_stddev=0.2), seed=1)
+    derr = (const.frame(T, 0)[rows] - truth).ravel()
+    assert derr.std() == pytest.approx(0.2, rel=0.02)
 
 
 def test_points_lie_on_the_wall_in_the_world_through_the_optical_frame() -> None:

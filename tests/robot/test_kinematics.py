@@ -16,7 +16,6 @@ from posekit.robot.kinematics import (
     integrate_exact_arc,
     quaternion_xyzw_from_yaw,
     wheel_to_body_speeds,
-    wrap_angle,
     yaw_from_quaternion_xyzw,
 )
 from posekit.robot.params import SlipParams
@@ -132,14 +131,6 @@ def test_lateral_component() -> None:
     # Pure sideways motion without rotation moves along the body y axis.
     x, y, yaw = integrate_exact_arc(0.0, 0.0, math.pi / 2, 0.0, 0.0, lateral=1.0)
     assert (x, y, yaw) == pytest.approx((-1.0, 0.0, math.pi / 2))
-
-
-@given(st.floats(-100.0, 100.0))
-def test_wrap_angle(a: float) -> None:
-    w = wrap_angle(a)
-    assert -math.pi <= w < math.pi
-    assert math.cos(w) == pytest.approx(math.cos(a), abs=1e-9)
-    assert math.sin(w) == pytest.approx(math.sin(a), abs=1e-9)
 
 
 def test_yaw_quaternion_against_scipy() -> None:

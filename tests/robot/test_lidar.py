@@ -17,8 +17,8 @@ from scipy.spatial.transform import Rotation as ScipyRotation
 from posekit.geometry import Rotation, Transform
 from posekit.robot.description import T_base_frame
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
-from posekit.robot.obstacles import BoxObstacles, cast_rays
-from posekit.robot.worlds import World, load_world
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import BoxObstacles, cast_rays
 
 NOISELESS = LidarParams(noise_stddev=0.0)
 HALF = 0.25  # the aruco_box is a 0.5 m cube
@@ -208,7 +208,7 @@ def _room(half: float = 5.0, height: float = 1.0, **extra) -> World:
 
 
 def test_walls_closed_form_distances_in_a_square_room() -> None:
-    from posekit.robot.obstacles import WallSegments
+    from posekit.worlds.obstacles import WallSegments
 
     world = _room()
     lidar = Lidar(BoxObstacles.from_world(world), NOISELESS, walls=WallSegments.from_world(world))
@@ -225,7 +225,7 @@ def test_walls_closed_form_distances_in_a_square_room() -> None:
 
 
 def test_walls_lower_than_the_scan_plane_are_not_seen() -> None:
-    from posekit.robot.obstacles import WallSegments
+    from posekit.worlds.obstacles import WallSegments
 
     world = _room(height=0.1)  # the laser is 0.1313 m above the ground
     lidar = Lidar(BoxObstacles.from_world(world), NOISELESS, walls=WallSegments.from_world(world))
@@ -233,7 +233,7 @@ def test_walls_lower_than_the_scan_plane_are_not_seen() -> None:
 
 
 def test_husarion_world_is_scanned_from_its_spawn() -> None:
-    from posekit.robot.obstacles import WallSegments
+    from posekit.worlds.obstacles import WallSegments
 
     world = load_world("husarion_world")
     lidar = Lidar(BoxObstacles.from_world(world), NOISELESS, walls=WallSegments.from_world(world))

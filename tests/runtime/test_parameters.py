@@ -13,6 +13,7 @@ from posekit.runtime.parameters import (
     ParameterDescriptor,
     ParameterNotDeclaredException,
     SetParametersResult,
+    declare_value,
     parse_parameter_value,
 )
 
@@ -28,6 +29,15 @@ def test_declare_default_and_override(ctx) -> None:
         node.declare_parameter("k_rho", 0.1)
     with pytest.raises(ParameterNotDeclaredException):
         node.get_parameter("nope")
+
+
+def test_declare_value_declares_and_returns_the_winning_value(ctx) -> None:
+    node = Node("ctl", context=ctx, parameter_overrides={"k_rho": 1.0})
+    assert declare_value(node, "k_rho", 0.5) == 1.0  # the override wins
+    assert declare_value(node, "k_alpha", 2.0) == 2.0
+    assert node.get_parameter("k_alpha").type_ == Parameter.Type.DOUBLE  # really declared
+    with pytest.raises(ParameterAlreadyDeclaredException):
+        declare_value(node, "k_alpha", 3.0)
 
 
 def test_dict_overrides_and_int_to_double(ctx) -> None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import threading
 from collections.abc import Iterator
 from types import SimpleNamespace
 from typing import Any
@@ -128,7 +127,7 @@ def scenario_viewer() -> Iterator[Any]:
     """The P-controller scenario paced to the wall clock plus :class:`CameraTestNode`, with a
     viewer attached in process on a free port (``server.url``, ``server.tap``)."""
     import posekit.robot.scenarios  # noqa: F401 - registers the robot's scenarios
-    from posekit.cli.view_cmd import attach_to_run
+    from _support.browser import viewer_on
     from posekit.launch import Node as LaunchNode
     from posekit.launch.scenarios import start_scenario
 
@@ -137,12 +136,5 @@ def scenario_viewer() -> Iterator[Any]:
         realtime=True,
         extra_nodes=[LaunchNode(CameraTestNode, name="viewer_test_camera")],
     )
-    server = attach_to_run(run, port=0)
-    spinner = threading.Thread(target=run.executor.spin, daemon=True)
-    spinner.start()
-    try:
+    with viewer_on(run) as server:
         yield server
-    finally:
-        server.stop()
-        run.shutdown()
-        spinner.join(timeout=5.0)

@@ -7,10 +7,9 @@ screenshot. Everything shares one scenario and one browser to stay well under a 
 
 from __future__ import annotations
 
-import base64
 import math
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from types import SimpleNamespace
 from typing import Any
 
@@ -21,41 +20,10 @@ pytestmark = pytest.mark.slow  # real processes, sessions or a browser
 
 cv2 = pytest.importorskip("cv2")
 
-BACKGROUND = np.array([58, 48, 48])  # the scene's clear colour 0x30303a as BGR
+from _support.browser import canvas_pixels, debug, drag_tool, drawn_fraction, wait_for  # noqa: E402
+
 ROBOT_FRAMES = {"odom", "base_link", "body_link", "imu_link", "fl_wheel_link", "rr_wheel_link",
                 "oak_rgb_camera_optical_frame"}
-
-
-def wait_for(predicate: Callable[[], Any], timeout: float = 10.0, what: str = "") -> Any:
-    end = time.monotonic() + timeout
-    while True:
-        value = predicate()
-        if value:
-            return value
-        if time.monotonic() > end:
-            raise AssertionError(f"timed out after {timeout} s waiting for {what}")
-        time.sleep(0.05)
-
-
-def canvas_pixels(page: Any, selector: str) -> np.ndarray:
-    """The canvas content as a BGR array, from ``canvas.toDataURL()`` in the page."""
-    url = page.evaluate(f"document.querySelector('{selector}').toDataURL('image/png')")
-    assert url.startswith("data:image/png;base64,")
-    data = np.frombuffer(base64.b64decode(url.split(",", 1)[1]), np.uint8)
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR)
-    assert image is not None
-    assert image.size
-    return image
-
-
-def drawn_fraction(image: np.ndarray) -> float:
-    """Share of pixels that differ from the clear colour."""
-    diff = np.abs(image.astype(int) - BACKGROUND).max(axis=2)
-    return float((diff > 12).mean())
-
-
-def debug(page: Any, key: str) -> Any:
-    return page.evaluate(f"window.posekitViewer && window.posekitViewer.{key}")
 
 
 @pytest.fixture(scope="module")
@@ -348,12 +316,7 @@ def test_goal_tool_publishes_a_goal_the_p_controller_drives_to(page: Any, viewer
         end = page.evaluate(f"window.posekitViewer.project({gx + 0.5}, {gy})")
         assert 0 < start["x"] < 1280, start  # on screen
         assert 0 < start["y"] < 800, start
-        page.click("#goal-tool")
-        assert debug(page, "goalTool") is True
-        page.mouse.move(start["x"], start["y"])
-        page.mouse.down()
-        page.mouse.move(end["x"], end["y"], steps=5)
-        page.mouse.up()
+        drag_tool(page, "#goal-tool", start, end)
         sent = wait_for(lambda: debug(page, "goalSent"), what="the goal_sent answer")
         assert debug(page, "goalTool") is False  # one goal per activation, as in RViz2
         assert (sent["x"], sent["y"]) == pytest.approx((gx, gy), abs=0.05)
@@ -524,7 +487,7 @@ def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
     spinner.start()
     page = browser.new_page(viewport={"width": 1280, "height": 800})
     try:
-        page.goto(server.url)
+        page.goto(server.url + "?camera=0.5,-1.2,1.0&target=2,0.3,0.25")
         wait_for(lambda: debug(page, "world") == "aruco_box_world", what="the world")
         updates = wait_for(
             lambda: (debug(page, "imageUpdates") or {}).get("/aruco_detection_image", 0) >= 2
@@ -539,8 +502,64 @@ def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
         assert markers <= {f"aruco_marker_{i}" for i in (2, 4, 5)}
         width = page.eval_on_selector("#aruco-image", "img => img.naturalWidth")
         assert width == 1280
+        _camera_frustum_and_detections(page, server)
     finally:
         page.close()
         server.stop()
         run.shutdown()
         spinner.join(timeout=5.0)
+
+
+def _highlight_pixels(page: Any) -> int:
+    """Pixels of the detection highlight's colour #00ff66 (BGR 102, 255, 0), blends included."""
+    image = canvas_pixels(page, "#scene").astype(int)
+    b, g, r = image[..., 0], image[..., 1], image[..., 2]
+    return int(((g > 150) & (g > r + 80) & (g > b + 60) & (b > 0.2 * g)).sum())
+
+
+def _camera_frustum_and_detections(page: Any, server: Any) -> None:
+    """The camera drawn in 3D: a Camera display added by itself for the camera_info topic,
+    paired with the colour image, its far-plane corners where the pinhole K puts them
+    (numpy: K^-1 [u, v, 1] at 1 m) and the image textured there; the detected markers
+    highlighted at their TF frames, and the highlight toggled with Detections."""
+    info_topic = "/oak/stereo/camera_info"
+
+    def camera() -> Any:
+        for d in page.evaluate("window.posekitViewer.displays()")["displays"]:
+            if d["display"] == "Camera" and d["topic"] == info_topic and d["info"] \
+                    and d["info"]["corners"] and d["info"]["image_frames"] >= 1:
+                return d["info"]
+        return None
+
+    cam = wait_for(camera, timeout=20.0, what="the Camera display with an image")
+    # Drawn: hiding the display (its box in the Displays panel) changes a good share of the
+    # canvas (the far plane with the image faces this view).
+    box = f"#display-list details[data-topic='{info_topic}'] .display-enabled"
+    shown = canvas_pixels(page, "#scene")
+    page.uncheck(box)
+    wait_for(lambda: (np.abs(canvas_pixels(page, "#scene").astype(int) - shown.astype(int))
+                      .max(axis=2) > 30).mean() > 0.02, what="the camera frustum hidden")
+    page.check(box)
+    assert cam["image_topic"] == "/oak/rgb/color"
+    assert cam["image_size"] == [1280, 720]
+    assert cam["image_shown"] is True
+    info = server.tap.messages_after(info_topic, 0)[-1][1]
+    assert cam["frame"] == info.header.frame_id
+    k = np.array(info.k, float).reshape(3, 3)
+    pixels = np.array([[0, 0, 1], [info.width, 0, 1], [info.width, info.height, 1],
+                       [0, info.height, 1]], float)
+    expected = (np.linalg.inv(k) @ pixels.T).T
+    assert np.allclose(cam["corners"], expected, atol=1e-9)
+
+    def detections() -> Any:
+        d = debug(page, "detections()")
+        return d if d and set(d) <= {f"aruco_marker_{i}" for i in (2, 4, 5)} else None
+
+    highlighted = wait_for(detections, timeout=10.0, what="highlighted detections")
+    rows = {r[0]: r for r in debug(page, "tf.frames")}
+    for name, h in highlighted.items():
+        assert np.allclose(h["position"], rows[name][2:5], atol=0.05), (name, h, rows[name])
+    wait_for(lambda: _highlight_pixels(page) > 100, what="the highlight drawn")
+    page.uncheck("#show-detections")
+    wait_for(lambda: _highlight_pixels(page) < 20, what="the highlight hidden")
+    page.check("#show-detections")

@@ -125,6 +125,19 @@ async def _message(ws: Any, sub_id: int) -> tuple[int, bytes]:
             return log_time, bytes(msg.data[13:])
 
 
+async def _publish_until_message(ws: Any, sub_id: int, publish: Any) -> bytes:
+    """Call ``publish()`` until subscription ``sub_id`` delivers a message (the server
+    registers a subscription asynchronously); its payload. Bounded: 40 tries, 0.5 s each."""
+    for _attempt in range(40):
+        publish()
+        try:
+            _, payload = await asyncio.wait_for(_message(ws, sub_id), 0.5)
+            return payload
+        except TimeoutError:
+            continue
+    raise AssertionError(f"subscription {sub_id} received nothing within 20 s")
+
+
 async def _subscribe(ws: Any, channel_id: int, sub_id: int) -> None:
     await ws.send_str(json.dumps(
         {"op": "subscribe", "subscriptions": [{"id": sub_id, "channelId": channel_id}]}
@@ -159,9 +172,7 @@ def test_plain_client_gets_channels_and_cdr_messages(system: System, subprotocol
             assert static.transforms[0].transform.translation.x == pytest.approx(0.12)
 
             await _subscribe(ws, channels["/odometry/filtered"]["id"], 2)
-            await asyncio.sleep(0.05)  # let the server register the subscription
-            system.publish(2.5)
-            _, payload = await _message(ws, 2)
+            payload = await _publish_until_message(ws, 2, lambda: system.publish(2.5))
             odom = ROS.deserialize_cdr(payload, "nav_msgs/msg/Odometry")
             assert odom.child_frame_id == "base_link"
             assert odom.pose.pose.position.x == pytest.approx(2.5)
@@ -359,6 +370,55 @@ def test_time_follows_clock_and_a_client_publishes_a_goal(system: System,
     assert goal.pose.orientation.w == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("subprotocol", ["foxglove.sdk.v1", "foxglove.websocket.v1"])
+def test_a_client_publishes_in_json(system: System, subprotocol: str) -> None:
+    """clientPublish with message encoding json: a PoseWithCovarianceStamped written as a
+    JSON object (what Foxglove's Publish panel sends) reaches a posekit subscriber with the
+    values given and defaults elsewhere; a field the type lacks is dropped with one logged
+    line and the channel keeps working."""
+    from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+
+    poses: list[Any] = []
+    system.node.create_subscription(PoseWithCovarianceStamped, "initialpose", poses.append, 10)
+    executor = SingleThreadedExecutor(context=system.ctx)
+    executor.add_node(system.node)
+    covariance = [0.0] * 36
+    covariance[0], covariance[7], covariance[35] = 0.25, 0.25, 0.0685
+    good = {"header": {"stamp": {"sec": 7, "nanosec": 500}, "frame_id": "odom"},
+            "pose": {"pose": {"position": {"x": 2.5, "y": -1.0},
+                              "orientation": {"z": 0.6, "w": 0.8}},
+                     "covariance": covariance}}
+    bad = {"pose": {"pose": {"position": {"x": 1.0, "q": 3}}}}
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(subprotocol,)
+        ) as ws:
+            info = await _server_info(ws)
+            assert "json" in info["supportedEncodings"]
+            await ws.send_str(json.dumps({"op": "advertise", "channels": [{
+                "id": 4, "topic": "initialpose", "encoding": "json",
+                "schemaName": "geometry_msgs/msg/PoseWithCovarianceStamped"}]}))
+            loop = asyncio.get_running_loop()
+            deadline = loop.time() + 5.0
+            while not poses and loop.time() < deadline:
+                await ws.send_bytes(struct.pack("<BI", 1, 4) + json.dumps(bad).encode())
+                await ws.send_bytes(struct.pack("<BI", 1, 4) + json.dumps(good).encode())
+                await asyncio.sleep(0.05)
+                executor.spin_once(timeout_sec=0.0)
+
+    asyncio.run(go())
+    assert poses, "the published pose never reached a posekit subscriber"
+    assert all(p.pose.pose.position.x == 2.5 for p in poses)  # the bad ones were dropped
+    msg = poses[0]
+    assert msg.header.frame_id == "odom"
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == (7, 500)
+    p = msg.pose.pose
+    assert (p.position.x, p.position.y, p.position.z) == (2.5, -1.0, 0.0)
+    assert (p.orientation.x, p.orientation.z, p.orientation.w) == (0.0, 0.6, 0.8)
+    assert list(msg.pose.covariance) == covariance
+
+
 async def _exact_time(ws: Any, ns: int) -> int:
     while True:
         stamp = await _time_at_least(ws, 0)
@@ -388,5 +448,106 @@ def test_other_subprotocols_and_foreign_hosts_are_refused(system: System) -> Non
             async with session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
                                           headers={"Origin": own}) as ws:
                 assert ws.protocol == FOXGLOVE_SUBPROTOCOL
+
+    asyncio.run(go())
+
+
+def test_laser_scan_and_point_cloud_decode_from_the_advertised_schema(system: System) -> None:
+    """LaserScan and PointCloud2 (a best-effort publisher, as sensor drivers use) reach a
+    client on channels whose ros2msg schema decodes them: mcap-ros2-support builds its
+    decoder from the advertised schema text alone, as Foxglove does."""
+    import numpy as np
+    from mcap_ros2._dynamic import generate_dynamic
+
+    from posekit.msgs.point_cloud2 import create_cloud
+    from posekit.msgs.sensor_msgs import LaserScan, PointCloud2
+    from posekit.msgs.std_msgs import Header
+    from posekit.runtime.qos import qos_profile_sensor_data
+
+    scan_pub = system.node.create_publisher(LaserScan, "/scan", 10)
+    cloud_pub = system.node.create_publisher(PointCloud2, "/points", qos_profile_sensor_data)
+    scan = LaserScan()
+    scan.header.frame_id = "laser"
+    scan.angle_min, scan.angle_max, scan.angle_increment = -1.5, 1.5, 0.75
+    scan.range_min, scan.range_max = 0.05, 30.0
+    scan.ranges = np.array([1.25, np.inf, 2.5, -np.inf, 0.5], dtype=np.float32)
+    scan.intensities = np.array([10, 0, 20, 0, 30], dtype=np.float32)
+    xyz = np.array([[1.0, 2.0, 3.0], [-0.5, 0.25, 4.0]], dtype=np.float32)
+    cloud = create_cloud(Header(frame_id="oak_rgb_camera_optical_frame"), xyz)
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+        ) as ws:
+            channels = await _advertised(ws, {"/scan", "/points"})
+            decoded: dict[str, Any] = {}
+            for sub_id, (topic, msg, pub) in enumerate(
+                    [("/scan", scan, scan_pub), ("/points", cloud, cloud_pub)], start=10):
+                ch = channels[topic]
+                assert (ch["encoding"], ch["schemaEncoding"]) == ("cdr", "ros2msg")
+                await _subscribe(ws, ch["id"], sub_id)
+                payload = await _publish_until_message(
+                    ws, sub_id, lambda pub=pub, msg=msg: pub.publish(msg))
+                decoder = generate_dynamic(ch["schemaName"], ch["schema"])[ch["schemaName"]]
+                decoded[topic] = decoder(payload)
+            got_scan, got_cloud = decoded["/scan"], decoded["/points"]
+            assert channels["/scan"]["schemaName"] == "sensor_msgs/msg/LaserScan"
+            assert channels["/points"]["schemaName"] == "sensor_msgs/msg/PointCloud2"
+            assert got_scan.header.frame_id == "laser"
+            np.testing.assert_array_equal(np.asarray(got_scan.ranges, np.float32), scan.ranges)
+            np.testing.assert_array_equal(np.asarray(got_scan.intensities, np.float32),
+                                          scan.intensities)
+            assert got_scan.angle_increment == 0.75
+            assert [(f.name, f.offset, f.datatype, f.count) for f in got_cloud.fields] == [
+                ("x", 0, 7, 1), ("y", 4, 7, 1), ("z", 8, 7, 1)]
+            assert (got_cloud.width, got_cloud.height, got_cloud.point_step) == (2, 1, 12)
+            points = np.frombuffer(bytes(got_cloud.data), np.float32).reshape(2, 3)
+            np.testing.assert_array_equal(points, xyz)
+
+    asyncio.run(go())
+
+
+def test_a_topic_whose_publishers_leave_is_unadvertised(system: System) -> None:
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
+        ) as ws:
+            pub = system.node.create_publisher(Odometry, "/odometry/wheels", 10)
+            channels = await _advertised(ws, {"/odometry/wheels"})
+            system.node.destroy_publisher(pub)
+            channel_id = channels["/odometry/wheels"]["id"]
+            while True:  # the background refresh notices within a few periods
+                msg = await asyncio.wait_for(ws.receive(), 5.0)
+                if msg.type == aiohttp.WSMsgType.TEXT:
+                    data = json.loads(msg.data)
+                    if data["op"] == "unadvertise" and channel_id in data["channelIds"]:
+                        break
+            assert "/odometry/wheels" not in system.bridge.topics()
+
+    asyncio.run(go())
+
+
+def test_a_latched_topic_reaches_clients_that_subscribe_later(system: System) -> None:
+    """/robot_description is published once, transient local, before any client connects
+    (as robot_state_publisher does); each client that subscribes later still receives it."""
+    from posekit.msgs.std_msgs import String
+    from posekit.runtime.qos import DurabilityPolicy, QoSProfile
+
+    latched = system.node.create_publisher(
+        String, "/robot_description",
+        QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    latched.publish(String(data="<robot name='rosbot'/>"))
+    system.bridge.refresh()  # observed (and the latched sample taken) with no client yet
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session:
+            for sub_id in (21, 22):  # two clients, one after the other
+                async with session.ws_connect(system.url,
+                                              protocols=(FOXGLOVE_SUBPROTOCOL,)) as ws:
+                    channels = await _advertised(ws, {"/robot_description"})
+                    await _subscribe(ws, channels["/robot_description"]["id"], sub_id)
+                    _, payload = await _message(ws, sub_id)
+                    msg = ROS.deserialize_cdr(payload, "std_msgs/msg/String")
+                    assert msg.data == "<robot name='rosbot'/>"
 
     asyncio.run(go())

@@ -318,3 +318,56 @@ def test_time_state_follows_clock_else_the_wall(ctx: Context, node: Node) -> Non
     pub.publish(msg)
     state = tap.time_state()
     assert (state["source"], state["sim"], state["rate_clock"]) == ("/clock", 42.5, "sim")
+
+
+def test_best_effort_topics_arrive_and_topics_that_leave_are_dropped(
+    ctx: Context, node: Node
+) -> None:
+    """A best-effort odometry publisher (a request of reliable would not match it) reaches
+    the trail; a topic whose publisher is destroyed is unsubscribed and leaves the panel."""
+    from posekit.runtime.qos import qos_profile_sensor_data
+
+    pub = node.create_publisher(Odometry, "/odometry/filtered", qos_profile_sensor_data)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    pub.publish(odometry(1.5, 0.0, 0.0))
+    assert tap.trails()["/odometry/filtered"]["trail"][0][0] == 1.5
+    assert [t["name"] for t in tap.topics()].count("/odometry/filtered") == 1
+    node.destroy_publisher(pub)
+    for _ in range(3):  # the observer lets go after its grace refreshes
+        tap.refresh()
+    assert ctx.transport().count_subscribers("/odometry/filtered") == 0
+    assert "/odometry/filtered" not in [t["name"] for t in tap.topics()]
+    tap.close()
+
+
+def test_point_clouds_are_subscribed_only_while_a_display_follows_them(
+    ctx: Context, node: Node
+) -> None:
+    """A PointCloud2 topic is listed but not subscribed (its publisher counts no subscriber,
+    so a lazy sensor renders nothing) until a display follows it; then its messages reach the
+    display queue; when the display goes, so does the subscription."""
+    from posekit.msgs.point_cloud2 import create_cloud
+    from posekit.msgs.sensor_msgs import PointCloud2
+    from posekit.msgs.std_msgs import Header
+    from posekit.viewer.taps import ON_DEMAND_NOTE
+
+    pub = node.create_publisher(PointCloud2, "/points", 5)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    tap.refresh()
+    assert pub.get_subscription_count() == 0
+    assert tap.topic_type("/points") == "sensor_msgs/msg/PointCloud2"
+    assert any(t["name"] == "/points" and t["error"] == ON_DEMAND_NOTE
+               for t in tap.topics())
+    tap.set_message_watches({"/points": 1})
+    assert pub.get_subscription_count() == 1
+    pub.publish(create_cloud(Header(frame_id="f"), np.ones((4, 3), np.float32)))
+    got = tap.messages_after("/points", 0)
+    assert len(got) == 1
+    assert got[0][1].width == 4
+    tap.set_message_watches({})
+    assert pub.get_subscription_count() == 0
+    tap.refresh()
+    assert pub.get_subscription_count() == 0  # not observed again without a display
+    tap.close()

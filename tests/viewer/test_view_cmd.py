@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import urllib.request
+from typing import Any
 
 import pytest
 
@@ -25,6 +26,18 @@ def test_bad_arguments_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert "unknown scenario" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["--help"])
+
+
+def test_a_config_that_is_not_a_saved_view_stops_with_one_line(
+    tmp_path: Any, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "view.json"
+    bad.write_text('{"something": "else"}')
+    assert main(["--scenario", "p_controller", "--port", "0", "--config", str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert "not a posekit view configuration" in err
+    assert len(err.strip().splitlines()) == 1
+    assert "Traceback" not in err
 
 
 def test_attach_to_a_stepped_run_uses_its_world_and_sim_time() -> None:

@@ -10,8 +10,8 @@ import pytest
 
 cv2 = pytest.importorskip("cv2")
 
-from posekit.robot.worlds import WORLDS, marker_poses  # noqa: E402
 from posekit.viewer.world import world_payload  # noqa: E402
+from posekit.worlds import WORLDS, marker_poses  # noqa: E402
 
 
 def test_boxes_and_markers_match_the_world() -> None:

@@ -72,9 +72,9 @@ def test_viewer_over_zenoh_learns_the_world_from_the_simulator_parameter() -> No
     aiohttp = pytest.importorskip("aiohttp")
     import threading
 
-    from posekit.robot.worlds import load_world
     from posekit.runtime.executors import SingleThreadedExecutor
     from posekit.viewer import attach_viewer
+    from posekit.worlds import load_world
 
     sim_ctx, viewer_ctx = Context(), Context()
     sim_ctx.init(transport="zenoh")

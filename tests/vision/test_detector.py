@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation as SciRotation
 
-from posekit.vision.box_model import ARUCO_BOX, box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.detector import ArucoMarkerDetector, draw_detections
 from posekit.vision.errors import CameraModelError, InvalidImageError
 from posekit.vision.evaluation import look_at
 from posekit.vision.render import BoxRenderer
+from posekit.worlds import ARUCO_BOX, box_pose_matrix
 
 CAM = OAK_RGB_CAMERA
 OBJ = np.array([[-0.1, 0.1, 0], [0.1, 0.1, 0], [0.1, -0.1, 0], [-0.1, -0.1, 0]])

@@ -9,11 +9,11 @@ import cv2
 import numpy as np
 import pytest
 
-from posekit.vision.box_model import ARUCO_BOX, box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.errors import CameraModelError
 from posekit.vision.evaluation import look_at
 from posekit.vision.render import BoxRenderer, marker_texture
+from posekit.worlds import ARUCO_BOX, box_pose_matrix
 
 SUN = np.array([-0.5, 0.1, -0.9])
 TO_SUN = -SUN / np.linalg.norm(SUN)
@@ -268,7 +268,7 @@ def test_walls_are_drawn_and_hide_the_boxes_behind_them():
     beyond the boxes (x = 4) and a box in front of a wall: every pixel matches the ray
     caster above (walls as vertical faces seen from both sides, flat-shaded at albedo 0.9);
     box_1's marker is hidden where the low wall covers it and visible above it."""
-    from posekit.robot.obstacles import WallSegments
+    from posekit.worlds.obstacles import WallSegments
 
     walls = [((1.5, -0.3), (1.5, 0.3), 0.4), ((4.0, -5.0), (4.0, 5.0), 2.0),
              ((3.0, 1.5), (3.0, 3.0), 1.0)]

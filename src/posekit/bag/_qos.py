@@ -1,8 +1,9 @@
 """QoS between posekit's runtime and rosbag2 metadata (``offered_qos_profiles``).
 
-rosbag2 stores, per topic, the QoS every publisher *offered* when the recorder discovered it.
-The recorder then subscribes with a profile every one of those publishers can serve, and the
-player publishes with a profile derived from the recorded offers (rosbag2's adaptive QoS).
+rosbag2 stores, per topic, the QoS every publisher *offered* when the recorder discovered it
+(what the offers are and the profile the recorder subscribes with are the passive observer's:
+:mod:`posekit.runtime.observe`); the player publishes with a profile derived from the recorded
+offers (rosbag2's adaptive QoS).
 
 Durations (deadline, lifespan, liveliness lease) are not modelled by posekit's runtime; they
 are written as rmw's "infinite" (9223372036 s 854775807 ns), as ROS 2 records default
@@ -25,17 +26,13 @@ __all__ = [
     "INFINITE_NSEC",
     "INFINITE_SEC",
     "from_rosbags_qos",
-    "offered_qos_profiles",
     "playback_qos",
-    "recording_qos",
     "to_rosbags_qos",
 ]
 
 #: rmw's RMW_DURATION_INFINITE split as ROS 2 writes it into bag metadata.
 INFINITE_SEC = 9223372036
 INFINITE_NSEC = 854775807
-#: Static transforms: what tf2_ros's StaticTransformBroadcaster offers.
-_TF_STATIC_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 #: Upper bound of the late-joiner history the player keeps per transient-local topic.
 _MAX_LATCHED = 1000
 
@@ -95,56 +92,6 @@ def from_rosbags_qos(qos: Any) -> QoSProfile:
     )
     return QoSProfile(
         history=history, depth=max(depth, 0), reliability=reliability, durability=durability
-    )
-
-
-def offered_qos_profiles(node: Any, topic: str) -> list[QoSProfile]:
-    """The QoS each publisher on ``topic`` offers, as far as the transport tells.
-
-    Asks, in order: rclpy's ``node.get_publishers_info_by_topic`` (entries with
-    ``qos_profile``), a transport method ``publisher_qos_profiles(topic)``, the in-process
-    bus's endpoint table. Without any of these, ``/tf_static`` gets tf2_ros's static profile
-    (transient local, depth 1) and every other topic rclpy's default (reliable, depth 10).
-    A topic without publishers (only subscriptions so far) has no offers: ``[]``.
-    """
-    if node.count_publishers(topic) == 0:
-        return []
-    get_info = getattr(node, "get_publishers_info_by_topic", None)
-    if callable(get_info):
-        infos = get_info(topic)
-        profiles = [p for p in (getattr(i, "qos_profile", None) for i in infos) if p is not None]
-        if profiles and all(isinstance(p, QoSProfile) for p in profiles):
-            return list(profiles)
-    transport = getattr(node, "transport", None)
-    by_transport = getattr(transport, "publisher_qos_profiles", None)
-    if callable(by_transport):
-        profiles = list(by_transport(topic))
-        if profiles:
-            return profiles
-    topics = getattr(transport, "_topics", None)  # InProcessBus (same process, same package)
-    if isinstance(topics, dict) and topic in topics:
-        pubs = getattr(topics[topic], "publishers", [])
-        profiles = [p.info.qos for p in pubs if hasattr(p, "info")]
-        if profiles:
-            return profiles
-    return [_TF_STATIC_QOS if topic == "/tf_static" else QoSProfile(depth=10)]
-
-
-def recording_qos(offered: Sequence[QoSProfile]) -> QoSProfile:
-    """Subscription profile that matches every offer: transient local only when every
-    publisher is transient local, best effort as soon as one publisher is best effort.
-    KEEP_ALL so a busy executor never drops a message before the recorder sees it."""
-    transient = bool(offered) and all(
-        p.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL for p in offered
-    )
-    best_effort = any(p.resolved_reliability == ReliabilityPolicy.BEST_EFFORT for p in offered)
-    return QoSProfile(
-        history=HistoryPolicy.KEEP_ALL,
-        depth=0,
-        reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
-        durability=(
-            DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE
-        ),
     )
 
 

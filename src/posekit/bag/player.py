@@ -43,6 +43,7 @@ from typing import Any
 from posekit.bag._qos import from_rosbags_qos, playback_qos
 from posekit.bag._storage import open_reader
 from posekit.bag.errors import BagFormatError, BagOptionError
+from posekit.bag.info import SERVICE_EVENT_SUFFIX, is_service_event_topic
 from posekit.bag.reader import BagMessage, read_messages
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor
@@ -63,6 +64,21 @@ class PlaybackTopic:
     msgtype: str
     message_count: int
     qos: QoSProfile
+
+
+#: ``service_requests_source`` -> the ServiceEventInfo event type holding the request.
+_REQUEST_EVENTS = {"service_introspection": 1, "client_introspection": 0}
+
+
+def _service_class(event_type: str) -> type[Any]:
+    from posekit.msgs.errors import UnknownMessageTypeError
+    from posekit.msgs.registry import get_service_class
+
+    try:
+        return get_service_class(event_type.removesuffix("_Event"))
+    except UnknownMessageTypeError:
+        raise BagFormatError(f"service type {event_type.removesuffix('_Event')!r} is not one "
+                             "posekit can call") from None
 
 
 def _message_class(msgtype: str) -> type[Any]:
@@ -99,6 +115,12 @@ class Player:
         delay: wall seconds to wait before each pass in :meth:`play`.
         node_name: name of the player node.
         transport: transport name for the node (default: the context's).
+        publish_service_requests: instead of publishing a recorded service's events on its
+            ``<service>/_service_event`` topic, call the service with each recorded request
+            (``ros2 bag play --publish-service-requests``); responses are not waited for.
+        service_requests_source: which recorded events hold the requests to send:
+            ``"service_introspection"`` (the servers' REQUEST_RECEIVED events, default) or
+            ``"client_introspection"`` (the clients' REQUEST_SENT events).
 
     Raises:
         BagNotFoundError, BagFormatError: the bag is missing or unreadable.
@@ -121,7 +143,15 @@ class Player:
         start_paused: bool = False,
         remap: Mapping[str, str] | None = None,
         delay: float = 0.0,
+        publish_service_requests: bool = False,
+        service_requests_source: str = "service_introspection",
     ) -> None:
+        if service_requests_source not in _REQUEST_EVENTS:
+            raise BagOptionError(
+                f"service_requests_source must be one of {sorted(_REQUEST_EVENTS)}, got "
+                f"{service_requests_source!r}")
+        self._request_event = _REQUEST_EVENTS[service_requests_source]
+        self._request_side = service_requests_source.split("_")[0]
         if not rate > 0:
             raise BagOptionError(f"playback rate must be > 0, got {rate}")
         if not (start_offset >= 0 and delay >= 0):
@@ -162,16 +192,28 @@ class Player:
             if (wanted is None or name in wanted)
             and not (name == _CLOCK_TOPIC and publish_clock and wanted is None)
         }
-        classes = {name: _message_class(info.msgtype) for name, info in self.topics.items()}
+        requests = {name for name, info in self.topics.items()
+                    if publish_service_requests and is_service_event_topic(name, info.msgtype)}
+        classes = {name: _message_class(info.msgtype) for name, info in self.topics.items()
+                   if name not in requests}
+        services = {name: _service_class(self.topics[name].msgtype) for name in requests}
         self.node = Node(node_name, context=context, transport=transport)
         remap = dict(remap or {})
-        if unknown := sorted(set(remap) - set(self.topics)):
+        if unknown := sorted(set(remap) - set(classes)):
             self.node.destroy_node()
-            raise BagOptionError(f"cannot remap {unknown}: not played from this bag")
+            raise BagOptionError(f"cannot remap {unknown}: not published from this bag")
         self._publishers: dict[str, Any] = {
-            name: self.node.create_publisher(classes[name], remap.get(name, name), info.qos)
-            for name, info in self.topics.items()
+            name: self.node.create_publisher(classes[name], remap.get(name, name),
+                                             self.topics[name].qos)
+            for name in classes
         }
+        #: Service clients replaying recorded requests, by service event topic.
+        self._clients: dict[str, Any] = {
+            name: self.node.create_client(srv, name.removesuffix(SERVICE_EVENT_SUFFIX))
+            for name, srv in services.items()
+        }
+        #: Recorded requests sent to services (``publish_service_requests``).
+        self.requests_sent = 0
         self._clock_pub: Any = None
         #: Messages published so far.
         self.published = 0
@@ -220,8 +262,29 @@ class Player:
                 f"skipped the message on '{message.topic}' at {message.timestamp_ns} ns: {exc}"
             )
             return
-        self._publishers[message.topic].publish(msg)
-        self.published += 1
+        client = self._clients.get(message.topic)
+        if client is None:
+            self._publishers[message.topic].publish(msg)
+            self.published += 1
+        else:
+            self._send_request(client, msg)
+
+    def _send_request(self, client: Any, event: Any) -> None:
+        """Call the service with a recorded request event's request (rosbag2's checks)."""
+        if int(event.info.event_type) != self._request_event:
+            return  # responses, and the other side's requests, are not replayed
+        logger = self.node.get_logger()
+        if not client.service_is_ready():
+            logger.warning(f"Service request hasn't been sent. The '{client.service_name}' "
+                           "service isn't ready !", throttle_duration_sec=5.0)
+            return
+        if not len(event.request):
+            logger.warning(f"Can't send service request. The configuration of introspection "
+                           f"for '{client.service_name}' was metadata only on "
+                           f"{self._request_side} side!", throttle_duration_sec=5.0)
+            return
+        client.call_async(event.request[0])
+        self.requests_sent += 1
 
     def stop(self) -> None:
         """Make :meth:`play` / :meth:`run_simulated` return before the next message."""
@@ -338,41 +401,13 @@ class Player:
             while not self._stopped and (left := end_delay - time.monotonic()) > 0:
                 wait(left)
             origin = self.start_ns + self.start_offset_ns
-            # bag time at wall time w: anchor_bag + (w - anchor_wall) * rate, unless paused
-            anchor_wall, anchor_bag, anchor_rate = time.monotonic(), origin, self.rate
-            next_clock = anchor_wall
+            clock = _BagClock(time.monotonic(), origin, self.rate, self._paused)
+            next_clock = clock.wall
             for message in self._pass_messages():
                 if message.timestamp_ns < origin:
                     continue
-                while not self._stopped:
-                    now = time.monotonic()
-                    with self._control:
-                        paused, rate, step = self._paused, self.rate, self._steps > 0
-                        if step:
-                            self._steps -= 1
-                    if paused:
-                        bag_now = anchor_bag
-                        anchor_wall = now  # resuming continues from anchor_bag
-                    elif rate != anchor_rate:  # a rate change starts from the current time
-                        anchor_bag += int((now - anchor_wall) * anchor_rate * 1e9)
-                        anchor_wall, anchor_rate = now, rate
-                        bag_now = anchor_bag
-                    else:
-                        bag_now = anchor_bag + int((now - anchor_wall) * rate * 1e9)
-                    if progress is not None:
-                        progress(min(bag_now, message.timestamp_ns), paused)
-                    if self._clock_pub is not None and now >= next_clock:
-                        self._send_clock(min(bag_now, message.timestamp_ns))
-                        next_clock = now + period
-                    if step or (not paused and bag_now >= message.timestamp_ns):
-                        if step:
-                            anchor_bag, anchor_wall = message.timestamp_ns, now
-                        break
-                    due_in = (message.timestamp_ns - bag_now) / 1e9 / rate
-                    timeout = 0.05 if paused else due_in
-                    if self._clock_pub is not None:
-                        timeout = min(timeout, max(0.0, next_clock - now))
-                    wait(min(timeout, 0.05) if progress is not None else timeout)
+                next_clock = self._wait_until_due(
+                    message.timestamp_ns, clock, next_clock, period, wait, progress)
                 if self._stopped:
                     break
                 if self._clock_pub is not None:
@@ -382,6 +417,35 @@ class Player:
                 executor.spin_some()
             self.loops_done += 1
         return self.published - before
+
+    def _wait_until_due(self, stamp_ns: int, clock: _BagClock, next_clock: float,
+                        period: float, wait: Callable[[float], None],
+                        progress: Callable[[int, bool], None] | None) -> float:
+        """Wait until the bag clock reaches ``stamp_ns`` (pause, step and rate changes from
+        other threads honoured), sending ``/clock`` every ``period`` s of wall time on the
+        way; returns the wall time of the next ``/clock``."""
+        while not self._stopped:
+            now = time.monotonic()
+            with self._control:
+                paused, rate, step = self._paused, self.rate, self._steps > 0
+                if step:
+                    self._steps -= 1
+            bag_now = clock.at(now, paused, rate)
+            if progress is not None:
+                progress(min(bag_now, stamp_ns), paused)
+            if self._clock_pub is not None and now >= next_clock:
+                self._send_clock(min(bag_now, stamp_ns))
+                next_clock = now + period
+            if step:  # play_next: this message now, and the clock continues from it
+                clock.bag, clock.wall = stamp_ns, now
+                return next_clock
+            if not paused and bag_now >= stamp_ns:
+                return next_clock
+            timeout = 0.05 if paused else (stamp_ns - bag_now) / 1e9 / rate
+            if self._clock_pub is not None:
+                timeout = min(timeout, max(0.0, next_clock - now))
+            wait(min(timeout, 0.05) if progress is not None else timeout)
+        return next_clock
 
     def _send_clock(self, ns: int) -> None:
         from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
@@ -402,6 +466,29 @@ class Player:
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
         self.close()
+
+
+class _BagClock:
+    """Bag time (ns) during wall-clock playback: ``bag + (wall_now - wall) * rate * 1e9``.
+
+    Paused, it stands still; a pause, a resume or a new rate re-anchors it at the current
+    bag time, so none of them makes the bag time jump.
+    """
+
+    def __init__(self, wall: float, bag: int, rate: float, paused: bool = False) -> None:
+        self.wall, self.bag, self.rate, self.paused = wall, bag, rate, paused
+
+    def at(self, wall_now: float, paused: bool, rate: float) -> int:
+        """The bag time at monotonic wall time ``wall_now`` (s) under ``paused``/``rate``."""
+        if (paused, rate) != (self.paused, self.rate):
+            self.bag = self._time(wall_now)
+            self.wall, self.paused, self.rate = wall_now, paused, rate
+        return self._time(wall_now)
+
+    def _time(self, wall_now: float) -> int:
+        if self.paused:
+            return self.bag
+        return self.bag + int((wall_now - self.wall) * self.rate * 1e9)
 
 
 def _ns_time(ns: int) -> Any:

@@ -64,6 +64,8 @@ from posekit.bag.info import (
     is_service_event_topic,
     is_service_event_type,
 )
+from posekit.msgs.errors import UnknownMessageTypeError
+from posekit.msgs.registry import normalize_type_name
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor
 from posekit.runtime.logging import get_logger
@@ -71,6 +73,7 @@ from posekit.runtime.node import Node
 from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped, is_hidden_topic
 from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import EndpointInfo, MessageSink, SubscriptionEndpoint
+from posekit.time import stamp_to_ns
 
 __all__ = ["Recorder", "attach_recorder", "record_scenario"]
 
@@ -86,7 +89,7 @@ def _header_stamp_ns(msg: Any) -> int | None:
     stamp = getattr(header, "stamp", None)
     if stamp is None:
         return None
-    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
+    return stamp_to_ns(stamp)
 
 
 #: Graph checks in a row without a publisher before a topic's subscription is let go.
@@ -173,6 +176,8 @@ class Recorder:
         exclude_services: services never recorded (with ``all_services`` or ``regex``).
         all_topics: record every (non-hidden) topic; default: when no other selection is
             given.
+        topic_types: also record every topic of these types (``pkg/msg/Name``).
+        exclude_topic_types: never record topics of these types.
 
     Raises:
         BagExistsError: ``output`` exists.
@@ -202,6 +207,8 @@ class Recorder:
         all_services: bool = False,
         exclude_services: Sequence[str] = (),
         all_topics: bool | None = None,
+        topic_types: Sequence[str] = (),
+        exclude_topic_types: Sequence[str] = (),
     ) -> None:
         if version not in SUPPORTED_VERSIONS:
             raise BagOptionError(
@@ -249,8 +256,14 @@ class Recorder:
                 f"invalid topic or service name in {[*(topics or []), *(services or [])]}: "
                 f"{exc}") from exc
         self._all_services = all_services
+        try:
+            self._types = {normalize_type_name(t) for t in topic_types}
+            self._exclude_types = {normalize_type_name(t) for t in exclude_topic_types}
+        except (ValueError, LookupError, UnknownMessageTypeError) as exc:
+            self.node.destroy_node()
+            raise BagOptionError(f"invalid topic type: {exc}") from None
         self._all_topics = (not (self._explicit or self._services or all_services
-                                 or self._regex is not None)
+                                 or self._types or self._regex is not None)
                             if all_topics is None else all_topics)
         self._exclude = {self.node.resolve_topic_name(t) for t in exclude}
         self._include_hidden = include_hidden
@@ -334,10 +347,13 @@ class Recorder:
             if topic in self._exclude_services:
                 return False
             return not (self._exclude_regex is not None and self._exclude_regex.search(service))
-        if not (self._all_topics or self._explicit or self._regex is not None):
+        if not (self._all_topics or self._explicit or self._types or self._regex is not None):
             return False
         if not self._all_topics and topic not in self._explicit and (
+                type_name not in self._types) and (
                 self._regex is None or not self._regex.search(topic)):
+            return False
+        if type_name in self._exclude_types:
             return False
         if topic in self._exclude and topic not in self._explicit:
             return False

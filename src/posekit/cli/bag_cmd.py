@@ -96,18 +96,34 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
                         help="topics to record (as ros2 bag's deprecated positional form)")
     parser.add_argument("--topics", nargs="+", default=[], metavar="TOPIC",
                         help="space-delimited list of topics to record")
+    parser.add_argument("--services", nargs="+", default=[], metavar="SERVICE",
+                        help="space-delimited list of services to record (their events, "
+                             "<service>/_service_event; introspection must be on)")
+    parser.add_argument("--topic-types", nargs="+", default=[], metavar="TYPE",
+                        help="space-delimited list of topic types to record")
     parser.add_argument("-a", "--all", action="store_true",
-                        help="record all topics (discovered continuously; not /clock)")
-    parser.add_argument("--all-topics", action="store_true", help="same as --all")
+                        help="record all topics and services (discovered continuously; not "
+                             "/clock nor hidden topics)")
+    parser.add_argument("--all-topics", action="store_true",
+                        help="record all topics (not hidden topics)")
+    parser.add_argument("--all-services", action="store_true",
+                        help="record all services via their service event topics")
     parser.add_argument("-e", "--regex", default="",
-                        help="record only topics containing the provided regular expression "
-                             "(--all overrides it)")
+                        help="record only topics and services containing the provided regular "
+                             "expression (--all, --all-topics or --all-services override it)")
     parser.add_argument("--exclude-regex", default="",
-                        help="exclude topics containing the provided regular expression; "
-                             "works on top of --all, --topics or --regex")
+                        help="exclude topics and services containing the provided regular "
+                             "expression; works on top of --all, --all-topics, "
+                             "--all-services, --topics, --services or --regex")
+    parser.add_argument("--exclude-topic-types", nargs="+", default=[], metavar="TYPE",
+                        help="space-delimited list of topic types not to record; works on top "
+                             "of --all, --all-topics, --topics or --regex")
     parser.add_argument("--exclude-topics", nargs="+", default=[], metavar="TOPIC",
                         help="space-delimited list of topics not to record; works on top of "
-                             "--all or --regex")
+                             "--all, --all-topics, --topics or --regex")
+    parser.add_argument("--exclude-services", nargs="+", default=[], metavar="SERVICE",
+                        help="space-delimited list of services not to record; works on top of "
+                             "--all, --all-services, --services or --regex")
     parser.add_argument("--include-hidden-topics", action="store_true",
                         help="also record hidden topics (with --all or --regex)")
     parser.add_argument("-o", "--output", default=None,
@@ -146,13 +162,16 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
         return ns
     topics = list(ns.topics_positional) + list(ns.topics)
     every = ns.all or ns.all_topics
+    every_service = ns.all or ns.all_services
     problem = _record_usage_problem(ns, topics, every)
     if problem:
         sys.stderr.write(parser.format_usage() + f"posekit bag record: error: {problem}\n")
         return 2
+    if every_service and ns.services:
+        sys.stderr.write("[WARN] [ros2bag]: --all or --all-services will override --services\n")
     if every and topics:
         sys.stderr.write("[WARN] [ros2bag]: --all or --all-topics will override --topics\n")
-    if every and ns.regex:
+    if (every or every_service) and ns.regex:
         sys.stderr.write("[WARN] [ros2bag]: --all, --all-topics or --all-services will "
                          "override --regex\n")
     output = ns.output or default_bag_name()
@@ -186,6 +205,12 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
             recorder = Recorder(
                 output,
                 None if every else (topics or None),
+                all_topics=every,
+                services=None if every_service else ns.services,
+                all_services=every_service,
+                exclude_services=ns.exclude_services,
+                topic_types=ns.topic_types,
+                exclude_topic_types=ns.exclude_topic_types,
                 context=ctx,
                 node_name=ns.node_name,
                 version=ns.metadata_version,
@@ -193,7 +218,7 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
                 stamp=ns.stamp,
                 include_hidden=ns.include_hidden_topics,
                 exclude=["/clock", *ns.exclude_topics],
-                regex=None if every else (ns.regex or None),
+                regex=None if (every or every_service) else (ns.regex or None),
                 exclude_regex=ns.exclude_regex or None,
                 max_bag_size=ns.max_bag_size,
                 max_bag_duration=ns.max_bag_duration,
@@ -230,13 +255,19 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
 
 def _record_usage_problem(ns: argparse.Namespace, topics: list[str], every: bool) -> str:
     """rosbag2 Jazzy's argument checks of ``ros2 bag record``, with its wording."""
-    if not (every or topics or ns.regex):
-        return ("Need to specify at least one option out of --all, --all-topics, --topics or "
-                "--regex")
-    if ns.exclude_regex and not (every or ns.regex):
-        return "--exclude-regex argument requires either --all, --all-topics or --regex"
-    if ns.exclude_topics and not (every or ns.regex):
-        return "--exclude-topics argument requires either --all, --all-topics or --regex"
+    if not (every or ns.all_services or ns.services or topics or ns.topic_types or ns.regex):
+        return ("Need to specify at least one option out of --all, --all-topics, "
+                "--all-services, --services, --topics, --topic-types or --regex")
+    if ns.exclude_regex and not (every or ns.topic_types or ns.all_services or ns.regex):
+        return ("--exclude-regex argument requires either --all, --all-topics, --topic-types, "
+                "--all-services or --regex")
+    if ns.exclude_topics and not (every or ns.topic_types or ns.regex):
+        return ("--exclude-topics argument requires either --all, --all-topics, "
+                "--topic-types or --regex")
+    if ns.exclude_topic_types and not (every or ns.topic_types or ns.regex):
+        return "--exclude-topic-types argument requires either --all, --all-topics or --regex"
+    if ns.exclude_services and not (ns.all or ns.all_services or ns.regex):
+        return "--exclude-services argument requires either --all, --all-services or --regex"
     if ns.compression_format and ns.compression_mode == "none":
         return "Invalid choice: Cannot specify compression format without a compression mode."
     if ns.max_bag_size < 0 or ns.max_bag_duration < 0:
@@ -341,11 +372,17 @@ def _remaps(pairs: Sequence[str]) -> dict[str, str]:
 
 
 def _play_topics(bag: str, ns: argparse.Namespace) -> list[str] | None:
-    """The recorded topics ``--topics``, ``-e``, ``-x`` and ``--exclude-topics`` select."""
+    """The recorded topics ``--topics``, ``--services``, ``-e``, ``-x``, ``--exclude-topics``
+    and ``--exclude-services`` select, as rosbag2 Jazzy's player does: topic options select
+    among topics and service options among service event topics (``--topics`` alone still
+    plays every recorded service), the regular expressions apply to both. None: all."""
     import re
 
-    if not (ns.regex or ns.exclude_regex or ns.exclude_topics):
-        return list(ns.topics) or None
+    from posekit.bag.info import SERVICE_EVENT_SUFFIX, is_service_event_topic
+
+    if not (ns.topics or ns.services or ns.regex or ns.exclude_regex or ns.exclude_topics
+            or ns.exclude_services):
+        return None
     from posekit.bag import bag_info
 
     try:
@@ -354,11 +391,23 @@ def _play_topics(bag: str, ns: argparse.Namespace) -> list[str] | None:
     except re.error as exc:
         raise _UsageError(f"posekit bag play: error: invalid regular expression: {exc}") \
             from None
-    chosen = []
-    for topic in (t.name for t in bag_info(bag).topics):
-        picked = (not ns.topics and include is None) or topic in ns.topics or (
+
+    def events(services: list[str]) -> set[str]:
+        return {"/" + s.strip("/").removesuffix(SERVICE_EVENT_SUFFIX.lstrip("/")).rstrip("/")
+                + SERVICE_EVENT_SUFFIX for s in services}
+
+    recorded_topics = bag_info(bag).topics
+    # A listed topic the bag lacks is the player's error ("not in bag"), as before.
+    chosen = [t for t in ns.topics if t not in {r.name for r in recorded_topics}]
+    for recorded in recorded_topics:
+        topic = recorded.name
+        if is_service_event_topic(topic, recorded.msgtype):
+            listed, excluded = events(ns.services), events(ns.exclude_services)
+        else:
+            listed, excluded = set(ns.topics), set(ns.exclude_topics)
+        picked = (not listed and include is None) or topic in listed or (
             include is not None and include.search(topic) is not None)
-        if picked and topic not in ns.exclude_topics and not (
+        if picked and topic not in excluded and not (
                 exclude is not None and exclude.search(topic)):
             chosen.append(topic)
     if not chosen:
@@ -384,6 +433,19 @@ def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None)
                         help="regular expression excluding topics from replay")
     parser.add_argument("--exclude-topics", nargs="+", default=[], metavar="TOPIC",
                         help="space-delimited list of topics not to play")
+    parser.add_argument("--services", nargs="+", default=[], metavar="SERVICE",
+                        help="space-delimited list of services to play (their recorded "
+                             "events)")
+    parser.add_argument("--exclude-services", nargs="+", default=[], metavar="SERVICE",
+                        help="space-delimited list of services not to play")
+    parser.add_argument("--publish-service-requests", action="store_true",
+                        help="publish recorded service requests instead of recorded service "
+                             "events")
+    parser.add_argument("--service-requests-source", default="service_introspection",
+                        choices=("service_introspection", "client_introspection"),
+                        help="the events the requests to replay come from (with "
+                             "--publish-service-requests): the servers' (default) or the "
+                             "clients'")
     parser.add_argument("--remap", "-m", nargs="+", default=[], metavar="OLD:=NEW",
                         help="topics to remap: old_topic1:=new_topic1 old_topic2:=new_topic2")
     parser.add_argument("--clock", type=float, nargs="?", const=40.0, default=100.0,
@@ -426,7 +488,9 @@ def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None)
             player = Player(ns.bag, context=ctx, topics=topics, rate=ns.rate,
                             loop=ns.loop, publish_clock=not ns.no_clock,
                             clock_frequency=ns.clock, start_offset=ns.start_offset,
-                            start_paused=ns.start_paused, remap=remap, delay=ns.delay)
+                            start_paused=ns.start_paused, remap=remap, delay=ns.delay,
+                            publish_service_requests=ns.publish_service_requests,
+                            service_requests_source=ns.service_requests_source)
         except BagError as exc:
             err.write(f"posekit bag play: {exc}\n")
             return 1
@@ -471,16 +535,18 @@ def info(argv: Sequence[str], *, out: TextIO | None = None) -> int:
     parser.add_argument("-t", "--topic-name", action="store_true",
                         help="only display topic names")
     parser.add_argument("-v", "--verbose", action="store_true",
-                        help="also metadata version, compression and offered QoS")
+                        help="display request/response information for services (and the "
+                             "metadata version, compression and offered QoS)")
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
     from posekit.bag import BagError, bag_info, format_info
-    from posekit.bag.info import is_service_event_topic
+    from posekit.bag.info import is_service_event_topic, service_counts
 
     out = out or sys.stdout
     try:
         summary = bag_info(ns.bag)
+        counts = service_counts(ns.bag) if ns.verbose else None
     except BagError as exc:
         sys.stderr.write(f"posekit bag info: {exc}\n")
         return 1
@@ -491,7 +557,7 @@ def info(argv: Sequence[str], *, out: TextIO | None = None) -> int:
         out.write("".join(f"{t.name}\n" for t in summary.topics
                           if not is_service_event_topic(t.name, t.msgtype)))
         return 0
-    out.write(format_info(summary, verbose=ns.verbose))
+    out.write(format_info(summary, verbose=ns.verbose, service_counts=counts))
     return 0
 
 

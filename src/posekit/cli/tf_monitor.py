@@ -35,6 +35,7 @@ from typing import Any, TextIO
 from posekit.cli._graph import add_transport_args, hint_if_alone, session_for
 from posekit.cli._session import add_sim_time_args
 from posekit.cli.errors import CliError
+from posekit.time import stamp_to_seconds
 
 __all__ = ["chain_as_vector", "main"]
 
@@ -99,6 +100,42 @@ def chain_as_vector(parents: dict[str, str], target: str, source: str) -> list[s
     return chain
 
 
+def _wait_for_chain(session: Any, buffer: Any, frame_a: str, frame_b: str,
+                    timeout_s: float | None, err: TextIO) -> None:
+    """Spin until ``frame_a -> frame_b`` can be looked up, logging why not once a second
+    (as tf2_monitor); CliError after ``timeout_s`` (None: wait until it can)."""
+    from posekit.time import Time
+
+    deadline = None if timeout_s is None else time.monotonic() + timeout_s
+    last_log = -1e9
+    while True:
+        ok, reason = buffer.can_transform_core(frame_a, frame_b, Time())
+        if ok:
+            return
+        if deadline is not None and time.monotonic() > deadline:
+            raise CliError(f"timed out waiting for transform {frame_a} -> {frame_b}: {reason}")
+        if time.monotonic() - last_log >= 1.0:
+            session.node.get_logger().info(
+                f"Waiting for transform {frame_a} ->  {frame_b}: {reason}")
+            if last_log < 0:
+                hint_if_alone(session, err)
+            last_log = time.monotonic()
+        session.spin_for(0.1)
+
+
+def _frame_lines(delays: dict[str, deque[float]], chain: list[str] | None) -> list[str]:
+    """The report's ``Frame: ...`` lines, sorted by frame (only the chain's, if given)."""
+    lines = []
+    for frame in sorted(delays):
+        if chain is not None and frame not in chain:
+            continue
+        values = delays[frame]
+        lines.append(f"Frame: {frame}, published by {AUTHORITY}, Average Delay: "
+                     f"{_num(sum(values) / len(values))}, Max Delay: "
+                     f"{_num(max(0.0, *values))}")
+    return lines
+
+
 def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
          err: TextIO | None = None, timeout_s: float | None = None) -> int:
     """Run tf2_monitor; ``timeout_s`` (tests) bounds the wait for the chain."""
@@ -145,7 +182,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
             now = now_s()
             total = 0.0
             for t in msg.transforms:
-                offset = now - (t.header.stamp.sec + t.header.stamp.nanosec * 1e-9)
+                offset = now - stamp_to_seconds(t.header.stamp)
                 delays.setdefault(t.child_frame_id, deque(maxlen=_HISTORY)).append(offset)
                 total += offset
             offsets.append(total / max(1, len(msg.transforms)))
@@ -155,22 +192,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         session.node.create_subscription(TFMessage, "/tf_static", on_tf, StaticListenerQoS())
         chain: list[str] = []
         if specific:
-            deadline = None if timeout_s is None else time.monotonic() + timeout_s
-            last_log = -1e9
-            while True:
-                ok, reason = buffer.can_transform_core(frame_a, frame_b, Time())
-                if ok:
-                    break
-                if deadline is not None and time.monotonic() > deadline:
-                    raise CliError(f"timed out waiting for transform {frame_a} -> {frame_b}: "
-                                   f"{reason}")
-                if time.monotonic() - last_log >= 1.0:
-                    session.node.get_logger().info(
-                        f"Waiting for transform {frame_a} ->  {frame_b}: {reason}")
-                    if last_log < 0:
-                        hint_if_alone(session, err)
-                    last_log = time.monotonic()
-                session.spin_for(0.1)
+            _wait_for_chain(session, buffer, frame_a, frame_b, timeout_s, err)
             chain = chain_as_vector(parents_from_buffer(buffer), frame_b, frame_a)
             out.write(f"Gathering data on {frame_a} -> {frame_b} for 10 seconds...\n")
         else:
@@ -182,7 +204,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         while session.context.ok() and (ns.count is None or reports < ns.count):
             if specific:
                 t = buffer.lookup_transform(frame_a, frame_b, Time())
-                diff = now_s() - (t.header.stamp.sec + t.header.stamp.nanosec * 1e-9)
+                diff = now_s() - stamp_to_seconds(t.header.stamp)
                 avg_diff = 0.01 * diff + 0.99 * avg_diff
                 max_diff = max(max_diff, diff)
             session.spin_for(min(0.5, max(0.0, next_report - time.monotonic())))
@@ -198,13 +220,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
             else:
                 lines.append("RESULTS: for all Frames")
             lines += ["", "Frames:"]
-            for frame in sorted(delays):
-                if specific and frame not in chain:
-                    continue
-                values = delays[frame]
-                lines.append(f"Frame: {frame}, published by {AUTHORITY}, Average Delay: "
-                             f"{_num(sum(values) / len(values))}, Max Delay: "
-                             f"{_num(max(0.0, *values))}")
+            lines += _frame_lines(delays, chain if specific else None)
             out.write("\n".join(lines) + "\n")
             out.flush()
             err.write("\nAll Broadcasters:\n")

@@ -30,6 +30,7 @@ from posekit.cli._session import add_sim_time_args
 from posekit.cli.errors import CliError
 from posekit.cli.topic_echo import compile_filter, positive_float, positive_int
 from posekit.msgs.yaml_io import message_class
+from posekit.time import stamp_to_ns
 
 __all__ = ["bw_report", "delay_report", "hz_report", "main_bw", "main_delay", "main_hz"]
 
@@ -290,7 +291,7 @@ def main_delay(argv: Sequence[str], *, context: Any = None, out: TextIO | None =
 
     def sample(session: Any, msg: Any) -> bool:
         stamp = msg.header.stamp
-        stamp_ns = int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
+        stamp_ns = stamp_to_ns(stamp)
         window.add(int(session.node.get_clock().now().nanoseconds), lambda now: now - stamp_ns)
         return True
 

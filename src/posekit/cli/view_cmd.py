@@ -2,13 +2,15 @@
 
     posekit view [--host 127.0.0.1] [--port 8765] [--zenoh | --transport dds] [--world NAME]
                  [--fixed-frame odom] [--tf-rate 30] [--scenario NAME [--seed N]]
-                 [--foxglove [--foxglove-port 8766]]
+                 [--foxglove [--foxglove-port 8766]] [--config FILE]
                  [--allow-host NAME]... [--allow-origin ORIGIN]...
 
 Alone (or with ``--zenoh``) it views other processes over the Zenoh transport; with
 ``--transport dds`` a ROS 2 system on DDS (real robots and nodes included).
 ``--scenario NAME`` runs a named scenario in this process, paced to the wall clock, and views
 it. :func:`attach_to_run` is what ``posekit launch SCENARIO --viewer`` calls.
+``--config FILE`` starts every page from a view saved with the page's *Save view*
+(fixed frame, camera, displays), as ``rviz2 -d FILE`` does.
 ``--foxglove`` also serves the same system to the Foxglove app over its WebSocket protocol
 (optional package foxglove-sdk; :mod:`posekit.viewer.foxglove_bridge`), on the same host.
 The page answers only requests addressed to this machine (``Host``) and WebSockets from its
@@ -112,6 +114,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
                         help="also accept WebSocket connections from pages of this origin "
                              "(e.g. http://myhost:8765; '*': any)")
+    parser.add_argument("--config", "-d", default=None, metavar="FILE",
+                        help="start the page from this saved view (the JSON file 'Save view' "
+                             "downloads), as rviz2 -d does")
     parser.add_argument("--open", action="store_true", help="open the page in a browser")
     parser.add_argument("--foxglove", action="store_true",
                         help="also serve the Foxglove app over its WebSocket protocol "
@@ -154,6 +159,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     options: dict[str, Any] = {"fixed_frame": ns.fixed_frame, "tf_rate": ns.tf_rate,
                                "allow_hosts": ns.allow_host, "allow_origins": ns.allow_origin}
     try:
+        if ns.config:
+            from posekit.viewer.server import load_view_config
+
+            options["config"] = load_view_config(ns.config)
         if ns.scenario:
             return _view_scenario(ns, options)
         from posekit.cli._session import tool_transport

@@ -70,7 +70,7 @@ class DemoReport:
 
 
 def _true_marker_positions() -> dict[int, list[tuple[float, float, float]]]:
-    from posekit.robot.worlds import load_world, marker_poses
+    from posekit.worlds import load_world, marker_poses
 
     out: dict[int, list[tuple[float, float, float]]] = {}
     for m in marker_poses(load_world(WORLD)):

@@ -1,12 +1,15 @@
 """posekit.geometry: rotations, rigid transforms and planar poses (numpy only).
 
-The bottom layer of posekit; it imports nothing else from the package. Public API:
+Its only posekit import is :mod:`posekit.msgs` (the layer below), done inside the conversion
+functions that build messages, so ``import posekit.geometry`` loads numpy alone. Public API:
 
 * :class:`Rotation` - SO(3), scipy-like (one or a batch), plus ROS ``from_rpy``/``as_rpy``
   and the lecture's world/body composition helpers.
 * :class:`Transform` - SE(3) ``T_a_b`` with ``T_a_c = T_a_b * T_b_c``.
 * :class:`Pose2D` - SE(2) with exact ``exp``/``log`` for arc odometry.
 * :mod:`posekit.geometry.scalar` - the same maths as functions on plain float tuples.
+* :func:`wrap_angle` - posekit's one angle-wrapping convention ([-π, π], in-range values
+  untouched).
 * duck-typed ROS message conversions, named errors and :class:`GimbalLockWarning`.
 
 Conventions (quaternion order ``(x, y, z, w)`` unless ``scalar_first=True``, active
@@ -16,7 +19,7 @@ rotations, lowercase extrinsic / uppercase intrinsic Euler) are in ``docs/conven
 from __future__ import annotations
 
 from posekit.geometry import scalar
-from posekit.geometry._quat import EULER_SEQUENCES
+from posekit.geometry._quat import EULER_SEQUENCES, wrap_angle
 from posekit.geometry.conversions import (
     pose2d_from_transform,
     pose2d_to_transform,
@@ -67,4 +70,5 @@ __all__ = [
     "transform_to_pose_msg",
     "vector_from_msg",
     "vector_to_msg",
+    "wrap_angle",
 ]

@@ -96,7 +96,13 @@ def euler_params(seq: str) -> _EulerParams:
 
 
 def wrap_angle(a: float) -> float:
-    """Wrap an angle (rad) into [-π, π]: values inside are untouched, others land in (-π, π]."""
+    """Wrap an angle (rad) into [-π, π]: values inside are untouched, others land in (-π, π].
+
+    posekit's one convention for angle wrapping (Euler angles, SE(2), the robot's odometry,
+    EKF and controller). Leaving in-range values untouched keeps them bit-exact (a modulo
+    would round ``0.1`` to ``0.10000000000000009``) and costs one comparison; it is the
+    behaviour of robot_localization's ``clampRotation`` for angles within one turn.
+    """
     if -_PI <= a <= _PI:
         return a
     return a - _TWO_PI * math.ceil((a - _PI) / _TWO_PI)

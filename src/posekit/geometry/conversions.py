@@ -6,8 +6,8 @@ vectors/points ``.x .y .z``; transforms ``.translation``/``.rotation``, poses
 ``.position``/``.orientation``; stamped wrappers ``.transform``/``.pose`` are unwrapped.
 
 Outputs: pass the message class to build (``msg_type=``), or leave it out to get
-``posekit.msgs.geometry_msgs`` classes. That import happens inside the function, because
-geometry is the bottom layer and must not import ``posekit.msgs`` when it is loaded.
+``posekit.msgs.geometry_msgs`` classes. That import (of the layer below) happens inside the
+function, so that ``import posekit.geometry`` stays as light as numpy alone.
 """
 
 from __future__ import annotations

@@ -79,6 +79,28 @@ class Rotation:
     Build with the ``from_*`` class methods, :meth:`identity`, :meth:`random` or
     ``Rotation(quat)`` (same as :meth:`from_quat`). ``len()`` and indexing work on batches
     only; ``len()`` of a single rotation raises ``TypeError`` like scipy.
+
+    Examples:
+        A yaw of 90 degrees is the quaternion (0, 0, sin 45°, cos 45°); it turns x into y:
+
+        >>> import numpy as np
+        >>> from posekit.geometry import Rotation
+        >>> yaw90 = Rotation.from_euler("z", 90, degrees=True)
+        >>> yaw90.as_quat().round(6).tolist()                   # (x, y, z, w), as ROS
+        [0.0, 0.0, 0.707107, 0.707107]
+        >>> yaw90.as_quat(scalar_first=True).round(6).tolist()  # (w, x, y, z)
+        [0.707107, 0.0, 0.0, 0.707107]
+        >>> np.allclose(yaw90.apply([1.0, 0.0, 0.0]), [0.0, 1.0, 0.0])
+        True
+
+        ``a * b`` applies ``b`` first: a roll of 90° takes y to z, which the yaw keeps, and
+        takes z to -y, which the yaw turns into x:
+
+        >>> roll90 = Rotation.from_euler("x", 90, degrees=True)
+        >>> np.allclose((yaw90 * roll90).apply([[0, 1, 0], [0, 0, 1]]), [[0, 0, 1], [1, 0, 0]])
+        True
+        >>> (yaw90 * roll90).as_quat().round(6).tolist()        # (0.5, 0.5, 0.5, 0.5)
+        [0.5, 0.5, 0.5, 0.5]
     """
 
     __slots__ = ("_q", "_qs")
@@ -288,6 +310,18 @@ class Rotation:
 
         ``R = Rz(yaw) Ry(pitch) Rx(roll)``, identical to ``from_euler('xyz', [roll, pitch,
         yaw])``. Scalars give one rotation, equal-length 1-D sequences a batch.
+
+        Examples:
+            A roll of π/2 is the quaternion (sin π/4, 0, 0, cos π/4); intrinsic ``'ZYX'``
+            with the angles listed yaw, pitch, roll is the same convention:
+
+            >>> import math
+            >>> from posekit.geometry import Rotation
+            >>> Rotation.from_rpy(math.pi / 2, 0.0, 0.0).as_quat().round(6).tolist()
+            [0.707107, 0.0, 0.0, 0.707107]
+            >>> r = Rotation.from_euler("ZYX", [0.3, 0.2, 0.1])    # yaw, pitch, roll
+            >>> [round(a, 12) for a in r.as_rpy()]
+            [0.1, 0.2, 0.3]
         """
         r = parse_scalar_or_array(roll, "roll")
         p = parse_scalar_or_array(pitch, "pitch")

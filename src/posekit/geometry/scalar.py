@@ -90,7 +90,15 @@ def euler_from_quat(
 
 
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat4:
-    """``(x, y, z, w)`` of ROS roll/pitch/yaw about fixed x, y, z (tf2 ``setRPY``)."""
+    """``(x, y, z, w)`` of ROS roll/pitch/yaw about fixed x, y, z (tf2 ``setRPY``).
+
+    Examples:
+        A yaw of π/2 is (0, 0, sin π/4, cos π/4):
+
+        >>> import math
+        >>> [round(c, 6) for c in quat_from_rpy(0.0, 0.0, math.pi / 2)]
+        [0.0, 0.0, 0.707107, 0.707107]
+    """
     r, p, y = float(roll), float(pitch), float(yaw)
     if not math.isfinite(r + p + y):
         check_finite((r, p, y), "roll/pitch/yaw")
@@ -98,14 +106,34 @@ def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat4:
 
 
 def rpy_from_quat(q: Sequence[float], *, scalar_first: bool = False) -> tuple[float, float, float]:
-    """ROS ``(roll, pitch, yaw)``; at pitch = ±π/2 yaw is 0, like tf2 ``getRPY``."""
+    """ROS ``(roll, pitch, yaw)``; at pitch = ±π/2 yaw is 0, like tf2 ``getRPY``.
+
+    Examples:
+        >>> import math
+        >>> half = math.sqrt(0.5)
+        >>> [round(a, 6) for a in rpy_from_quat((0.0, 0.0, half, half))]   # yaw π/2
+        [0.0, 0.0, 1.570796]
+        >>> [round(a, 6) for a in rpy_from_quat((half, 0.0, 0.0, half))]   # roll π/2
+        [1.570796, 0.0, 0.0]
+    """
     return sk.quat_to_rpy_xyzw(_quat_in(q, scalar_first))
 
 
 def quat_multiply(
     q1: Sequence[float], q2: Sequence[float], *, scalar_first: bool = False
 ) -> Quat4:
-    """``q1 ⊗ q2``: the rotation that applies ``q2`` first, then ``q1``."""
+    """``q1 ⊗ q2``: the rotation that applies ``q2`` first, then ``q1``.
+
+    Examples:
+        A yaw of π/2 after a roll of π/2: ``w = w1 w2 - v1·v2`` and ``v = w1 v2 + w2 v1 +
+        v1 × v2`` give (0.5, 0.5, 0.5, 0.5):
+
+        >>> import math
+        >>> half = math.sqrt(0.5)
+        >>> yaw, roll = (0.0, 0.0, half, half), (half, 0.0, 0.0, half)
+        >>> [round(c, 6) for c in quat_multiply(yaw, roll)]
+        [0.5, 0.5, 0.5, 0.5]
+    """
     prod = sk.quat_multiply_xyzw(_quat_in(q1, scalar_first), _quat_in(q2, scalar_first))
     return _quat_out(prod, scalar_first)
 
@@ -113,7 +141,16 @@ def quat_multiply(
 def rotate_vector(
     q: Sequence[float], v: Sequence[float], *, scalar_first: bool = False
 ) -> tuple[float, float, float]:
-    """``q v q⁻¹``: the vector ``v`` rotated by ``q``."""
+    """``q v q⁻¹``: the vector ``v`` rotated by ``q``.
+
+    Examples:
+        A yaw of π/2 maps ``(x, y, z)`` to ``(-y, x, z)``:
+
+        >>> import math
+        >>> half = math.sqrt(0.5)
+        >>> [round(c, 6) for c in rotate_vector((0.0, 0.0, half, half), (1.0, 2.0, 3.0))]
+        [-2.0, 1.0, 3.0]
+    """
     try:
         x, y, z = v
     except (TypeError, ValueError):

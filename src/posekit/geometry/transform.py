@@ -41,6 +41,26 @@ class Transform:
     ``t_a_b`` is the origin of frame ``b`` expressed in frame ``a``. Build with
     ``Transform(rotation, translation)``, :meth:`from_matrix`, :meth:`identity`; chain with
     ``*``; invert with :meth:`inv`; map points with :meth:`apply`.
+
+    Examples:
+        The robot at (1, 2) in ``odom`` facing +y, a camera 0.5 m ahead and 0.2 m up: frames
+        cancel in ``T_odom_cam = T_odom_base * T_base_cam``, and the camera's origin is
+        ``t_odom_base + R_odom_base @ t_base_cam = (1, 2, 0) + (0, 0.5, 0.2)``:
+
+        >>> import numpy as np
+        >>> from posekit.geometry import Rotation, Transform
+        >>> T_odom_base = Transform(Rotation.from_euler("z", 90, degrees=True), [1.0, 2.0, 0.0])
+        >>> T_base_cam = Transform(Rotation.identity(), [0.5, 0.0, 0.2])
+        >>> (T_odom_base * T_base_cam).translation.round(6).tolist()
+        [1.0, 2.5, 0.2]
+
+        A point 1 m ahead of the robot, in ``odom``; and the inverse, ``T_base_odom``, whose
+        translation is ``-R^T t = -Rz(-90°) (1, 2, 0) = (-2, 1, 0)``:
+
+        >>> T_odom_base.apply([1.0, 0.0, 0.0]).round(6).tolist()
+        [1.0, 3.0, 0.0]
+        >>> np.allclose(T_odom_base.inv().translation, [-2.0, 1.0, 0.0])
+        True
     """
 
     __slots__ = ("_r", "_t", "_ts")
@@ -112,6 +132,24 @@ class Transform:
         if rotation.single:
             return cls(rotation)
         return cls(rotation, np.zeros((len(rotation), 3)))
+
+    @classmethod
+    def from_xyz_rpy(cls, xyz: npt.ArrayLike, rpy: npt.ArrayLike) -> Transform:
+        """``T_parent_child`` of a URDF ``<origin xyz=... rpy=...>`` or an SDF ``<pose>``.
+
+        ``xyz`` is the translation (m); ``rpy`` the fixed-axis roll, pitch, yaw (rad,
+        ``R = Rz(yaw) Ry(pitch) Rx(roll)``, :meth:`Rotation.from_rpy`). ``.as_matrix()``
+        gives the 4x4 homogeneous matrix.
+
+        Examples:
+            >>> import math
+            >>> from posekit.geometry import Transform
+            >>> T = Transform.from_xyz_rpy((1.0, 2.0, 3.0), (0.0, 0.0, math.pi / 2))
+            >>> T.apply((1.0, 0.0, 0.0)).round(12).tolist()
+            [1.0, 3.0, 3.0]
+        """
+        roll, pitch, yaw = (float(v) for v in np.asarray(rpy, dtype=np.float64).reshape(3))
+        return cls(Rotation.from_rpy(roll, pitch, yaw), xyz)
 
     @classmethod
     def from_matrix(cls, matrix: npt.ArrayLike, *, atol: float = 1e-6) -> Transform:

@@ -14,9 +14,10 @@ How the two libraries meet (no per-message conversion step):
 * deserialization builds posekit's classes directly: the private typestore's class table
   points at posekit's dataclasses, whose positional field order equals the ROS order.
   Types posekit does not define (any other Jazzy type) decode to rosbags' classes.
-* a message whose last field is a byte sequence (``sensor_msgs/Image``) is serialized as
-  the rosbags encoding of its small prefix plus one ``bytes.join`` with the pixel buffer:
-  a single copy of the payload (measured in ``benchmarks/runtime_cdr.py``).
+* a message whose last field is a byte sequence (``sensor_msgs/Image``), or whose byte
+  sequence is followed only by one-byte fields (``sensor_msgs/PointCloud2``'s ``is_dense``),
+  is serialized as the rosbags encoding of the rest plus one ``bytes.join`` with the
+  payload: a single copy of it (measured in ``benchmarks/runtime_cdr.py``).
 
 Decoded array fields (``Image.data``, covariances, ``CameraInfo.k``...) are zero-copy
 numpy views into ``data``: read-only when ``data`` is ``bytes``. Copy them to modify.
@@ -53,6 +54,8 @@ __all__ = [
 CDR_HEADER_LE = b"\x00\x01\x00\x00"
 
 _EMPTY_U8 = np.zeros(0, dtype=np.uint8)
+#: ROS base types of exactly one byte (CDR alignment 1).
+_ONE_BYTE = ("bool", "uint8", "int8", "byte", "char", "octet")
 _U32 = struct.Struct("<I")
 _SER_ERRORS = (struct.error, TypeError, ValueError, AttributeError, OverflowError, IndexError)
 _deser_errors: tuple[type[BaseException], ...] = (
@@ -92,6 +95,7 @@ class _Codec:
     plan: _Plan | None
     fast_ok: Callable[[Any], bool] | None  # True when every array field is already CDR-ready
     tail_field: str | None  # last field, when it is an unbounded uint8/byte/char sequence
+    tail_after: int = 0  # one-byte fields after the tail sequence (PointCloud2.is_dense)
 
 
 def get_typestore() -> Any:
@@ -222,7 +226,12 @@ def _codec(typename: str) -> _Codec:
         msgdef = store.get_msgdef(typename)
         plan = _make_plan(store, typename, {})
         tail: str | None = None
-        fields = msgdef.fields
+        after = 0
+        fields = list(msgdef.fields)
+        # Trailing one-byte scalars (alignment 1, no padding) may follow the byte sequence.
+        while fields and fields[-1][1][0] == Nodetype.BASE and fields[-1][1][1][0] in _ONE_BYTE:
+            fields.pop()
+            after += 1
         if fields:
             name, desc = fields[-1]
             if (
@@ -241,6 +250,7 @@ def _codec(typename: str) -> _Codec:
             plan,
             _compile_fast_check(plan) if plan is not None else None,
             tail,
+            after if tail is not None else 0,
         )
         _codecs[typename] = codec
     return codec
@@ -362,7 +372,8 @@ def to_cdr(msg: Any, msg_type: str | None = None) -> bytes:
         CdrError: a field does not fit its ROS type (the message names which).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
-    codec = _class_codecs.get(type(msg)) if msg_type is None else None
+    # Fast paths: the message's class, or a type name already in its full form.
+    codec = _class_codecs.get(type(msg)) if msg_type is None else _codecs.get(msg_type)
     if codec is None:
         name = _resolve_name(msg_type) if msg_type is not None else _resolve_name(type(msg))
         codec = _codecs.get(name) or _codec(name)
@@ -471,7 +482,10 @@ def _to_cdr_tail(msg: Any, codec: _Codec, store: Any) -> bytes:
     raw[1] = 1
     codec.serialize(memoryview(raw)[4:], 0, head_msg, store)
     count = tail.shape[0] if isinstance(tail, np.ndarray) else len(tail)
-    _U32.pack_into(raw, size - 4, count)
+    split = size - codec.tail_after  # the one-byte fields after the sequence follow it
+    _U32.pack_into(raw, split - 4, count)
+    if codec.tail_after:
+        return b"".join((memoryview(raw)[:split], tail, memoryview(raw)[split:]))
     return b"".join((raw, tail))
 
 
@@ -485,26 +499,30 @@ def from_cdr(data: bytes | bytearray | memoryview, msg_type: str | type[Any]) ->
         CdrError: truncated, corrupted or trailing-garbage input (the message says why).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
-    codec = _class_codecs.get(msg_type) if not isinstance(msg_type, str) else None
+    # (a class is looked up first: a type name is never a key of _class_codecs)
+    codec = _class_codecs.get(msg_type)  # type: ignore[arg-type]
     if codec is None:
         name = _resolve_name(msg_type)
         codec = _codecs.get(name) or _codec(name)
         if not isinstance(msg_type, str):
             _class_codecs[msg_type] = codec
     typename = codec.typename
-    try:
-        view = data if isinstance(data, memoryview) else memoryview(data)
-    except TypeError as exc:
-        raise CdrError(f"CDR input must be bytes-like, got {type(data).__name__}") from exc
-    if view.ndim != 1 or view.itemsize != 1:
-        view = view.cast("B")
-    if len(view) < 4:
-        raise CdrError(f"{typename}: {len(view)} bytes is shorter than the CDR header")
-    if view[0] != 0 or view[1] > 1:
-        raise CdrError(
-            f"{typename}: unsupported CDR encapsulation {bytes(view[:2]).hex(' ')} "
-            "(expected 00 01 little endian or 00 00 big endian)"
-        )
+    if type(data) is bytes and len(data) >= 4 and data[0] == 0 and data[1] == 1:
+        view = memoryview(data)  # the common case (little endian bytes), checks done
+    else:
+        try:
+            view = data if isinstance(data, memoryview) else memoryview(data)
+        except TypeError as exc:
+            raise CdrError(f"CDR input must be bytes-like, got {type(data).__name__}") from exc
+        if view.ndim != 1 or view.itemsize != 1:
+            view = view.cast("B")
+        if len(view) < 4:
+            raise CdrError(f"{typename}: {len(view)} bytes is shorter than the CDR header")
+        if view[0] != 0 or view[1] > 1:
+            raise CdrError(
+                f"{typename}: unsupported CDR encapsulation {bytes(view[:2]).hex(' ')} "
+                "(expected 00 01 little endian or 00 00 big endian)"
+            )
     store = _store
     try:
         if view[1]:

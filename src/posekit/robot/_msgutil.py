@@ -1,31 +1,17 @@
-"""Small message helpers shared by the robot models (stamps, quaternions, covariances)."""
+"""Small message helpers shared by the robot models (quaternions, covariances)."""
 
 from __future__ import annotations
 
 import numpy as np
 import numpy.typing as npt
 
-from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.msgs.geometry_msgs import Quaternion
 from posekit.robot.kinematics import quaternion_xyzw_from_yaw
 
 __all__ = [
     "covariance_from_diagonal",
-    "stamp_from_seconds",
     "yaw_quaternion",
 ]
-
-_NS = 1_000_000_000
-
-
-def stamp_from_seconds(t: float) -> TimeMsg:
-    """builtin_interfaces/Time for ``t`` seconds (rounded to the nearest nanosecond)."""
-    ns = round(t * _NS)
-    if ns < 0:
-        raise ValueError(f"a stamp cannot be negative, got {t} s")
-    sec, nanosec = divmod(ns, _NS)
-    return TimeMsg(sec, nanosec)  # positional: 2x faster than keywords
-
 
 def yaw_quaternion(yaw: float) -> Quaternion:
     """geometry_msgs/Quaternion of a rotation by ``yaw`` rad about +z."""

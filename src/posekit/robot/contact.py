@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from posekit.robot.kinematics import integrate_exact_arc
-from posekit.robot.obstacles import BoxObstacles, WallSegments
+from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
 __all__ = [
     "CONTACT_TOLERANCE",

@@ -19,17 +19,20 @@ bridge makes of Gazebo's ``R_FLOAT32``), in ``oak_rgb_camera_optical_frame``. As
 and REP 117 report them: ``+inf`` where nothing is seen or the depth is at or beyond
 ``max_depth``, ``-inf`` where it is at or below ``min_depth``.
 
-Noise: Gaussian with standard deviation ``noise_stddev + z**2 * disparity_stddev /
-(stereo_focal_px * baseline)`` (m), the constant term plus a stereo matcher's: an error of
-``disparity_stddev`` pixels in disparity moves the depth ``z**2 / (f B)`` per pixel. The
+Noise: a stereo matcher's, Gaussian in disparity: ``disparity_stddev`` pixels of disparity
+error, i.e. inverse depth off by ``disparity_stddev / (stereo_focal_px * baseline)`` (1/m),
+a depth error of about ``z**2 * disparity_stddev / (f B)``; plus an optional constant Gaussian
+``noise_stddev`` (m) on the depth (see :meth:`DepthCamera.frame`). The
 defaults are the OAK-D Pro's stereo pair (OV9282, 1280x800, 72 deg horizontal FOV:
 ``f = 881 px``; baseline 7.5 cm) with a 0.1 px matching error, and no constant term:
 sigma = 1.5 mm at 1 m, 24 mm at 4 m, 0.22 m at 12 m. (Husarion's description writes a 0.2 m
 Gaussian and the 1-12 m clip in a ``<depth_camera>`` element beside ``<camera>``, where
 gz-sensors reads neither; posekit applies the clip as the description intends and the
-stereo model for the noise.) The noise of frame ``k`` (its time on the sensor's rate grid)
-comes from a generator seeded with ``(seed, k)``: a seed gives the same frame at the same
-time however many frames were skipped.
+stereo model for the noise.) The noise of frame ``k`` (its time on the sensor's rate grid) is
+a window of one bank of standard normals drawn once from ``seed``, at an offset drawn from
+``(seed, k)`` (as the colour camera's noise: a crop costs nothing, a million draws ~10 ms): a
+seed gives the same frame at the same time however many frames were skipped; consecutive
+frames' noise fields are shifted copies of each other, which a single frame cannot show.
 
 Point clouds (:func:`depth_points`, :func:`depth_cloud`): organised (``height`` rows of
 ``width``), points ``(x, y, z) = z ((u - cx)/fx, (v - cy)/fy, 1)`` in the optical frame
@@ -41,6 +44,7 @@ layout of gz-sensors' depth camera; ``rgb`` is white (the depth camera has no co
 from __future__ import annotations
 
 import math
+from copy import copy
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -48,11 +52,11 @@ import numpy as np
 import numpy.typing as npt
 
 from posekit.msgs.image import numpy_to_image
-from posekit.msgs.point_cloud2 import create_cloud, dtype_from_fields, xyz_fields
+from posekit.msgs.point_cloud2 import xyz_fields
 from posekit.msgs.sensor_msgs import Image, PointCloud2
 from posekit.msgs.std_msgs import Header
-from posekit.robot.obstacles import WallSegments
-from posekit.robot.worlds import World, box_half_extents
+from posekit.worlds import World, box_half_extents
+from posekit.worlds.obstacles import WallSegments
 
 __all__ = [
     "DEFAULT_DEPTH",
@@ -73,6 +77,8 @@ I32Array = npt.NDArray[np.int32]
 
 #: Quads are clipped to this distance in front of the camera (m) before projection.
 _CLIP_Z = 1e-3
+#: Extra rows and columns of the noise bank (the range of a frame's window offset).
+_BANK_PAD = 64
 #: White, as the float32 whose bits are 0x00FFFFFF (PCL's packed rgb).
 _WHITE_RGB = np.array([0x00FFFFFF], dtype=np.uint32).view(np.float32)[0]
 
@@ -383,59 +389,105 @@ class DepthCamera:
         self.seed = int(seed)
         self.ground = ground
         self.quads = SceneQuads.from_world(world)
+        self._bank: F32Array | None = None
 
-    def true_depth(self, T_world_optical: npt.ArrayLike) -> F32Array:
-        """Noise-free depth (H, W) float32, m along the optical axis; ``inf`` where nothing
-        is seen within the cull distance (twice ``max_depth``)."""
+    def _normals(self, frame_index: int) -> F32Array:
+        """(H, W) standard normals of frame ``frame_index``: a window of one seeded bank at an
+        offset drawn from ``(seed, frame_index)`` (a crop instead of a million draws)."""
+        p = self.params
+        if self._bank is None:
+            rng = np.random.default_rng(self.seed)
+            self._bank = rng.standard_normal((p.height + _BANK_PAD, p.width + _BANK_PAD),
+                                             dtype=np.float32)
+        dy, dx = (int(v) for v in np.random.default_rng((self.seed, frame_index)).integers(
+            0, _BANK_PAD, size=2))
+        return self._bank[dy : dy + p.height, dx : dx + p.width]
+
+    def true_inverse_depth(self, T_world_optical: npt.ArrayLike) -> F32Array:
+        """Noise-free inverse depth (H, W) float32, 1/m; 0 where nothing is seen within the
+        cull distance (twice ``max_depth``)."""
         p = self.params
         w = ground_inverse_depth(p, T_world_optical) if self.ground else None
         w, _ = rasterize(p, T_world_optical, self.quads, max_depth=2.0 * p.max_depth,
                          inverse_depth=w)
+        return w
+
+    def true_depth(self, T_world_optical: npt.ArrayLike) -> F32Array:
+        """Noise-free depth (H, W) float32, m along the optical axis; ``inf`` where nothing
+        is seen within the cull distance (twice ``max_depth``)."""
         with np.errstate(divide="ignore"):
-            depth: F32Array = np.divide(np.float32(1.0), w, dtype=np.float32)
+            depth: F32Array = np.divide(np.float32(1.0), self.true_inverse_depth(T_world_optical),
+                                        dtype=np.float32)
         return depth
 
     def frame(self, T_world_optical: npt.ArrayLike, frame_index: int) -> F32Array:
         """The reported depth image of frame number ``frame_index``: float32 metres with noise,
-        ``+inf`` for no return or at/beyond ``max_depth``, ``-inf`` at/below ``min_depth``."""
+        ``+inf`` for no return or at/beyond ``max_depth``, ``-inf`` at/below ``min_depth``.
+
+        The stereo term is drawn in disparity: ``1/z' = 1/z - n sigma_d / (f B)`` with one
+        standard normal ``n`` per pixel, and the constant term adds ``noise_stddev n`` to
+        ``z'`` (the same ``n``: the deviations add, sigma = noise_stddev + z^2 sigma_d / (f B)
+        to first order). A disparity pushed to or past zero is beyond range (+inf).
+        """
         p = self.params
-        z = self.true_depth(T_world_optical)
-        hit = np.isfinite(z)
+        w = self.true_inverse_depth(T_world_optical)
+        hit = w > 0.0
+        n: F32Array | None = None
         if p.noise_stddev > 0.0 or p.disparity_stddev > 0.0:
-            rng = np.random.default_rng((self.seed, int(frame_index)))
-            noise = rng.standard_normal(z.shape, dtype=np.float32)
-            noise *= p.noise_sigma(np.where(hit, z, np.float32(0.0))).astype(np.float32)
-            z = np.where(hit, z + noise, z)
-        z[hit & (z >= p.max_depth)] = np.inf
+            n = self._normals(int(frame_index))
+            if p.disparity_stddev > 0.0:
+                k = np.float32(p.disparity_stddev / (p.stereo_focal_px * p.baseline))
+                noisy = np.multiply(n, -k, dtype=np.float32)
+                noisy += w
+                np.copyto(noisy, np.float32(0.0), where=~hit)
+                w = noisy
+        with np.errstate(divide="ignore"):
+            z: F32Array = np.divide(np.float32(1.0), w, dtype=np.float32)
+        if n is not None and p.noise_stddev > 0.0:
+            z += np.float32(p.noise_stddev) * n
+        z[(w <= np.float32(1.0 / p.max_depth)) | (z >= p.max_depth)] = np.inf
         z[hit & (z <= p.min_depth)] = -np.inf
         return z
+
+
+def _fill_points(out: F32Array, depth: F32Array, camera: CameraIntrinsics) -> None:
+    """Write x, y, z of ``depth`` into channels 0-2 of ``out`` (H, W, C); NaN where the
+    depth is not finite."""
+    H, W = depth.shape
+    zf = np.where(np.isfinite(depth), depth, np.float32(np.nan))
+    xs = (np.arange(W, dtype=np.float32) - np.float32(camera.cx)) / np.float32(camera.fx)
+    ys = (np.arange(H, dtype=np.float32) - np.float32(camera.cy)) / np.float32(camera.fy)
+    np.multiply(zf, xs[None, :], out=out[:, :, 0])
+    np.multiply(zf, ys[:, None], out=out[:, :, 1])
+    out[:, :, 2] = zf
 
 
 def depth_points(depth: npt.ArrayLike, camera: CameraIntrinsics) -> F32Array:
     """``(H, W, 3)`` float32 points (m, optical frame) of a depth image; NaN where the depth
     is not finite."""
     z = np.asarray(depth, dtype=np.float32)
-    H, W = z.shape
-    zf = np.where(np.isfinite(z), z, np.float32(np.nan))
-    xs = (np.arange(W, dtype=np.float32) - np.float32(camera.cx)) / np.float32(camera.fx)
-    ys = (np.arange(H, dtype=np.float32) - np.float32(camera.cy)) / np.float32(camera.fy)
-    out = np.empty((H, W, 3), dtype=np.float32)
-    np.multiply(zf, xs[None, :], out=out[:, :, 0])
-    np.multiply(zf, ys[:, None], out=out[:, :, 1])
-    out[:, :, 2] = zf
+    out = np.empty((*z.shape, 3), dtype=np.float32)
+    _fill_points(out, z, camera)
     return out
+
+
+#: The cloud's fields: x, y, z, rgb float32 at 0, 4, 8, 16; 32 bytes a point.
+_CLOUD_FIELDS = xyz_fields(rgb=True)
+_CLOUD_STEP = 32
 
 
 def depth_cloud(depth: npt.ArrayLike, camera: CameraIntrinsics, header: Header) -> PointCloud2:
     """The organised PointCloud2 (x, y, z, rgb; point_step 32) of a depth image."""
-    pts = depth_points(depth, camera)
-    H, W, _ = pts.shape
-    cloud = np.zeros((H, W), dtype=dtype_from_fields(xyz_fields(rgb=True), 32))
-    cloud["x"] = pts[:, :, 0]
-    cloud["y"] = pts[:, :, 1]
-    cloud["z"] = pts[:, :, 2]
-    cloud["rgb"] = _WHITE_RGB
-    return create_cloud(header, cloud, is_dense=bool(np.all(np.isfinite(pts[:, :, 2]))))
+    z = np.asarray(depth, dtype=np.float32)
+    H, W = z.shape
+    buf = np.zeros((H, W, _CLOUD_STEP // 4), dtype=np.float32)  # padding stays zero
+    _fill_points(buf, z, camera)
+    buf[:, :, 4] = _WHITE_RGB
+    return PointCloud2(
+        header=header, height=H, width=W, fields=[copy(f) for f in _CLOUD_FIELDS],
+        is_bigendian=False, point_step=_CLOUD_STEP, row_step=_CLOUD_STEP * W,
+        data=buf.reshape(-1).view(np.uint8), is_dense=bool(np.all(np.isfinite(z))),
+    )
 
 
 def depth_image_msg(depth: F32Array, header: Header) -> Image:

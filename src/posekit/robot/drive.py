@@ -32,13 +32,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from posekit.robot.kinematics import integrate_exact_arc, wrap_angle
+from posekit.geometry import wrap_angle
+from posekit.robot.kinematics import integrate_exact_arc
 from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, DriveParams, SlipParams
+from posekit.time import stamp_to_seconds
 
 if TYPE_CHECKING:
     from posekit.robot.contact import Contact
 
-__all__ = ["FUTURE_TOLERANCE", "BaseState", "CommandResult", "RosbotBase", "stamp_to_seconds"]
+__all__ = ["FUTURE_TOLERANCE", "BaseState", "CommandResult", "RosbotBase"]
 
 #: A command stamped more than this (s) after the current time is "in the future" (1 µs:
 #: far below any real clock offset, above the rounding of float seconds near 1e9).
@@ -47,11 +49,6 @@ FUTURE_TOLERANCE = 1e-6
 
 def _clamp(value: float, low: float, high: float) -> float:
     return low if value < low else high if value > high else value
-
-
-def stamp_to_seconds(stamp: Any) -> float:
-    """Seconds of a builtin_interfaces/Time-like object (``sec``, ``nanosec``)."""
-    return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
 @dataclass(frozen=True, slots=True)

@@ -13,8 +13,8 @@ import numpy as np
 
 from posekit.msgs.sensor_msgs import JointState
 from posekit.msgs.std_msgs import Header
-from posekit.robot._msgutil import stamp_from_seconds
 from posekit.robot.params import DEFAULT_ENCODERS, WHEEL_JOINT_NAMES, EncoderParams
+from posekit.time import stamp_from_seconds
 
 __all__ = ["WheelEncoders"]
 

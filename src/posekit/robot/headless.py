@@ -95,6 +95,49 @@ def _ticks(period: float, dt: float, what: str) -> int:
     return n
 
 
+_Command = tuple[float, float]
+
+
+def _commander(
+    scenario: str, *, goal: tuple[float, float, float],
+    controller_params: PControllerParams | None, mover_params: RandomMoverParams | None,
+    command_source: CommandSource | None, mover_seed: int, dt: float, result: SimResult,
+) -> tuple[int, Callable[[float, tuple[float, float, float]], _Command | None]]:
+    """The scenario's command source: control ticks between commands, and
+    ``command(t, ekf_pose)`` giving ``(v, omega)`` or None (nothing sent this tick).
+
+    The P controller's "Goal reached" is recorded in ``result`` (time and log line).
+    """
+    if scenario == "p_controller":
+        controller = PController(controller_params or PControllerParams())
+        controller.set_goal(*goal)
+
+        def p_command(t: float, pose: tuple[float, float, float]) -> _Command | None:
+            fx, fy, fyaw = pose
+            out = controller.compute(fx, fy, fyaw)
+            if out.just_reached:
+                result.goal_reached_time = t
+                result.log.append(
+                    f"Goal reached: x={fx:.2f}, y={fy:.2f}, yaw={fyaw:.2f} (t={t:.2f} s)"
+                )
+            return (out.v, out.omega) if out.publish else None
+
+        return _ticks(controller.period, dt, "p_controller"), p_command
+    if scenario == "random_mover":
+        mover = RandomMover(mover_params or RandomMoverParams(seed=mover_seed))
+        return _ticks(mover.period, dt, "random_mover"), lambda t, pose: mover.next_command()
+    if scenario == "custom":
+        if command_source is None:
+            raise ValueError("scenario 'custom' needs a command_source")
+        source = command_source
+        return 1, lambda t, pose: source(t)
+    if scenario == "idle":
+        return 1, lambda t, pose: None
+    raise ValueError(
+        f"unknown scenario {scenario!r}; use p_controller, random_mover, idle or custom"
+    )
+
+
 def run_headless(
     *,
     scenario: str = "p_controller",
@@ -137,26 +180,6 @@ def run_headless(
     n_odom = _ticks(1.0 / drive.publish_rate_hz, dt, "odometry")
     n_ekf = _ticks(1.0 / ekf.frequency_hz, dt, "EKF")
     n_imu = _ticks(1.0 / imu.rate_hz, dt, "IMU")
-    controller: PController | None = None
-    mover: RandomMover | None = None
-    n_cmd = 1
-    if scenario == "p_controller":
-        cparams = controller_params or PControllerParams()
-        controller = PController(cparams)
-        controller.set_goal(*goal)
-        n_cmd = _ticks(controller.period, dt, "p_controller")
-    elif scenario == "random_mover":
-        mparams = mover_params or RandomMoverParams(seed=mover_seed)
-        mover = RandomMover(mparams)
-        n_cmd = _ticks(mover.period, dt, "random_mover")
-    elif scenario == "custom":
-        if command_source is None:
-            raise ValueError("scenario 'custom' needs a command_source")
-    elif scenario != "idle":
-        raise ValueError(
-            f"unknown scenario {scenario!r}; use p_controller, random_mover, idle or custom"
-        )
-
     twist_var = (
         drive.twist_covariance_diagonal[0],
         drive.twist_covariance_diagonal[1],
@@ -172,6 +195,9 @@ def run_headless(
     commands = np.zeros((n_rec, 2))
     rec = 0
     result = SimResult(t_rec, truth, wheels, filtered, commands)
+    n_cmd, next_command = _commander(
+        scenario, goal=goal, controller_params=controller_params, mover_params=mover_params,
+        command_source=command_source, mover_seed=mover_seed, dt=dt, result=result)
     last_cmd = (0.0, 0.0)
     two_pi = 2.0 * math.pi
 
@@ -197,21 +223,7 @@ def run_headless(
             commands[rec] = last_cmd
             rec += 1
         if k % n_cmd == 0 and k < n_steps:
-            cmd: tuple[float, float] | None = None
-            if controller is not None:
-                fx, fy, fyaw = filt.pose
-                out = controller.compute(fx, fy, fyaw)
-                if out.publish:
-                    cmd = (out.v, out.omega)
-                if out.just_reached:
-                    result.goal_reached_time = t
-                    result.log.append(
-                        f"Goal reached: x={fx:.2f}, y={fy:.2f}, yaw={fyaw:.2f} (t={t:.2f} s)"
-                    )
-            elif mover is not None:
-                cmd = mover.next_command()
-            elif command_source is not None:
-                cmd = command_source(t)
+            cmd = next_command(t, filt.pose)
             if cmd is not None:
                 res: CommandResult = base.submit_velocity(cmd[0], cmd[1], stamp=t, now=t)
                 if res.accepted:

@@ -17,8 +17,9 @@ from dataclasses import dataclass
 from posekit.msgs.geometry_msgs import Vector3
 from posekit.msgs.sensor_msgs import Imu
 from posekit.msgs.std_msgs import Header
-from posekit.robot._msgutil import covariance_from_diagonal, stamp_from_seconds, yaw_quaternion
+from posekit.robot._msgutil import covariance_from_diagonal, yaw_quaternion
 from posekit.robot.params import DEFAULT_IMU, ImuParams
+from posekit.time import stamp_from_seconds
 
 __all__ = ["ImuModel", "ImuReading"]
 

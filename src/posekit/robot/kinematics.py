@@ -22,17 +22,8 @@ __all__ = [
     "integrate_exact_arc",
     "quaternion_xyzw_from_yaw",
     "wheel_to_body_speeds",
-    "wrap_angle",
     "yaw_from_quaternion_xyzw",
 ]
-
-_TWO_PI = 2.0 * math.pi
-
-
-def wrap_angle(angle: float) -> float:
-    """Wrap an angle (rad) into [-pi, pi)."""
-    return (angle + math.pi) % _TWO_PI - math.pi
-
 
 def wheel_to_body_speeds(
     omega_left: float, omega_right: float, *, wheel_separation: float, wheel_radius: float

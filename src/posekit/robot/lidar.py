@@ -32,7 +32,7 @@ import numpy.typing as npt
 
 from posekit.geometry import Transform
 from posekit.msgs.sensor_msgs import LaserScan
-from posekit.robot.obstacles import BoxObstacles, WallSegments, cast_rays
+from posekit.worlds.obstacles import BoxObstacles, WallSegments, cast_rays
 
 __all__ = ["DEFAULT_LIDAR", "Lidar", "LidarParams"]
 

@@ -14,6 +14,7 @@ in base_link. Messages carry the course's constant covariances.
 
 from __future__ import annotations
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.geometry_msgs import (
     Point,
     Pose,
@@ -24,9 +25,10 @@ from posekit.msgs.geometry_msgs import (
 )
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.std_msgs import Header
-from posekit.robot._msgutil import covariance_from_diagonal, stamp_from_seconds, yaw_quaternion
-from posekit.robot.kinematics import integrate_exact_arc, wrap_angle
+from posekit.robot._msgutil import covariance_from_diagonal, yaw_quaternion
+from posekit.robot.kinematics import integrate_exact_arc
 from posekit.robot.params import DEFAULT_DRIVE, DriveParams
+from posekit.time import stamp_from_seconds
 
 __all__ = ["WheelOdometry"]
 

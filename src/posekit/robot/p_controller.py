@@ -22,7 +22,7 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
-from posekit.robot.kinematics import wrap_angle
+from posekit.geometry import wrap_angle
 
 __all__ = ["ControlOutput", "PController", "PControllerParams", "Phase"]
 

@@ -53,6 +53,7 @@ from posekit.msgs.action_msgs import CancelGoal, GoalInfo, GoalStatus, GoalStatu
 from posekit.msgs.unique_identifier_msgs import UUID
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile, qos_profile_services_default
 from posekit.runtime.task import Future
+from posekit.time import stamp_to_ns
 
 if TYPE_CHECKING:
     from posekit.runtime.callback_groups import CallbackGroup
@@ -341,7 +342,7 @@ class ActionServer:
     async def _on_cancel(self, request: Any, response: Any) -> Any:
         wanted = request.goal_info
         key = _uuid_key(wanted.goal_id)
-        stamp_ns = wanted.stamp.sec * 1_000_000_000 + wanted.stamp.nanosec
+        stamp_ns = stamp_to_ns(wanted.stamp)
         with self._lock:
             goals = list(self._goals.items())
         candidates: list[ServerGoalHandle] = []
@@ -357,7 +358,7 @@ class ActionServer:
         if code == CancelGoal.Response.ERROR_NONE and (not any(key) or stamp_ns):
             for other_key, handle in goals:
                 info = handle._goal_info
-                accepted_ns = info.stamp.sec * 1_000_000_000 + info.stamp.nanosec
+                accepted_ns = stamp_to_ns(info.stamp)
                 if other_key != key and handle.is_active and (
                     (stamp_ns == 0 and not any(key)) or accepted_ns <= stamp_ns
                 ):

@@ -43,7 +43,7 @@ from __future__ import annotations
 import math
 import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -61,6 +61,8 @@ __all__ = [
     "RCLError",
     "RosArguments",
     "UnknownROSArgsError",
+    "compose_parameter_file",
+    "flatten_parameters",
     "load_parameter_file",
     "node_name_matches",
     "parse_arguments",
@@ -178,21 +180,54 @@ def parse_parameter_value(text: str) -> Any:
 
 
 # ---------------------------------------------------------------------------- files
+def compose_parameter_file(path: str | Path) -> Any:
+    """The composed YAML of a ROS 2 parameter file (``yaml.Node``; ``None`` when empty).
+
+    Composed, not constructed, so that a leaf keeps whether it was quoted (rcl types
+    ``'1'`` as a string). Raises ``OSError`` for an unreadable file and ``yaml.YAMLError``
+    for text that is not YAML; callers word these as their API does.
+    """
+    import yaml
+
+    return yaml.compose(Path(path).read_text(encoding="utf-8"))
+
+
+def flatten_parameters(
+    mapping: Any, leaf: Callable[[Any, str], Any], prefix: str = ""
+) -> dict[str, Any]:
+    """The parameters of one ``ros__parameters`` mapping (a composed YAML node), by name.
+
+    Nested mappings become dotted names (``pid: {kp: 1}`` gives ``pid.kp``); every other
+    node is typed by ``leaf(node, name)``. The one walk of a parameter section: rcl's
+    ``--params-file`` (:func:`load_parameter_file`) types leaves with rcl's rules, rclpy's
+    ``parameter_dict_from_yaml_file`` with its own.
+    """
+    import yaml
+
+    out: dict[str, Any] = {}
+    for key_node, value_node in mapping.value:
+        name = f"{prefix}{key_node.value}"
+        if isinstance(value_node, yaml.MappingNode):
+            out.update(flatten_parameters(value_node, leaf, name + "."))
+        else:
+            out[name] = leaf(value_node, name)
+    return out
+
+
 def load_parameter_file(path: str | Path) -> list[tuple[str, dict[str, Any]]]:
     """``[(node name, {parameter: value})]`` of a ROS 2 parameter YAML file, in file order.
 
-    Node names are absolute (``talker`` -> ``/talker``; nested namespace keys are joined);
-    nested parameter mappings are flattened with ``.``. Raises :class:`RCLError`.
+    rcl's ``--params-file`` reading: node names are absolute (``talker`` -> ``/talker``;
+    nested namespace keys are joined); nested parameter mappings are flattened with ``.``;
+    values are typed by rcl's rules (see the module docstring). Raises :class:`RCLError`.
     """
     import yaml
 
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        root = compose_parameter_file(p)
     except OSError as exc:
         raise RCLError(f"Error opening YAML file '{p}': {exc.strerror or exc}") from None
-    try:
-        root = yaml.compose(text)
     except yaml.YAMLError as exc:
         raise RCLError(f"{p} is not YAML: {exc}") from None
     entries: dict[str, dict[str, Any]] = {}
@@ -201,13 +236,8 @@ def load_parameter_file(path: str | Path) -> list[tuple[str, dict[str, Any]]]:
     if not isinstance(root, yaml.MappingNode):
         raise RCLError(f"{p}: the top level must map node names to their parameters")
 
-    def params(mapping: Any, prefix: str, into: dict[str, Any]) -> None:
-        for key_node, value_node in mapping.value:
-            name = f"{prefix}{key_node.value}"
-            if isinstance(value_node, yaml.MappingNode):
-                params(value_node, name + ".", into)
-            else:
-                into[name] = _node_value(value_node, f"{p}: parameter '{name}'")
+    def typed(node: Any, name: str) -> Any:
+        return _node_value(node, f"{p}: parameter '{name}'")
 
     def nodes(mapping: Any, ns: str) -> None:
         for key_node, value_node in mapping.value:
@@ -217,7 +247,7 @@ def load_parameter_file(path: str | Path) -> list[tuple[str, dict[str, Any]]]:
                     raise RCLError(f"{p}: ros__parameters needs a node name above it")
                 if not isinstance(value_node, yaml.MappingNode):
                     raise RCLError(f"{p}: ros__parameters of '{ns}' must be a mapping")
-                params(value_node, "", entries.setdefault(ns, {}))
+                entries.setdefault(ns, {}).update(flatten_parameters(value_node, typed))
                 continue
             if not isinstance(value_node, yaml.MappingNode):
                 raise RCLError(f"{p}: '{key}' is not under a node's ros__parameters "
@@ -337,6 +367,22 @@ def _parse_param(spec: str, out: RosArguments) -> None:
     out._add_parameter(node, lhs, parse_parameter_value(value))
 
 
+def _apply_flag(flag: str, value: str, out: RosArguments) -> None:
+    """Record one ``flag value`` pair of a ``--ros-args`` section in ``out``."""
+    if flag in ("-p", "--param"):
+        _parse_param(value, out)
+    elif flag in ("-r", "--remap"):
+        out.remaps.append(_parse_remap(value))
+    elif flag == "--params-file":
+        for node, values in load_parameter_file(value):
+            for name, v in values.items():
+                out._add_parameter(node, name, v)
+    elif flag == "--log-level":
+        out.log_levels.append(_parse_level(value))
+    elif flag in ("-e", "--enclave"):
+        out.enclave = value
+
+
 def parse_arguments(args: Sequence[str] | None, *, strict: bool = True) -> RosArguments:
     """Parse ``args`` (every element, ``args[0]`` included, as rcl does).
 
@@ -374,18 +420,7 @@ def parse_arguments(args: Sequence[str] | None, *, strict: bool = True) -> RosAr
         value = items[i]
         i += 1
         try:
-            if arg in ("-p", "--param"):
-                _parse_param(value, out)
-            elif arg in ("-r", "--remap"):
-                out.remaps.append(_parse_remap(value))
-            elif arg == "--params-file":
-                for node, values in load_parameter_file(value):
-                    for name, v in values.items():
-                        out._add_parameter(node, name, v)
-            elif arg == "--log-level":
-                out.log_levels.append(_parse_level(value))
-            elif arg in ("-e", "--enclave"):
-                out.enclave = value
+            _apply_flag(arg, value, out)
         except RCLError as exc:
             raise RCLError(
                 f"Couldn't parse {_KIND.get(arg, arg)}: '{arg} {value}'. Error: {exc}"

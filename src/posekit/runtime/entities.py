@@ -37,15 +37,12 @@ class Publisher:
         self._endpoint = endpoint
         # Hot path: bind once.
         self.publish: Callable[[Any], None] = endpoint.publish
-        transfer = getattr(endpoint, "publish_transfer", None)
         #: ``publish_transfer(msg)``: publish a message the caller gives up and never reads
         #: or changes again (rclcpp's ``publish(std::unique_ptr<Msg>)``). The in-process bus
         #: then skips its publish snapshot and hands this object to the (last) subscriber;
-        #: other transports treat it as ``publish``. Not in rclpy: a posekit extension for
-        #: nodes that build a fresh message per publish.
-        self.publish_transfer: Callable[[Any], None] = (
-            transfer if callable(transfer) else endpoint.publish
-        )
+        #: other transports treat it as ``publish`` (the contract's default). Not in rclpy: a
+        #: posekit extension for nodes that build a fresh message per publish.
+        self.publish_transfer: Callable[[Any], None] = endpoint.publish_transfer
 
     @property
     def topic_name(self) -> str:

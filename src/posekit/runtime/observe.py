@@ -223,6 +223,7 @@ class TopicObserver:
         self._refreshing = threading.Lock()
         self._entries: dict[str, _Entry] = {}
         self._skipped: dict[str, tuple[str, str]] = {}  # topic -> (type name, reason)
+        self._graph: list[tuple[str, str]] = []
         self._closed = False
         self._warn = RateLimitedLog(self.logger.warning)
 
@@ -236,6 +237,12 @@ class TopicObserver:
         """The topics observed now, by name."""
         with self._lock:
             return {name: e.topic for name, e in self._entries.items()}
+
+    def graph(self) -> list[tuple[str, str]]:
+        """Every topic of the graph at the last :meth:`refresh` with its (first) type name,
+        observed or not."""
+        with self._lock:
+            return list(self._graph)
 
     @property
     def skipped(self) -> dict[str, str]:
@@ -269,6 +276,8 @@ class TopicObserver:
             with self._lock:
                 for topic in [t for t in self._skipped if t not in seen]:
                     del self._skipped[topic]
+                self._graph = [(name, types[0] if types else "")
+                               for name, types in names_and_types]
             return added
 
     def _follow(self, topic: str, type_name: str) -> bool:
@@ -393,6 +402,12 @@ class TopicObserver:
             self.logger.debug(f"destroying the subscription of '{topic}' failed: {exc}")
         if self._on_removed is not None:
             self._on_removed(topic)
+
+    def release(self, topic: str) -> None:
+        """Stop observing ``topic`` now, as when its publishers leave (its subscription is
+        destroyed, ``on_removed`` called); a later :meth:`refresh` observes it again when
+        ``select`` still wants it."""
+        self._let_go(topic)
 
     # -- teardown ----------------------------------------------------------------------------
     def close(self) -> None:

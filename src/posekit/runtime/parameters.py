@@ -30,7 +30,7 @@ import math
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -45,7 +45,14 @@ from posekit.msgs.rcl_interfaces import (
     SetParametersResult,
 )
 from posekit.msgs.rcl_interfaces import Parameter as ParameterMsg
-from posekit.runtime.arguments import parse_parameter_value
+from posekit.runtime.arguments import (
+    compose_parameter_file,
+    flatten_parameters,
+    parse_parameter_value,
+)
+
+if TYPE_CHECKING:
+    from posekit.runtime.node import Node
 
 __all__ = [
     "PARAMETER_SEPARATOR_STRING",
@@ -61,6 +68,7 @@ __all__ = [
     "ParameterStore",
     "ParameterUninitializedException",
     "SetParametersResult",
+    "declare_value",
     "get_parameter_value",
     "parameter_dict_from_yaml_file",
     "parameter_value_to_python",
@@ -381,17 +389,23 @@ def parameter_dict_from_yaml_file(
 ) -> dict[str, ParameterMsg]:
     """Parameters of a ROS parameter file (``node: {ros__parameters: {...}}``) by name.
 
-    rclpy's function: every node's section unless ``target_nodes`` picks some, plus the
-    ``/**`` section with ``use_wildcard``; nested mappings become dotted names; each value
-    goes through :func:`get_parameter_value` of its ``str()``. RuntimeError for a file that
-    is not a parameter file.
+    rclpy's function, with rclpy's rules where they differ from rcl's ``--params-file``
+    (:func:`~posekit.runtime.arguments.load_parameter_file`, which owns the file's walk):
+    the top-level keys are taken literally (no namespace nesting, no wildcard matching);
+    every key's section unless ``target_nodes`` picks some, plus the ``/**`` section first
+    with ``use_wildcard``; sections are merged one parameter name at a time (a later
+    section's ``pid: {...}`` replaces an earlier one whole); nested mappings become dotted
+    names prefixed with ``namespace``; each value is typed as YAML 1.1 reads it, then through
+    :func:`get_parameter_value` of its ``str()`` (so ``'1'`` quoted is an INTEGER here, a
+    STRING for rcl). ``OSError`` / ``yaml.YAMLError`` for an unreadable file; RuntimeError
+    for a file that is not a parameter file or lacks a requested node.
     """
     import yaml
 
-    with open(parameter_file, encoding="utf-8") as f:
-        content = yaml.safe_load(f)
-    if not isinstance(content, dict):
+    root = compose_parameter_file(parameter_file)
+    if not isinstance(root, yaml.MappingNode):
         raise RuntimeError(f"{parameter_file} is not a ROS parameter file (no node sections)")
+    content = {str(key.value): section for key, section in root.value}  # last one wins
     keys: list[str] = []
     if use_wildcard and "/**" in content:
         keys.append("/**")
@@ -404,27 +418,91 @@ def parameter_dict_from_yaml_file(
                 )
             keys.append(node)
     else:
-        keys.extend(sorted(set(content) - {"/**"}, key=list(content).index))
+        keys.extend(key for key in content if key != "/**")
     if not keys:
         raise RuntimeError("Param file does not contain selected parameters")
-    flat: dict[str, Any] = {}
+    merged: dict[str, tuple[Any, Any]] = {}
     for key in keys:
         section = content[key]
-        if not isinstance(section, dict) or "ros__parameters" not in section:
+        values = None
+        if isinstance(section, yaml.MappingNode):
+            values = {str(k.value): v for k, v in section.value}.get("ros__parameters")
+        if not isinstance(values, yaml.MappingNode):
             raise RuntimeError(f"YAML file is not a valid ROS parameter file for node {key}")
-        flat.update(section["ros__parameters"])
+        merged.update({str(k.value): (k, v) for k, v in values.value})
+    constructor = yaml.constructor.SafeConstructor()
 
-    def unpack(prefix: str, values: dict[str, Any]) -> dict[str, ParameterMsg]:
-        out: dict[str, ParameterMsg] = {}
-        for name, value in values.items():
-            full = prefix + str(name)
-            if isinstance(value, dict):
-                out.update(unpack(full + PARAMETER_SEPARATOR_STRING, value))
-            else:
-                out[full] = ParameterMsg(name=full, value=get_parameter_value(str(value)))
-        return out
+    def typed(node: Any, name: str) -> ParameterMsg:
+        value = constructor.construct_object(node, deep=True)
+        return ParameterMsg(name=name, value=get_parameter_value(str(value)))
 
-    return unpack(namespace, flat)
+    return flatten_parameters(
+        yaml.MappingNode("tag:yaml.org,2002:map", list(merged.values())), typed, namespace)
+
+
+def _declaration_tuple(
+    namespace: str, index: int, item: tuple[Any, ...],
+) -> tuple[str, Any, ParameterDescriptor]:
+    """``(full name, value or Type, descriptor)`` of one ``declare_parameters`` tuple, with
+    rclpy's TypeErrors for a malformed one (a name alone: dynamically typed, deprecated)."""
+    if not 1 <= len(item) <= 3:
+        raise TypeError(
+            f"Invalid parameter tuple length at index {index} in parameters list: "
+            f"{item}; expecting length between 1 and 3"
+        )
+    name = item[0]
+    if not isinstance(name, str):
+        raise TypeError(
+            f"First element {name} at index {index} in parameters list is not a str."
+        )
+    if namespace:
+        name = f"{namespace}.{name}"
+    if not name:
+        raise InvalidParameterException(name)
+    second = item[1] if len(item) > 1 else None
+    descriptor = item[2] if len(item) > 2 else ParameterDescriptor()
+    if not isinstance(descriptor, ParameterDescriptor):
+        raise TypeError(
+            f"Third element {descriptor} at index {index} in parameters list "
+            "is not a ParameterDescriptor."
+        )
+    if len(item) == 1:
+        warnings.warn(
+            f"when declaring parameter named '{name}', declaring a parameter only "
+            "providing its name is deprecated; pass a default value, a parameter "
+            "type or a descriptor with dynamic_typing=True",
+            stacklevel=4,
+        )
+        descriptor.dynamic_typing = True
+    return name, second, descriptor
+
+
+def _declared_default(name: str, second: Any, descriptor: ParameterDescriptor) -> Any:
+    """The default value a declaration gives (None for a ``Parameter.Type``); fixes the
+    descriptor's type unless it is dynamically typed. ValueError as rclpy's."""
+    if isinstance(second, Type):
+        if second is Type.NOT_SET:
+            raise ValueError(
+                f"Cannot declare parameter {{{name}}} as statically typed of type NOT_SET"
+            )
+        if descriptor.dynamic_typing:
+            raise ValueError(
+                f"When declaring parameter {{{name}}} passing a descriptor with"
+                "`dynamic_typing=True` is not allowed when the parameter type is provided"
+            )
+        descriptor.type = second.value
+        return None
+    value = second.value if isinstance(second, Parameter) else second
+    if isinstance(value, ParameterValue):
+        value = parameter_value_to_python(value)
+    if not descriptor.dynamic_typing:
+        descriptor.type = Type.from_parameter_value(value).value
+        if descriptor.type == ParameterType.PARAMETER_NOT_SET:
+            raise ValueError(
+                "Cannot declare a statically typed parameter with default value "
+                "of type PARAMETER_NOT_SET"
+            )
+    return value
 
 
 OnSetCallback = Callable[[list[Parameter]], SetParametersResult]
@@ -507,58 +585,8 @@ class ParameterStore:
         declared: list[Parameter] = []
         descriptors: dict[str, ParameterDescriptor] = {}
         for index, item in enumerate(parameters):
-            if not 1 <= len(item) <= 3:
-                raise TypeError(
-                    f"Invalid parameter tuple length at index {index} in parameters list: "
-                    f"{item}; expecting length between 1 and 3"
-                )
-            name = item[0]
-            if not isinstance(name, str):
-                raise TypeError(
-                    f"First element {name} at index {index} in parameters list is not a str."
-                )
-            if namespace:
-                name = f"{namespace}.{name}"
-            if not name:
-                raise InvalidParameterException(name)
-            second = item[1] if len(item) > 1 else None
-            descriptor = item[2] if len(item) > 2 else ParameterDescriptor()
-            if not isinstance(descriptor, ParameterDescriptor):
-                raise TypeError(
-                    f"Third element {descriptor} at index {index} in parameters list "
-                    "is not a ParameterDescriptor."
-                )
-            if len(item) == 1:
-                warnings.warn(
-                    f"when declaring parameter named '{name}', declaring a parameter only "
-                    "providing its name is deprecated; pass a default value, a parameter "
-                    "type or a descriptor with dynamic_typing=True",
-                    stacklevel=3,
-                )
-                descriptor.dynamic_typing = True
-            value: Any = None
-            if isinstance(second, Type):
-                if second is Type.NOT_SET:
-                    raise ValueError(
-                        f"Cannot declare parameter {{{name}}} as statically typed of type NOT_SET"
-                    )
-                if descriptor.dynamic_typing:
-                    raise ValueError(
-                        f"When declaring parameter {{{name}}} passing a descriptor with"
-                        "`dynamic_typing=True` is not allowed when the parameter type is provided"
-                    )
-                descriptor.type = second.value
-            else:
-                value = second.value if isinstance(second, Parameter) else second
-                if isinstance(value, ParameterValue):
-                    value = parameter_value_to_python(value)
-                if not descriptor.dynamic_typing:
-                    descriptor.type = Type.from_parameter_value(value).value
-                    if descriptor.type == ParameterType.PARAMETER_NOT_SET:
-                        raise ValueError(
-                            "Cannot declare a statically typed parameter with default value "
-                            "of type PARAMETER_NOT_SET"
-                        )
+            name, second, descriptor = _declaration_tuple(namespace, index, item)
+            value = _declared_default(name, second, descriptor)
             if not ignore_override and name in self.overrides:
                 value = _widened(self.overrides[name].value, descriptor.type)
             declared.append(Parameter(name, value=value))
@@ -866,3 +894,10 @@ def _check_floating_point_range(param: Parameter, rng: FloatingPointRange) -> Se
                 f"step. Min: {lo}, max: {hi}, value: {value}, step: {rng.step}",
             )
     return SetParametersResult(successful=True)
+
+
+def declare_value(node: Node, name: str, default: Any) -> Any:
+    """Declare parameter ``name`` on ``node`` with ``default`` and return its value (a launch
+    or override value wins over ``default``): ``node.declare_parameter(name, default).value``,
+    the one line a node writes for each parameter it reads once at start-up."""
+    return node.declare_parameter(name, default).value

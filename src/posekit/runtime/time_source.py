@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from posekit.msgs.rosgraph_msgs import Clock as ClockMsg
 from posekit.runtime.clock import ROSClock
 from posekit.runtime.qos import qos_profile_clock
+from posekit.time import stamp_to_ns
 
 if TYPE_CHECKING:
     from posekit.runtime.entities import Subscription
@@ -96,7 +97,7 @@ class TimeSource:
         msg, source = item
         if source is not None and not self._accept(source):
             return
-        self.set_time_ns(int(msg.clock.sec) * 1_000_000_000 + int(msg.clock.nanosec))
+        self.set_time_ns(stamp_to_ns(msg.clock))
 
     def _accept(self, source: bytes) -> bool:
         """Whether a /clock message from publisher ``source`` is followed (see module doc)."""

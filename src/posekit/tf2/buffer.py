@@ -75,6 +75,53 @@ class Buffer(BufferCore):
     Args:
         cache_time: how long dynamic samples are kept (default 10 s).
         node: accepted for tf2_ros compatibility; the tf2 layer does not use it.
+
+    Examples:
+        ``base_link`` moves in ``odom`` from x = 1 m (yaw 0) at t = 1 s to x = 3 m (yaw
+        π/2) at t = 2 s; a camera sits 0.5 m ahead of it (static):
+
+        >>> import math
+        >>> from posekit.msgs.geometry_msgs import TransformStamped
+        >>> from posekit.tf2 import Buffer, LookupException
+        >>> from posekit.time import Time
+        >>> def stamped(parent, child, seconds, x, yaw):
+        ...     t = TransformStamped()
+        ...     t.header.frame_id, t.child_frame_id = parent, child
+        ...     t.header.stamp = Time(seconds=seconds).to_msg()
+        ...     t.transform.translation.x = x
+        ...     t.transform.rotation.z = math.sin(yaw / 2)
+        ...     t.transform.rotation.w = math.cos(yaw / 2)
+        ...     return t
+        >>> buffer = Buffer()
+        >>> buffer.set_transform(stamped("odom", "base_link", 1.0, 1.0, 0.0), "doc")
+        True
+        >>> buffer.set_transform(stamped("odom", "base_link", 2.0, 3.0, math.pi / 2), "doc")
+        True
+        >>> buffer.set_transform_static(stamped("base_link", "camera", 0.0, 0.5, 0.0), "doc")
+        True
+
+        Between two samples, the translation is interpolated linearly and the rotation by
+        slerp: at t = 1.5 s, x = 2 m and yaw = π/4, the quaternion (0, 0, sin π/8, cos π/8):
+
+        >>> t = buffer.lookup_transform("odom", "base_link", Time(seconds=1.5))
+        >>> round(t.transform.translation.x, 9)
+        2.0
+        >>> q = t.transform.rotation
+        >>> [round(c, 6) for c in (q.x, q.y, q.z, q.w)]
+        [0.0, 0.0, 0.382683, 0.92388]
+
+        ``Time()`` asks for the latest time common to the chain (2 s here); the camera is
+        then at ``(3, 0, 0) + Rz(π/2) (0.5, 0, 0) = (3, 0.5, 0)`` in ``odom``:
+
+        >>> t = buffer.lookup_transform("odom", "camera", Time())
+        >>> p = t.transform.translation
+        >>> t.header.stamp.sec, [round(c, 9) for c in (p.x, p.y, p.z)]
+        (2, [3.0, 0.5, 0.0])
+        >>> try:
+        ...     buffer.lookup_transform("odom", "map", Time())
+        ... except LookupException as error:
+        ...     print(str(error).strip())
+        "map" passed to lookupTransform argument source_frame does not exist.
     """
 
     def __init__(self, cache_time: Duration | None = None, node: Any = None) -> None:

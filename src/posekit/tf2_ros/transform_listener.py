@@ -43,7 +43,7 @@ from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.tf2_ros.qos import DynamicListenerQoS, StaticListenerQoS
-from posekit.time import Duration
+from posekit.time import Duration, stamp_to_ns
 
 __all__ = ["DEFAULT_MAX_FRAMES", "DEFAULT_MAX_FUTURE", "TransformListener"]
 
@@ -147,8 +147,7 @@ class TransformListener:
         horizon = now + limit if limit is not None and now > 0 else None
         for t in msg.transforms:
             if horizon is not None:
-                stamp = t.header.stamp
-                stamp_ns = int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
+                stamp_ns = stamp_to_ns(t.header.stamp)
                 if stamp_ns > horizon:
                     self.future_dropped += 1
                     self._warn(

@@ -277,6 +277,7 @@ class _Subscription(SubscriptionEndpoint):
         self.ros_type = ros_type
         self._sink = sink
         self._sourced = sourced
+        self._msg_type = info.msg_type
         self.reader: DataReader[Any] | None = None
         self.gid = b""
         self.alive = True
@@ -327,19 +328,20 @@ class _Subscription(SubscriptionEndpoint):
                 time.sleep(0.05)
 
     def _drain(self, ref: int) -> None:
+        deliver = self._deliver
         while self.alive:
             batch = ddspy_take(ref, _ANY, _TAKE_BATCH)
             if isinstance(batch, int) or not batch:
                 return
             for data, sample_info in batch:
                 if sample_info.valid_data:
-                    self._deliver(data, sample_info)
+                    deliver(data, sample_info)
             if len(batch) < _TAKE_BATCH:
                 return
 
     def _deliver(self, data: bytes, sample_info: Any = None) -> None:
         try:
-            msg = from_cdr(data, self.info.msg_type)
+            msg = from_cdr(data, self._msg_type)
         except CdrError as exc:
             self.dropped += 1
             self.warn_once("cdr", f"dropping a sample on '{self.info.topic}' that does not "
@@ -348,12 +350,12 @@ class _Subscription(SubscriptionEndpoint):
         self.received += 1
         if not self.alive:
             return
-        if self._sourced is not None:
+        if self._sourced is None:
+            self._sink(msg)
+        else:
             # the writer's instance handle: unique per publisher as seen from this reader
             handle = getattr(sample_info, "publication_handle", None)
             self._sourced(msg, None if handle is None else int(handle).to_bytes(8, "little"))
-        else:
-            self._sink(msg)
 
     def report_incompatible(self, reader: DataReader[Any]) -> None:
         """Log (once per policy) that a publisher offers less than this subscription wants."""

@@ -391,15 +391,17 @@ class ZenohSession:
         topic: str,
         msg_type: str | type[Any],
         qos: WireQoS,
-        callback: Callable[[Any, Attachment], None],
+        callback: Callable[[Any, Attachment], None] | Callable[[Any], None],
         *,
         warn: Callable[[str], object] | None = None,
         remote_only: bool = False,
+        message_only: bool = False,
     ) -> WireSubscription:
-        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)`` (zenoh thread);
+        """Deliver decoded messages on ``topic`` to ``callback(msg, attachment)``, or to
+        ``callback(msg)`` with ``message_only`` (on the subscription's receive thread);
         ``remote_only``: only samples published by other sessions."""
         sub = WireSubscription(self, node, topic, msg_type, qos, callback, warn,
-                               remote_only=remote_only)
+                               remote_only=remote_only, message_only=message_only)
         with self._lock:
             self._entities.append(sub)
         return sub
@@ -581,10 +583,11 @@ class WireSubscription:
         topic: str,
         msg_type: str | type[Any],
         qos: WireQoS,
-        callback: Callable[[Any, Attachment], None],
+        callback: Callable[[Any, Attachment], None] | Callable[[Any], None],
         warn: Callable[[str], object] | None,
         *,
         remote_only: bool = False,
+        message_only: bool = False,
     ) -> None:
         ros_type = normalize_type_name(
             msg_type if isinstance(msg_type, str) else msg_type.__msgtype__
@@ -596,7 +599,9 @@ class WireSubscription:
         self.type_hash = type_hash(ros_type)
         self.key = data_key(owner.domain_id, topic, ros_type)
         self._match_key = f"{owner.domain_id}/{topic_chunk(topic)}/{dds_type_name(ros_type)}/*"
-        self._callback = callback
+        self._callback: Callable[..., None] = callback
+        #: ``callback(msg)`` instead of ``callback(msg, attachment)``.
+        self._message_only = message_only
         warn_fn = warn or _log.warning
         # Keyed by posekit's reason, never by what the sender chose (GID, key expression):
         # at most one line per second per reason, with the count of those suppressed.
@@ -608,6 +613,7 @@ class WireSubscription:
         #: :data:`MAX_TRACKED_PUBLISHERS` publishers heard from most recently.
         self.lost: collections.Counter[bytes] = collections.Counter()
         self._last_seq: collections.OrderedDict[bytes, int] = collections.OrderedDict()
+        self._recent_gid = b""  # the GID last heard from: already last in _last_seq
         self._destroyed = False
         self.entity_id = owner.next_entity_id()
         self.token_key = endpoint_token(
@@ -661,17 +667,23 @@ class WireSubscription:
         # callback thread takes and drops the GIL around every sample), so a consumer on
         # another thread (the executor) wakes about once per batch rather than per sample:
         # about 25 % less CPU per message through the runtime (benchmarks/transport.py).
-        recv, try_recv, on_sample = self._sub.recv, self._sub.try_recv, self._on_sample
+        recv, try_recv, handle = self._sub.recv, self._sub.try_recv, self._handle
         while not self._destroyed:
             try:
                 sample = recv()
-                while sample is not None:
-                    on_sample(sample)
-                    if self._destroyed:  # the callback destroyed its own subscription
-                        return
-                    sample = try_recv()
             except Exception:  # the channel closed: undeclared or session closed
                 return
+            while sample is not None:
+                try:
+                    handle(sample)
+                except Exception as exc:  # last line of defence: keep draining
+                    self._drop("internal", "?", f"unexpected {type(exc).__name__}: {exc}")
+                if self._destroyed:  # the callback destroyed its own subscription
+                    return
+                try:
+                    sample = try_recv()
+                except Exception:
+                    return
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
@@ -689,10 +701,13 @@ class WireSubscription:
             self._drop("internal", "?", f"unexpected {type(exc).__name__}: {exc}")
 
     def _handle(self, sample: zenoh.Sample) -> None:
-        if sample.kind != _PUT:
-            return
+        # Hot path (one call per sample): the checks a valid sample passes come first and
+        # cost one comparison each; the sample kind is looked at only when one fails (a
+        # DELETE has no attachment and no payload, and is ignored without a word).
         key = str(sample.key_expr)
         if key != self.key:  # the wildcard hash chunk matched another definition of the type
+            if sample.kind != _PUT:
+                return
             received_hash = key.rpartition("/")[2]
             if received_hash != self.type_hash:
                 self._drop(
@@ -704,19 +719,22 @@ class WireSubscription:
                 return
         raw_att = sample.attachment
         if raw_att is None:
-            self._drop("attachment", key, "no attachment (rmw_zenoh requires one)")
+            if sample.kind == _PUT:
+                self._drop("attachment", key, "no attachment (rmw_zenoh requires one)")
             return
         try:
             att = decode_attachment(raw_att.to_bytes())
         except WireFormatError as exc:
-            self._drop("attachment", key, str(exc))
+            if sample.kind == _PUT:
+                self._drop("attachment", key, str(exc))
             return
         try:
             msg = from_cdr(sample.payload.to_bytes(), self.msg_type)
         except CdrError as exc:
-            self._drop("cdr", att.gid.hex(), str(exc))
+            if sample.kind == _PUT:
+                self._drop("cdr", att.gid.hex(), str(exc))
             return
-        gid, seq = att.gid, att.sequence_number
+        seq, gid = att[0], att[2]
         last_seq = self._last_seq
         last = last_seq.get(gid)
         if last is None or seq > last:
@@ -726,11 +744,17 @@ class WireSubscription:
             if last is None and len(last_seq) > MAX_TRACKED_PUBLISHERS:
                 gone, _ = last_seq.popitem(last=False)  # the longest silent one
                 self.lost.pop(gone, None)
-        if last is not None:
+        if last is not None and gid != self._recent_gid:  # most recent last (LRU order)
             last_seq.move_to_end(gid)
+        self._recent_gid = gid
         self.received += 1
+        if self._destroyed:
+            return
         try:
-            self._callback(msg, att)
+            if self._message_only:
+                self._callback(msg)
+            else:
+                self._callback(msg, att)
         except Exception as exc:
             self.dropped["callback"] += 1
             _log.exception("subscription callback on %s raised: %s", self.topic, exc)

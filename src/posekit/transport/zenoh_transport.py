@@ -282,19 +282,18 @@ class ZenohTransport(Transport):
         return _Publisher(self, info, wire)
 
     def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
-        with_info = bool(getattr(getattr(sink, "__self__", None), "wants_message_info", False))
+        if not getattr(getattr(sink, "__self__", None), "wants_message_info", False):
+            # The hot path: the sink is called with the message alone, straight from the
+            # receive thread (a destroyed endpoint's wire subscription stops calling it).
+            return self._subscribe(info, lambda _endpoint: sink, message_only=True)
 
         def deliverer(endpoint: _Subscription) -> Callable[[Any, Attachment], None]:
             def deliver(msg: Any, att: Attachment) -> None:
-                if not endpoint.alive:
-                    return
-                if with_info:  # rclpy's MessageInfo from rmw_zenoh's attachment
+                if endpoint.alive:  # rclpy's MessageInfo from rmw_zenoh's attachment
                     sink(msg, {"source_timestamp": att.source_timestamp,  # type: ignore[call-arg]
                                "received_timestamp": time.time_ns(),
                                "publication_sequence_number": att.sequence_number,
                                "reception_sequence_number": 0})
-                else:
-                    sink(msg)
 
             return deliver
 
@@ -317,7 +316,10 @@ class ZenohTransport(Transport):
     def _subscribe(
         self,
         info: EndpointInfo,
-        deliverer: Callable[[_Subscription], Callable[[Any, Attachment], None]],
+        deliverer: Callable[[_Subscription], Callable[[Any, Attachment], None]]
+        | Callable[[_Subscription], Callable[[Any], None]],
+        *,
+        message_only: bool = False,
     ) -> SubscriptionEndpoint:
         _type_name(info)
         node = self._acquire_node(info.node_namespace, info.node_name)
@@ -329,7 +331,7 @@ class ZenohTransport(Transport):
         try:
             endpoint.wire = self.session.create_subscription(
                 node, info.topic, info.msg_type, qos, deliver, warn=info.logger.warning,
-                remote_only=info.remote_only,
+                remote_only=info.remote_only, message_only=message_only,
             )
         except BaseException:
             self._release_node(info.node_namespace, info.node_name)
@@ -451,8 +453,19 @@ class ZenohTransport(Transport):
         return len(self._graph.subscriptions(topic))
 
     def get_node_names(self) -> list[str]:
-        """Fully qualified names of every node on the graph (this and other processes)."""
-        return self._graph.node_names()
+        """Fully qualified names of every node on the graph (this and other processes),
+        duplicates kept (``ros2 node list`` warns about them), sorted."""
+        return sorted(t.node_fqn for t in self._graph.entities() if t.kind is EntityKind.NODE)
+
+    def graph_entities(self) -> list[TokenInfo]:
+        """Every entity announced on the graph (nodes and endpoints, duplicates kept)."""
+        return self._graph.entities()
+
+    def graph_description(self) -> str:
+        """The Zenoh domain and router this transport's graph lives on."""
+        s = self.session
+        hosted = " (hosted by this tool: no router was running)" if s.hosts_router else ""
+        return f"zenoh domain {s.domain_id} via router {s.options.router_endpoint}{hosted}"
 
     @property
     def graph(self) -> ZenohGraph:

@@ -25,6 +25,7 @@ from __future__ import annotations
 import enum
 import hashlib
 import struct
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import NamedTuple
@@ -416,6 +417,12 @@ class Attachment(NamedTuple):
     legacy: bool = False
 
 
+#: ``Attachment`` built from a 4-tuple without the Python-level ``__new__`` of a NamedTuple.
+_new_attachment: Callable[[type[Attachment], tuple[int, int, bytes, bool]], Attachment] = (
+    tuple.__new__
+)
+
+
 def encode_attachment(seq: int, timestamp_ns: int, gid: bytes) -> bytes:
     """Compact 33-byte attachment (Jazzy >= 0.2.4, Kilted, Rolling)."""
     if len(gid) != 16:
@@ -434,6 +441,11 @@ def encode_attachment_legacy(seq: int, timestamp_ns: int, gid: bytes) -> bytes:
 
 def decode_attachment(data: bytes) -> Attachment:
     """Decode either attachment format (detected by the legacy label); trailing bytes ignored."""
+    if (type(data) is bytes and len(data) == ATTACHMENT_SIZE and data[16] == 16
+            and not data.startswith(_LEGACY_SEQ)):
+        # the compact form, exactly (every sample from a current rmw_zenoh or posekit)
+        seq, ts, _ = _COMPACT.unpack_from(data, 0)
+        return _new_attachment(Attachment, (seq, ts, data[17:], False))
     if len(data) >= 16 and data[:16] == _LEGACY_SEQ:
         if len(data) < LEGACY_ATTACHMENT_SIZE:
             raise WireFormatError(

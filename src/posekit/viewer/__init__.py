@@ -20,10 +20,10 @@ from posekit.viewer.errors import ViewerError
 from posekit.viewer.taps import ViewerTap
 
 if TYPE_CHECKING:
-    from posekit.robot.worlds import World
     from posekit.runtime.context import Context
     from posekit.runtime.transport import Transport
     from posekit.viewer.server import ViewerServer
+    from posekit.worlds import World
 
 __all__ = ["ViewerError", "ViewerServer", "ViewerTap", "attach_viewer"]
 

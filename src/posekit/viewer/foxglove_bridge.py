@@ -12,11 +12,17 @@ imported only when a bridge starts; without it :meth:`FoxgloveBridge.start` rais
 :class:`~posekit.viewer.errors.ViewerError` saying what to install.
 
 Like :class:`~posekit.viewer.taps.ViewerTap` it listens on a transport without a node in any
-executor, and subscribes only to topics that have a publisher. Every topic whose type has a
-ROS 2 definition becomes one Foxglove channel with schema encoding ``ros2msg`` (the
-definition text with its dependencies, the format ROS 2's MCAP writer uses) and message
-encoding ``cdr``, so Foxglove decodes posekit's messages natively. Messages are logged with
-``log_time`` from the same clock as ``time``.
+executor, through :class:`posekit.runtime.observe.TopicObserver`: it subscribes only to
+topics that have a publisher, with a QoS every publisher matches (best effort as soon as one
+publisher is, transient local when all are: latched ``/tf_static`` and
+``/robot_description``), and a topic whose publishers leave is unadvertised (its channel
+closed) and advertised again if it comes back. Every topic whose type has a ROS 2 Jazzy
+definition (posekit's messages, and any other Jazzy message such as
+``sensor_msgs/msg/PointCloud2``) becomes one Foxglove channel with schema encoding
+``ros2msg`` (the definition text with its dependencies, the format ROS 2's MCAP writer uses)
+and message encoding ``cdr``, so Foxglove decodes the messages natively (``LaserScan`` and
+``PointCloud2`` go to its 3D and plot panels as from a ROS 2 system). Messages are logged
+with ``log_time`` from the same clock as ``time``.
 
 Both WebSocket subprotocols are accepted: ``foxglove.sdk.v1`` (the Foxglove app, foxglove-sdk)
 and ``foxglove.websocket.v1`` (older clients and the open-source Lichtblick fork; the protocol
@@ -27,12 +33,19 @@ name and relays the frames both ways unchanged. The front answers only requests 
 
 Capabilities: ``time`` (the server's clock: ``/clock`` when the system publishes it, else
 ``clock_ns``, else the wall clock; so Foxglove's timeline runs on simulated time in a
-simulated run) and ``clientPublish`` with message encoding ``cdr``: a client advertises a
-topic with a ROS 2 type (e.g. ``geometry_msgs/msg/PoseStamped`` on ``goal_pose``) and the
-bridge publishes what it sends on the transport (at most 32 client channels at a time).
+simulated run) and ``clientPublish`` with message encoding ``cdr`` or ``json``: a client
+advertises a topic with a ROS 2 type (e.g. ``geometry_msgs/msg/PoseStamped`` on
+``goal_pose``) and the bridge publishes what it sends on the transport (at most 32 client
+channels at a time). A ``json`` message is an object of the message's fields (nested
+messages as objects, ``header.stamp`` as ``{sec, nanosec}``); fields it leaves out keep
+their defaults, and a field the type does not have or a value that does not fit is refused
+with one logged line (:func:`message_from_json`).
 
-``/tf_static`` is latched: the bridge keeps the newest transform per child frame and
-re-sends them as one TFMessage whenever a client subscribes to ``/tf_static`` (the SDK logs
+Latched topics are re-sent to late subscribers: ``/tf_static`` keeps the newest transform per
+child frame and re-sends them as one TFMessage whenever a client subscribes to it; any other
+topic observed transient local (every publisher latches: ``/robot_description``) keeps its
+last messages (as many as its publishers keep, at most :data:`MAX_LATCHED`) and re-sends them
+to a client that subscribes (the SDK logs
 to every subscriber of a channel, so earlier subscribers get the same static transforms
 again, which is harmless).
 """
@@ -41,27 +54,32 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import json
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any
 
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.logging import RcutilsLogger, get_logger
-from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
+    MessageSink,
     PublisherEndpoint,
-    SubscriptionEndpoint,
     TopicTypeMismatchError,
     Transport,
 )
+from posekit.time import stamp_to_ns
 from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.errors import ViewerError
 
-__all__ = ["DEFAULT_PORT", "FOXGLOVE_SUBPROTOCOL", "FOXGLOVE_SUBPROTOCOLS", "FoxgloveBridge"]
+__all__ = ["DEFAULT_PORT", "FOXGLOVE_SUBPROTOCOL", "FOXGLOVE_SUBPROTOCOLS", "FoxgloveBridge",
+           "message_from_json"]
 
 #: Default TCP port (the browser viewer uses 8765).
 DEFAULT_PORT = 8766
@@ -75,12 +93,13 @@ _CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
 _CLOCK_SILENT_S = 1.0
 _TIME_PERIOD_S = 0.1
 _MAX_CLIENT_CHANNELS = 32
+#: Message encodings a client may publish in.
+_CLIENT_ENCODINGS = ("cdr", "json")
 _PUBLISH_QOS = QoSProfile(depth=10)
 _STATIC_TOPIC = "/tf_static"
+#: Messages kept per latched (transient-local) topic for clients that subscribe later.
+MAX_LATCHED = 100
 _NODE_NAME = "posekit_foxglove_bridge"
-# Best effort + volatile matches every publisher; /tf_static needs transient local.
-_ANY_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
-_STATIC_QOS = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 def _import_foxglove() -> Any:
@@ -144,13 +163,17 @@ class FoxgloveBridge:
         self._sim_clock_ns: int | None = None  # newest /clock (ns)
         self._sim_clock_seen = 0.0  # monotonic s of the newest /clock
         self._warn = RateLimitedLog(self.logger.warning)
-        self._publishers: dict[tuple[int, int], tuple[PublisherEndpoint, type]] = {}
+        self._publishers: dict[tuple[int, int], tuple[PublisherEndpoint, type, str]] = {}
         self._front: _SubprotocolFront | None = None
         self._lock = threading.Lock()
         self._channels: dict[str, Any] = {}
-        self._endpoints: dict[str, SubscriptionEndpoint] = {}
-        self._skipped: dict[str, str] = {}
+        self._observer = TopicObserver(
+            transport, self._sink_for, on_removed=self._remove_channel,
+            on_skipped=self._log_skip, node_name=_NODE_NAME, depth=10,
+            resolve=_channel_class, logger=self.logger,
+        )
         self._static: dict[str, Any] = {}  # child frame -> newest static TransformStamped
+        self._latched: dict[str, deque[bytes]] = {}  # transient-local topic -> last payloads
         self._fox: Any = None
         self._context: Any = None
         self._server: Any = None
@@ -181,6 +204,8 @@ class FoxgloveBridge:
             def on_subscribe(self, client: Any, channel: Any) -> None:
                 if channel.topic == _STATIC_TOPIC:
                     bridge._resend_static()
+                else:
+                    bridge._resend_latched(str(channel.topic))
 
             def on_client_advertise(self, client: Any, channel: Any) -> None:
                 bridge._client_advertise(int(client.id), channel)
@@ -199,7 +224,7 @@ class FoxgloveBridge:
                 host="127.0.0.1",
                 port=0,
                 capabilities=[capability.Time, capability.ClientPublish],
-                supported_encodings=["cdr"],
+                supported_encodings=["cdr", "json"],
                 server_listener=_Listener(),
                 context=self._context,
             )
@@ -244,12 +269,10 @@ class FoxgloveBridge:
         self._stop.set()
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=5.0)
+        self._observer.close()
         with self._lock:
-            endpoints: list[SubscriptionEndpoint | PublisherEndpoint] = [
-                *self._endpoints.values(), *(p for p, _ in self._publishers.values())
-            ]
+            endpoints = [p for p, _, _ in self._publishers.values()]
             channels = list(self._channels.values())
-            self._endpoints.clear()
             self._channels.clear()
             self._publishers.clear()
         if self._front is not None:
@@ -281,27 +304,14 @@ class FoxgloveBridge:
 
     def skipped(self) -> dict[str, str]:
         """Topics not served, with the reason."""
-        with self._lock:
-            return dict(self._skipped)
+        return self._observer.skipped
 
     def refresh(self) -> list[str]:
-        """Serve topics that appeared since the last call; returns the topics added."""
+        """Serve topics that appeared since the last call (and unadvertise those whose
+        publishers left); returns the topics added."""
         if self._closed or self._server is None:
             return []
-        try:
-            names_and_types = self.transport.get_topic_names_and_types()
-        except Exception as exc:  # a failing graph query must not kill the bridge
-            self.logger.warning(f"foxglove bridge: graph query failed: {exc}")
-            return []
-        added = []
-        for topic, types in names_and_types:
-            with self._lock:
-                known = topic in self._channels or topic in self._skipped
-            if known or self.transport.count_publishers(topic) <= 0:
-                continue
-            if self._add_topic(topic, types[0] if types else ""):
-                added.append(topic)
-        return added
+        return self._observer.refresh()
 
     def _background(self) -> None:
         """Send ``time`` every 0.1 s while no /clock drives it; refresh topics periodically."""
@@ -323,7 +333,7 @@ class FoxgloveBridge:
         return int(self._clock_fn())
 
     def _on_clock(self, msg: Any) -> None:
-        ns = int(msg.clock.sec) * 1_000_000_000 + int(msg.clock.nanosec)
+        ns = stamp_to_ns(msg.clock)
         self._sim_clock_ns = ns
         self._sim_clock_seen = time.monotonic()
         self._broadcast_time(ns)
@@ -343,9 +353,10 @@ class FoxgloveBridge:
 
         topic = "/" + str(channel.topic).lstrip("/")
         where = f"client channel '{topic}'"
-        if channel.encoding != "cdr":
+        encoding = str(channel.encoding)
+        if encoding not in _CLIENT_ENCODINGS:
             self._warn("foxglove bridge: refused a " + where,
-                       f"encoding {channel.encoding!r} (only cdr is supported)")
+                       f"encoding {encoding!r} (cdr or json)")
             return
         try:
             _, msg_class = serializable_type(str(channel.schema_name or ""))
@@ -371,7 +382,7 @@ class FoxgloveBridge:
             self._warn("foxglove bridge: refused a " + where, str(exc))
             return
         with self._lock:
-            self._publishers[(client_id, int(channel.id))] = (publisher, msg_class)
+            self._publishers[(client_id, int(channel.id))] = (publisher, msg_class, encoding)
         self.logger.info(f"foxglove bridge: a client publishes {channel.schema_name} on {topic}")
 
     def _client_unadvertise(self, client_id: int, channel_id: int) -> None:
@@ -388,51 +399,59 @@ class FoxgloveBridge:
             entry = self._publishers.get((client_id, channel_id))
         if entry is None:
             return
-        publisher, msg_class = entry
+        publisher, msg_class, encoding = entry
         try:
-            publisher.publish(from_cdr(bytes(data), msg_class))
+            if encoding == "json":
+                msg = message_from_json(bytes(data), msg_class)
+            else:
+                msg = from_cdr(bytes(data), msg_class)
+            publisher.publish(msg)
         except Exception as exc:  # a malformed message from a client: one line, keep going
             self._warn("foxglove bridge: dropped a client message",
                        f"{type(exc).__name__}: {exc}")
 
-    def _skip(self, topic: str, reason: str) -> bool:
-        with self._lock:
-            self._skipped[topic] = reason
+    def _log_skip(self, topic: str, reason: str) -> None:
         self.logger.warning(f"foxglove bridge: not serving '{topic}': {reason}")
-        return False
 
-    def _add_topic(self, topic: str, type_name: str) -> bool:
-        from posekit.msgs.cdr import get_typestore, serializable_type
+    def _sink_for(self, observed: ObservedTopic) -> MessageSink:
+        """Advertise a channel for a topic the observer starts observing."""
+        from posekit.msgs.cdr import get_typestore
 
+        type_name = observed.type_name
         try:
-            type_name, msg_class = serializable_type(type_name)
             definition, _ = get_typestore().generate_msgdef(type_name, ros_version=2)
-        except (LookupError, ValueError, UnknownMessageTypeError):
-            return self._skip(topic, f"type {type_name!r} has no ROS 2 message definition")
+        except (LookupError, ValueError, AssertionError) as exc:
+            raise TopicSkipped(f"type {type_name!r} has no ROS 2 message definition "
+                               f"({exc})") from None
         fox = self._fox
         schema = fox.Schema(name=type_name, encoding="ros2msg", data=definition.encode())
         channel = fox.Channel(
-            topic, schema=schema, message_encoding="cdr", context=self._context
+            observed.name, schema=schema, message_encoding="cdr", context=self._context
         )
-        qos = _STATIC_QOS if topic == _STATIC_TOPIC else _ANY_QOS
-        info = EndpointInfo(topic, msg_class, qos, _NODE_NAME, "/", self.logger)
+        latched: deque[bytes] | None = None
+        if (observed.qos.durability == DurabilityPolicy.TRANSIENT_LOCAL
+                and observed.name != _STATIC_TOPIC):
+            keep = sum(p.depth if p.history == HistoryPolicy.KEEP_LAST else MAX_LATCHED
+                       for p in observed.offered)
+            latched = deque(maxlen=max(1, min(keep, MAX_LATCHED)))
         with self._lock:
-            self._channels[topic] = channel
-        try:
-            endpoint = self.transport.subscribe(info, self._make_sink(topic, type_name, channel))
-        except TopicTypeMismatchError as exc:
-            with self._lock:
-                self._channels.pop(topic, None)
-            channel.close()
-            return self._skip(topic, str(exc))
-        with self._lock:
-            if self._closed:  # stop() ran meanwhile
-                endpoint.destroy()
-                return False
-            self._endpoints[topic] = endpoint
-        return True
+            self._channels[observed.name] = channel
+            if latched is not None:
+                self._latched[observed.name] = latched
+        return self._make_sink(observed.name, type_name, channel, latched)
 
-    def _make_sink(self, topic: str, type_name: str, channel: Any) -> Callable[[Any], None]:
+    def _remove_channel(self, topic: str) -> None:
+        """Unadvertise the channel of a topic no longer observed."""
+        with self._lock:
+            channel = self._channels.pop(topic, None)
+            if topic == _STATIC_TOPIC:
+                self._static.clear()
+            self._latched.pop(topic, None)
+        if channel is not None:
+            channel.close()
+
+    def _make_sink(self, topic: str, type_name: str, channel: Any,
+                   latched: deque[bytes] | None = None) -> Callable[[Any], None]:
         from posekit.msgs.cdr import to_cdr
 
         is_static = topic == _STATIC_TOPIC and type_name == TFMessage.__msgtype__
@@ -448,7 +467,11 @@ class FoxgloveBridge:
                     with self._lock:
                         for t in msg.transforms:
                             self._static[t.child_frame_id] = t
-                channel.log(to_cdr(msg, type_name), log_time=self.now_ns())
+                data = to_cdr(msg, type_name)
+                if latched is not None:
+                    with self._lock:
+                        latched.append(data)
+                channel.log(data, log_time=self.now_ns())
             except Exception as exc:  # malformed message: log, keep running
                 self.logger.warning(
                     f"foxglove bridge: bad message on {topic}: {type(exc).__name__}: {exc}",
@@ -467,6 +490,46 @@ class FoxgloveBridge:
         if channel is None or not transforms or self._closed:
             return
         channel.log(to_cdr(TFMessage(transforms=transforms)), log_time=self.now_ns())
+
+    def _resend_latched(self, topic: str) -> None:
+        """Log a latched topic's kept messages again (a client just subscribed to it)."""
+        with self._lock:
+            channel = self._channels.get(topic)
+            payloads = list(self._latched.get(topic, ()))
+        if channel is None or self._closed:
+            return
+        for data in payloads:
+            channel.log(data, log_time=self.now_ns())
+
+
+def message_from_json(data: bytes, msg_class: type) -> Any:
+    """A message of ``msg_class`` from a client's ``json`` payload (UTF-8 JSON object of the
+    message's fields; those left out keep their defaults).
+
+    Raises:
+        ValueError: not UTF-8 JSON (``UnicodeDecodeError`` and ``json.JSONDecodeError`` are
+            ValueErrors).
+        posekit.msgs.yaml_io.MessageFieldError: a field the type does not have, or a value
+            that does not fit it (the text names the field).
+    """
+    from posekit.msgs.registry import message_type_name
+    from posekit.msgs.yaml_io import default_message, set_message_fields
+
+    values = json.loads(data.decode("utf-8"))
+    msg = default_message(message_type_name(msg_class))
+    set_message_fields(msg, values)
+    return msg
+
+
+def _channel_class(type_name: str) -> type:
+    """The class of a type the bridge can serve (a message type with a ROS 2 definition)."""
+    from posekit.msgs.cdr import serializable_type
+
+    try:
+        return serializable_type(type_name)[1]
+    except (LookupError, ValueError, UnknownMessageTypeError) as exc:
+        raise LookupError(f"type {type_name!r} has no ROS 2 message definition ({exc})") \
+            from None
 
 
 class _SubprotocolFront:

@@ -8,6 +8,7 @@ Routes:
   per request, so a repaired installation is served without a restart; if three.js is
   missing the page falls back to its 2D canvas and names the fix;
 * ``GET /ws``: the WebSocket (protocol below);
+* ``GET /api/displays``: the display modules the page loads (``web/app/displays/*.js``);
 * ``GET /api/state``: a JSON snapshot (frames in the default fixed frame, TF tree, topics,
   odometry trails) for scripts and tests.
 
@@ -22,14 +23,26 @@ WebSocket protocol (server -> client, JSON text unless noted):
 * ``graph``: ``{tree: [...], topics: [...], images: [...], clock: {source, sim, wall, rtf,
   rate_clock}, goal: {frame, pose, stamp} | null}`` at 2 Hz (``clock``:
   :meth:`ViewerTap.time_state`; topic rates are on its ``rate_clock``);
+* ``display``: ``{topic, messages: [...]}``: new messages of a topic a display of this
+  client follows, converted by :func:`posekit.viewer.display_feed.message_to_json`, oldest
+  first, at most the display's ``queue`` of them (newest only by default), each at most
+  once, at up to ``tf_rate`` Hz;
 * binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
-  seq, stamp, width, height, encoding}``, then the JPEG bytes. Only for topics the client
-  watches, newest only, at up to ``image_rate`` Hz (default 15).
+  seq, stamp, width, height, encoding, frame_id}``, then the JPEG bytes. Only for topics the
+  client watches, newest only, at up to ``image_rate`` Hz (default 15).
 
 Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "topics":
 [...]}``, ``{"op": "pause", "paused": BOOL}``, ``{"op": "goal", "frame": NAME, "x": M, "y": M,
 "yaw": RAD}`` (publishes a ``geometry_msgs/PoseStamped`` on ``/goal_pose``, answered by
-``{"type": "goal_sent", ...}``: :meth:`ViewerServer.publish_goal`). A malformed request gets
+``{"type": "goal_sent", ...}``: :meth:`ViewerServer.publish_goal`), ``{"op":
+"initial_pose", "frame", "x", "y", "yaw"}`` (publishes a
+``geometry_msgs/PoseWithCovarianceStamped`` on ``/initialpose``, answered by
+``initial_pose_sent``: :meth:`ViewerServer.publish_initial_pose`),
+``{"op": "display_subscribe", "topic": NAME, "type": "pkg/msg/Name", "queue": N}`` (send
+this client the topic's messages; ``queue``: messages kept between two sends, 1..1000,
+default 1; answered by ``{"type": "display_subscribed", "topic", "msg_type", "queue"}``
+once the server keeps the topic's messages), ``{"op": "display_unsubscribe", "topic":
+NAME}``. A malformed request gets
 ``{"type": "error", "message": ...}`` and the connection stays open.
 
 Who may talk to it (against other web pages in the user's browser and DNS rebinding, as
@@ -52,6 +65,7 @@ import asyncio
 import contextlib
 import json
 import math
+import re
 import struct
 import threading
 import time
@@ -63,18 +77,20 @@ from typing import Any
 
 from aiohttp import WSMsgType, web
 
-from posekit.robot.worlds import World
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import EndpointInfo, PublisherEndpoint
 from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.access import host_allowed, origin_allowed, own_hosts
+from posekit.viewer.display_feed import MAX_QUEUE, message_to_json
 from posekit.viewer.errors import ViewerError, ViewerOptionError
 from posekit.viewer.images import encode_jpeg
 from posekit.viewer.taps import GOAL_TOPIC, ViewerTap
 from posekit.viewer.world import world_payload
+from posekit.worlds import World
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "THREE_ROOT", "WEB_ROOT", "ViewerServer"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "THREE_ROOT", "WEB_ROOT", "ViewerServer",
+           "load_view_config"]
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
@@ -91,6 +107,41 @@ _MAX_WATCH = 16
 _RESTART_DELAY_S = 0.5
 _MAX_GOAL_M = 10_000.0
 _WORLD_RETRY_S = 2.0
+_MAX_DISPLAYS = 64
+#: RViz2's "2D Pose Estimate" topic and the variances it sends (x, y: (0.5 m)², yaw:
+#: (pi/12 rad)²).
+INITIAL_POSE_TOPIC = "/initialpose"
+INITIAL_POSE_VARIANCES = (0.25, 0.25, (math.pi / 12.0) ** 2)
+_TYPE_NAME = re.compile(r"[A-Za-z][\w]*/msg/[A-Za-z][\w]*")
+
+
+#: The saved view configuration's version (the page's ``posekit_view`` key).
+VIEW_CONFIG_VERSION = 1
+_MAX_CONFIG_BYTES = 1 << 20
+
+
+def load_view_config(path: str | Path) -> dict[str, Any]:
+    """A saved view configuration (what the page's *Save view* downloads) read from
+    ``path``; what the page cannot use in it is skipped there and named in a note.
+
+    Raises:
+        ViewerOptionError: the file cannot be read, is larger than 1 MiB, is not JSON, or is
+            not a posekit view configuration (``"posekit_view": 1``).
+    """
+    path = Path(path)
+    try:
+        if path.stat().st_size > _MAX_CONFIG_BYTES:
+            raise ViewerOptionError(f"{path}: larger than 1 MiB, not a view configuration")
+        config = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ViewerOptionError(f"cannot read the view configuration {path}: "
+                                f"{exc.strerror or exc}") from exc
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ViewerOptionError(f"{path}: not JSON ({exc})") from exc
+    if not isinstance(config, dict) or config.get("posekit_view") != VIEW_CONFIG_VERSION:
+        raise ViewerOptionError(f"{path}: not a posekit view configuration "
+                                f"(version {VIEW_CONFIG_VERSION}, saved by 'Save view')")
+    return config
 
 
 @dataclass(eq=False)
@@ -106,11 +157,28 @@ class _Client:
     sent: int = 0
     dropped: int = 0
     image_seq: dict[str, int] = field(default_factory=dict)
+    #: Display topics: topic -> (type, messages kept per send), and the newest sent.
+    displays: dict[str, tuple[str, int]] = field(default_factory=dict)
+    display_seq: dict[str, int] = field(default_factory=dict)
+    #: Display messages not sent yet per topic (JSON texts, at most the display's queue).
+    display_out: dict[str, list[str]] = field(default_factory=dict)
 
     def put(self, channel: str, payload: str | bytes) -> None:
         if channel in self.slots:
             self.dropped += 1
         self.slots[channel] = payload
+        self.wake.set()
+
+    def put_display(self, topic: str, messages: list[str], keep: int) -> None:
+        """Queue display messages of ``topic``; unsent ones are kept up to ``keep`` (the
+        oldest beyond it are dropped), so a queued display (markers) loses nothing a fast
+        enough client could have drawn, and memory stays bounded."""
+        pending = self.display_out.setdefault(topic, [])
+        pending.extend(messages)
+        if len(pending) > keep:
+            self.dropped += len(pending) - keep
+            del pending[: len(pending) - keep]
+        self.slots["display:" + topic] = topic
         self.wake.set()
 
 
@@ -169,6 +237,9 @@ class ViewerServer:
             parameter of its simulator, :func:`~posekit.viewer.world_discovery.
             discover_world`) every 2 s until one answers, and send the pages a new ``hello``
             with it. Default: when the tap's transport crosses processes.
+        config: a saved view configuration (the page's *Save view* JSON, or the path of
+            such a file: :func:`load_view_config`) every page starts from, as
+            ``rviz2 -d FILE`` does; a ``?view=`` in the page's URL takes precedence.
     """
 
     def __init__(
@@ -188,6 +259,7 @@ class ViewerServer:
         allow_hosts: Iterable[str] = (),
         allow_origins: Iterable[str] = (),
         discover_world: bool | None = None,
+        config: Mapping[str, Any] | str | Path | None = None,
     ) -> None:
         if not 0 < tf_rate <= _MAX_TF_RATE:
             raise ViewerOptionError(f"tf_rate must be in (0, {_MAX_TF_RATE:g}] Hz, got {tf_rate}")
@@ -214,8 +286,10 @@ class ViewerServer:
             o.strip().lower().rstrip("/") for o in allow_origins if o.strip()
         )
         self._world = world_payload(world)
+        self.config = (load_view_config(config) if isinstance(config, (str, Path))
+                       else None if config is None else dict(config))
         if discover_world is None:
-            discover_world = bool(getattr(tap.transport, "crosses_processes", False))
+            discover_world = tap.transport.crosses_processes
         self.discover_world = world is None and discover_world
         self._clients: set[_Client] = set()
         self._runner_thread: LoopThread | None = None
@@ -226,9 +300,9 @@ class ViewerServer:
         self._image_tasks: set[asyncio.Task[None]] = set()
         self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0,
                           "producer_errors": 0, "producer_restarts": 0, "forbidden": 0,
-                          "goals": 0}
-        self._goal_lock = threading.Lock()
-        self._goal_pub: PublisherEndpoint | None = None
+                          "goals": 0, "initial_poses": 0}
+        self._tool_lock = threading.Lock()
+        self._tool_pubs: dict[str, PublisherEndpoint] = {}
         self._producers: set[asyncio.Task[None]] = set()
         self._warn = RateLimitedLog(tap.logger.warning)
 
@@ -339,6 +413,7 @@ class ViewerServer:
         app.router.add_get("/", self._index)
         app.router.add_get("/ws", self._websocket)
         app.router.add_get("/api/state", self._state)
+        app.router.add_get("/api/displays", self._display_modules)
         app.router.add_get("/favicon.ico", self._no_content)
         app.router.add_static("/app/", WEB_ROOT / "app", follow_symlinks=False)
         app.router.add_get("/vendor/three/{path:.+}", self._three)
@@ -366,11 +441,11 @@ class ViewerServer:
             self._runner_thread.stop()
         self._thread = None
         self._encoder.shutdown(wait=False, cancel_futures=True)
-        with self._goal_lock:
-            goal_pub, self._goal_pub = self._goal_pub, None
-        if goal_pub is not None:
+        with self._tool_lock:
+            publishers, self._tool_pubs = list(self._tool_pubs.values()), {}
+        for publisher in publishers:
             with contextlib.suppress(Exception):  # a closing transport: nothing to undo
-                goal_pub.destroy()
+                publisher.destroy()
         if self.close_tap:
             self.tap.close()
 
@@ -414,6 +489,15 @@ class ViewerServer:
             raise web.HTTPNotFound(text=f"{request.path} is not part of the vendored three.js")
         return web.FileResponse(path)
 
+    async def _display_modules(self, request: web.Request) -> web.Response:
+        """The page's display modules: every ``web/app/displays/*.js`` not starting with
+        ``_`` (helpers), as module paths the page imports (see docs/viewer.md)."""
+        del request
+        root = WEB_ROOT / "app" / "displays"
+        names = sorted(p.name for p in root.glob("*.js") if not p.name.startswith("_"))
+        return web.json_response({"modules": [f"/app/displays/{n}" for n in names]},
+                                 headers={"Cache-Control": "no-cache"})
+
     async def _no_content(self, request: web.Request) -> web.Response:
         del request
         return web.Response(status=204)
@@ -452,6 +536,7 @@ class ViewerServer:
             "odometry_topics": list(self.tap.odometry_topics),
             "ground_truth_topic": self.tap.ground_truth_topic,
             "base_frame": "base_link",
+            "config": self.config,
         }
 
     async def _websocket(self, request: web.Request) -> web.StreamResponse:
@@ -472,6 +557,8 @@ class ViewerServer:
                     break
         finally:
             self._clients.discard(client)
+            if client.displays:
+                self._update_message_watches()
             sender.cancel()
             with contextlib.suppress(asyncio.CancelledError):
                 await sender
@@ -485,6 +572,12 @@ class ViewerServer:
             while client.slots and not ws.closed:
                 channel = next(iter(client.slots))
                 payload = client.slots.pop(channel)
+                if channel.startswith("display:"):
+                    messages = client.display_out.pop(str(payload), [])
+                    if not messages or payload not in client.displays:
+                        continue
+                    payload = (f'{{"type":"display","topic":{json.dumps(payload)},'
+                               f'"messages":[{",".join(messages)}]}}')
                 try:
                     if isinstance(payload, bytes):
                         await ws.send_bytes(payload)
@@ -519,6 +612,20 @@ class ViewerServer:
                     if stale[6:] not in client.watched:
                         del client.slots[stale]
                 client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
+            elif op == "initial_pose":
+                pose = self.publish_initial_pose(request.get("frame"), request.get("x"),
+                                                 request.get("y"), request.get("yaw"))
+                client.put("initial_pose_sent", _dumps({"type": "initial_pose_sent", **pose}))
+            elif op == "display_subscribe":
+                self._display_subscribe(client, request)
+            elif op == "display_unsubscribe":
+                topic = request.get("topic")
+                if not isinstance(topic, str):
+                    raise ValueError("'topic' must be a topic name")
+                client.displays.pop(topic, None)
+                client.display_seq.pop(topic, None)
+                client.display_out.pop(topic, None)
+                self._update_message_watches()
             elif op == "pause":
                 client.paused = bool(request.get("paused"))
             elif op == "goal":
@@ -526,53 +633,155 @@ class ViewerServer:
                                          request.get("y"), request.get("yaw"))
                 client.put("goal_sent", _dumps({"type": "goal_sent", **goal}))
             else:
-                raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause, goal)")
+                raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause, goal, "
+                                 "initial_pose, display_subscribe, display_unsubscribe)")
         except (ValueError, TypeError) as exc:
             client.put("error", _dumps({"type": "error", "message": f"bad request: {exc}"}))
 
-    # -- goals -------------------------------------------------------------------------------
-    def publish_goal(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
-        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose`` (RViz2's "2D Goal Pose"):
-        position ``(x, y, 0)`` m and heading ``yaw`` rad about z in ``frame``, stamped with
-        the tap's "now". The publisher is created on first use (the viewer adds no topic
-        until a goal is sent). Returns what was published.
+    # -- displays --------------------------------------------------------------------------
+    def _display_subscribe(self, client: _Client, request: Mapping[str, Any]) -> None:
+        """``{"op": "display_subscribe", "topic", "type", "queue"}``: send this client the
+        topic's messages as JSON (``display`` messages; :mod:`posekit.viewer.display_feed`)."""
+        topic, type_name = request.get("topic"), request.get("type")
+        queue = request.get("queue", 1)
+        if not isinstance(topic, str) or not topic.startswith("/") or len(topic) > _MAX_NAME:
+            raise ValueError("'topic' must be a fully qualified topic name")
+        if not isinstance(type_name, str) or not _TYPE_NAME.fullmatch(type_name):
+            raise ValueError("'type' must be a ROS type name like pkg/msg/Name")
+        if isinstance(queue, bool) or not isinstance(queue, int) or not 1 <= queue <= MAX_QUEUE:
+            raise ValueError(f"'queue' must be an integer in [1, {MAX_QUEUE}]")
+        known = self.tap.topic_type(topic)
+        if known and known != type_name:
+            raise ValueError(f"{topic} carries {known}, not {type_name}")
+        if topic not in client.displays and len(client.displays) >= _MAX_DISPLAYS:
+            raise ValueError(f"at most {_MAX_DISPLAYS} display topics per page")
+        client.displays[topic] = (type_name, queue)
+        client.display_seq.setdefault(topic, 0)
+        self._update_message_watches()
+        client.put("display_subscribed:" + topic, _dumps(
+            {"type": "display_subscribed", "topic": topic, "msg_type": type_name,
+             "queue": queue}))
+
+    def _update_message_watches(self) -> None:
+        """Tell the tap which topics' messages the open pages' displays want, and how many
+        of them to keep between two sends (the largest queue any page asked for)."""
+        depths: dict[str, int] = {}
+        for c in self._clients:
+            for topic, (_, queue) in c.displays.items():
+                depths[topic] = max(queue, depths.get(topic, 1))
+        self.tap.set_message_watches(depths)
+
+    def _display_round(self, active: list[_Client]) -> dict[_Client, dict[str, list[str]]]:
+        """The display messages each active client has not had yet, converted to JSON (in
+        a worker thread: a large message takes a while). A message that cannot be
+        converted is logged (rate-limited) and skipped."""
+        wanted: dict[str, int] = {}
+        for c in active:
+            for topic in c.displays:
+                seq = c.display_seq.get(topic, 0)
+                wanted[topic] = min(seq, wanted.get(topic, seq))
+        texts: dict[str, list[tuple[int, str]]] = {}
+        for topic, seq in wanted.items():
+            out = texts[topic] = []
+            for number, msg in self.tap.messages_after(topic, seq):
+                try:
+                    out.append((number, _dumps(message_to_json(msg))))
+                except Exception as exc:  # a message that cannot be converted: skip it
+                    self._warn(f"viewer: cannot convert a message on {topic}",
+                               f"{type(exc).__name__}: {exc}")
+        result: dict[_Client, dict[str, list[str]]] = {}
+        for c in active:
+            for topic, (_, queue) in list(c.displays.items()):
+                seq = c.display_seq.get(topic, 0)
+                new = [(n, t) for n, t in texts.get(topic, []) if n > seq][-queue:]
+                if new:
+                    c.display_seq[topic] = new[-1][0]
+                    result.setdefault(c, {})[topic] = [t for _, t in new]
+        return result
+
+    # -- goals and pose estimates ------------------------------------------------------------
+    def _tool_pose(self, frame: Any, x: Any, y: Any, yaw: Any) -> tuple[str, float, float, float]:
+        """A pose from the page's tools, checked: ``(frame, x, y, yaw)``.
 
         Raises:
             ValueError: a non-string or over-long frame, non-numeric or non-finite values,
                 or a position beyond 10 km.
         """
-        from posekit.msgs.geometry_msgs import PoseStamped
-
         if not isinstance(frame, str) or not frame.strip("/") or len(frame) > _MAX_NAME:
             raise ValueError("'frame' must be a non-empty frame name")
         values = []
         for name, v in (("x", x), ("y", y), ("yaw", yaw)):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ValueError(f"goal '{name}' must be a finite number, got {v!r}")
+                raise ValueError(f"pose '{name}' must be a finite number, got {v!r}")
             values.append(float(v))
-        gx, gy, gyaw = values
-        if max(abs(gx), abs(gy)) > _MAX_GOAL_M:
-            raise ValueError(f"goal position beyond {_MAX_GOAL_M:g} m")
+        px, py, pyaw = values
+        if max(abs(px), abs(py)) > _MAX_GOAL_M:
+            raise ValueError(f"position beyond {_MAX_GOAL_M:g} m")
+        return frame.lstrip("/"), px, py, pyaw
+
+    def _publish_tool(self, topic: str, msg: Any, what: str,
+                      pose: tuple[str, float, float, float]) -> dict[str, Any]:
+        """Publish ``msg`` (the tool's ``pose``: frame, x, y, yaw) on ``topic``, count and log
+        it; returns the pose as the page is answered. The publisher is created on first use
+        (the viewer adds no topic until a tool is used) and kept until :meth:`stop`."""
+        with self._tool_lock:
+            publisher = self._tool_pubs.get(topic)
+            created = publisher is None
+            if publisher is None:
+                publisher = self._tool_pubs[topic] = self.tap.transport.advertise(EndpointInfo(
+                    topic, type(msg), QoSProfile(depth=10), "posekit_viewer", "/",
+                    self.tap.logger))
+        if created:
+            self.tap.refresh()  # the displays subscribe now that the topic has a publisher
+        publisher.publish(msg)
+        self._counters["goals" if topic == GOAL_TOPIC else "initial_poses"] += 1
+        frame_id, x, y, yaw = pose
+        self.tap.logger.info(f"viewer: {what} sent on {topic}: x={x:.2f}, y={y:.2f}, "
+                             f"yaw={yaw:.2f} in {frame_id}")
+        return {"frame": frame_id, "x": x, "y": y, "yaw": yaw}
+
+    def _stamp(self, header: Any, frame: str) -> None:
+        header.frame_id = frame
+        header.stamp.sec, header.stamp.nanosec = divmod(self.tap.now_ns(), 1_000_000_000)
+
+    def publish_goal(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
+        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose`` (RViz2's "2D Goal Pose"):
+        position ``(x, y, 0)`` m and heading ``yaw`` rad about z in ``frame``, stamped with
+        the tap's "now". Returns what was published.
+
+        Raises:
+            ValueError: see :meth:`_tool_pose`.
+        """
+        from posekit.msgs.geometry_msgs import PoseStamped
+
+        frame_id, gx, gy, gyaw = self._tool_pose(frame, x, y, yaw)
         msg = PoseStamped()
-        msg.header.frame_id = frame.lstrip("/")
-        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(self.tap.now_ns(), 1_000_000_000)
+        self._stamp(msg.header, frame_id)
         msg.pose.position.x, msg.pose.position.y = gx, gy
         msg.pose.orientation.z, msg.pose.orientation.w = math.sin(gyaw / 2), math.cos(gyaw / 2)
-        with self._goal_lock:
-            created = self._goal_pub is None
-            if self._goal_pub is None:
-                self._goal_pub = self.tap.transport.advertise(EndpointInfo(
-                    GOAL_TOPIC, PoseStamped, QoSProfile(depth=10), "posekit_viewer", "/",
-                    self.tap.logger))
-            publisher = self._goal_pub
-        if created:
-            self.tap.refresh()  # the goal display subscribes now that goal_pose has a publisher
-        publisher.publish(msg)
-        self._counters["goals"] += 1
-        self.tap.logger.info(
-            f"viewer: goal sent on {GOAL_TOPIC}: x={gx:.2f}, y={gy:.2f}, yaw={gyaw:.2f} "
-            f"in {msg.header.frame_id}")
-        return {"frame": msg.header.frame_id, "x": gx, "y": gy, "yaw": gyaw}
+        return self._publish_tool(GOAL_TOPIC, msg, "goal", (frame_id, gx, gy, gyaw))
+
+    def publish_initial_pose(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
+        """Publish a ``geometry_msgs/PoseWithCovarianceStamped`` on ``/initialpose`` (RViz2's
+        "2D Pose Estimate"): position ``(x, y, 0)`` m, heading ``yaw`` rad in ``frame``,
+        stamped with the tap's "now", with RViz2's covariance (:data:`INITIAL_POSE_VARIANCES`
+        on x, y and yaw, zero elsewhere). Returns what was published.
+
+        Raises:
+            ValueError: see :meth:`_tool_pose`.
+        """
+        from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+
+        frame_id, px, py, pyaw = self._tool_pose(frame, x, y, yaw)
+        msg = PoseWithCovarianceStamped()
+        self._stamp(msg.header, frame_id)
+        msg.pose.pose.position.x, msg.pose.pose.position.y = px, py
+        msg.pose.pose.orientation.z = math.sin(pyaw / 2)
+        msg.pose.pose.orientation.w = math.cos(pyaw / 2)
+        vx, vy, vyaw = INITIAL_POSE_VARIANCES
+        msg.pose.covariance[0], msg.pose.covariance[7], msg.pose.covariance[35] = vx, vy, vyaw
+        return self._publish_tool(INITIAL_POSE_TOPIC, msg, "pose estimate",
+                                  (frame_id, px, py, pyaw))
 
     # -- producers ---------------------------------------------------------------------------
     def _tf_message(self, fixed: str) -> str:
@@ -643,6 +852,13 @@ class ViewerServer:
                 odom = _dumps({"type": "odom", "displays": self.tap.trails()})
                 for c in active:
                     c.put("odom", odom)
+        if active and any(c.displays for c in active):
+            batches = await loop.run_in_executor(None, self._display_round, active)
+            for c, topics in batches.items():
+                for topic, messages in topics.items():
+                    display = c.displays.get(topic)  # unsubscribed meanwhile: nothing to send
+                    if display is not None:
+                        c.put_display(topic, messages, display[1])
         if active and now >= feed.next_image:
             feed.next_image = now + 1.0 / self.image_rate
             encoding = feed.encoding
@@ -686,6 +902,7 @@ class ViewerServer:
                 "width": int(msg.width),
                 "height": int(msg.height),
                 "encoding": str(msg.encoding),
+                "frame_id": str(msg.header.frame_id),
             }
         ).encode()
         payload = struct.pack(">I", len(header)) + header + jpeg

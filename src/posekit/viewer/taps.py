@@ -26,6 +26,10 @@ What is tapped (topics are matched fully qualified):
 * every ``sensor_msgs/Image`` topic: the newest message only (a reference; the in-process
   bus shares the frozen pixel array, so this costs nothing); JPEG encoding happens on demand
   in the server, only for topics a client watches;
+* every topic: the newest message (a reference), and for the topics the page's displays
+  follow (:meth:`ViewerTap.set_message_watches`) the newest messages in a
+  :class:`~posekit.viewer.display_feed.MessageQueue`, seeded with the newest message received
+  before the display was added;
 * every topic: receive rate over the last :data:`RATE_WINDOW_S` seconds (what ``ros2 topic
   hz`` prints by default) of the clock the data uses: sim time when the run is on it (the
   ``clock_ns`` given, or ``/clock``), else the wall clock. A camera publishing at 30 Hz of
@@ -33,10 +37,15 @@ What is tapped (topics are matched fully qualified):
 * time (:meth:`ViewerTap.time_state`): sim time, wall time and the real-time factor
   measured over the last :data:`RTF_WINDOW_S` s of wall time.
 
-Topics are discovered with ``transport.get_topic_names_and_types()`` (call :meth:`refresh`
-periodically); the tap subscribes only to topics that have a publisher, so it never creates
-a topic of its own in the graph, and to at most :data:`MAX_SUBSCRIBED_TOPICS` of them (the
-others are listed with the reason).
+Topics are discovered and subscribed by a :class:`posekit.runtime.observe.TopicObserver`
+(call :meth:`refresh` periodically): the tap subscribes only to topics that have a
+publisher, so it never creates a topic of its own in the graph, with a QoS every publisher
+matches (transient local when every publisher is: the latched ``/tf_static``), to at most
+:data:`MAX_SUBSCRIBED_TOPICS` of them (the others are listed with the reason); a topic whose
+publishers leave is unsubscribed, and leaves the topic panel when it leaves the graph.
+Topics of the :data:`ON_DEMAND_TYPES` (point clouds) are subscribed only while a display
+follows them (:meth:`set_message_watches`): a simulated sensor renders them only for
+subscribers, and the OAK-D's cloud costs more than its frame period.
 """
 
 from __future__ import annotations
@@ -52,21 +61,13 @@ from typing import Any
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.registry import find_message_class
 from posekit.runtime.logging import RcutilsLogger, get_logger
-from posekit.runtime.qos import (
-    DurabilityPolicy,
-    QoSProfile,
-    ReliabilityPolicy,
-)
+from posekit.runtime.observe import ObservedTopic, TopicObserver
 from posekit.runtime.ratelimit import RateLimitedLog
-from posekit.runtime.transport import (
-    EndpointInfo,
-    SubscriptionEndpoint,
-    TopicTypeMismatchError,
-    Transport,
-)
+from posekit.runtime.transport import MessageSink, Transport
 from posekit.tf2 import Buffer, TransformException
 from posekit.tf2_ros.transform_listener import DEFAULT_MAX_FRAMES, DEFAULT_MAX_FUTURE
-from posekit.time import Duration
+from posekit.time import NS_PER_S, Duration, stamp_to_ns
+from posekit.viewer.display_feed import MessageQueue
 
 __all__ = [
     "GOAL_TOPIC",
@@ -81,7 +82,7 @@ __all__ = [
     "ViewerTap",
 ]
 
-NS = 1_000_000_000
+NS = NS_PER_S
 TF_TYPE = "tf2_msgs/msg/TFMessage"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
 IMAGE_TYPE = "sensor_msgs/msg/Image"
@@ -109,13 +110,12 @@ MAX_FRAMES = DEFAULT_MAX_FRAMES
 #: Topics the tap subscribes to at most (each costs a subscription; a peer can announce any
 #: number): /tf, /tf_static, /clock and the odometry displays first, then graph order.
 MAX_SUBSCRIBED_TOPICS = 200
+#: Types subscribed only while a display follows the topic (listed in the panel meanwhile).
+ON_DEMAND_TYPES = frozenset({"sensor_msgs/msg/PointCloud2"})
+#: The topic panel's note for such a topic while no display follows it.
+ON_DEMAND_NOTE = "subscribed while a display shows it"
 #: /tf stamps further ahead of "now" are ignored (as TransformListener does).
 _MAX_FUTURE_NS = DEFAULT_MAX_FUTURE.nanoseconds
-
-# A subscription that every publisher matches (best effort + volatile request).
-_ANY_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
-# /tf_static needs transient local to receive the latched message (tf2_ros listener QoS).
-_STATIC_QOS = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 @dataclass
@@ -203,18 +203,14 @@ class OdometryTrail:
         self.version += 1
 
 
-def _stamp_ns(stamp: Any) -> int:
-    return int(stamp.sec) * NS + int(stamp.nanosec)
-
-
-def _resolve_class(type_name: str) -> type | None:
-    """The class for a ROS type name: posekit's registry, else rosbags' typestore; None if
-    neither knows it. Type names come from other peers, so nothing is ever imported by
-    name here."""
+def _resolve_class(type_name: str) -> type:
+    """The class for a ROS type name: posekit's registry, else rosbags' typestore; raises
+    LookupError if neither knows it. Type names come from other peers, so nothing is ever
+    imported by name here."""
     try:
         return find_message_class(type_name)
     except UnknownMessageTypeError:
-        return None
+        raise LookupError(f"unknown message type {type_name!r}") from None
 
 
 class ViewerTap:
@@ -252,9 +248,21 @@ class ViewerTap:
         self._lock = threading.Lock()
         self._frames: dict[str, FrameInfo] = {}
         self._topics: dict[str, TopicInfo] = {}
-        self._endpoints: dict[str, SubscriptionEndpoint] = {}
+        # The topics the page draws first: a graph with endless topics must not crowd them out.
+        shown = {"/tf", "/tf_static", "/clock", GOAL_TOPIC, *self.odometry_topics}
+        if ground_truth_topic:
+            shown.add(ground_truth_topic)
+        self._observer = TopicObserver(
+            transport, self._sink_for, on_removed=self._unsubscribed,
+            on_skipped=self._not_shown, select=self._wanted, node_name="posekit_viewer",
+            depth=1,
+            max_topics=MAX_SUBSCRIBED_TOPICS, priority=shown, resolve=_resolve_class,
+            logger=self.logger,
+        )
         self._trails: dict[str, OdometryTrail] = {}
         self._images: dict[str, tuple[int, Any]] = {}
+        self._latest: dict[str, Any] = {}
+        self._queues: dict[str, MessageQueue] = {}
         self._goal: dict[str, Any] | None = None
         self._clock_ns: int | None = None
         self._clock_fn = clock_ns
@@ -271,51 +279,56 @@ class ViewerTap:
 
     # -- discovery -------------------------------------------------------------------------
     def refresh(self) -> None:
-        """Learn new topics and subscribe to those that have a publisher."""
+        """Follow the graph: list its topics, subscribe to new ones that have a publisher,
+        let go of those whose publishers left."""
         if self._closed:
             return
-        try:
-            names_and_types = self.transport.get_topic_names_and_types()
-        except Exception as exc:  # a transport failing a graph query must not kill the viewer
-            self.logger.warning(f"viewer: graph query failed: {exc}")
-            return
-        # The topics the page draws first: a graph with endless topics must not crowd them out.
-        shown = {"/tf", "/tf_static", "/clock", GOAL_TOPIC, *self.odometry_topics,
-                 self.ground_truth_topic}
-        names_and_types = sorted(names_and_types, key=lambda nt: nt[0] not in shown)
-        for name, types in names_and_types:
-            type_name = types[0] if types else ""
-            with self._lock:
-                info = self._topics.get(name)
-                if info is None:
-                    info = self._topics[name] = TopicInfo(name, type_name)
-            if info.subscribed or info.error:
-                continue
-            if self.transport.count_publishers(name) <= 0:
-                continue
-            if len(self._endpoints) >= MAX_SUBSCRIBED_TOPICS:
-                info.error = (f"not subscribed: the viewer follows at most "
-                              f"{MAX_SUBSCRIBED_TOPICS} topics")
-                continue
-            self._subscribe(info)
-
-    def _subscribe(self, info: TopicInfo) -> None:
-        msg_type = _resolve_class(info.type_name)
-        if msg_type is None:
-            info.error = f"unknown message type {info.type_name!r}"
-            return
-        qos = _STATIC_QOS if info.name == "/tf_static" else _ANY_QOS
-        sink = self._make_sink(info)
-        endpoint_info = EndpointInfo(info.name, msg_type, qos, "posekit_viewer", "/", self.logger)
-        try:
-            endpoint = self.transport.subscribe(endpoint_info, sink)
-        except TopicTypeMismatchError as exc:
-            info.error = str(exc)
-            self.logger.warning(f"viewer: not showing {info.name}: {exc}")
-            return
+        self._observer.refresh()
+        graph = self._observer.graph()
+        skipped = self._observer.skipped
+        names = {name for name, _ in graph}
         with self._lock:
-            self._endpoints[info.name] = endpoint
-            info.subscribed = True
+            for name, type_name in graph:
+                info = self._topics.get(name)
+                if info is None or (info.type_name != type_name and not info.subscribed):
+                    info = self._topics[name] = TopicInfo(name, type_name)
+                if not info.subscribed:
+                    info.error = skipped.get(name, "") or (
+                        ON_DEMAND_NOTE if type_name in ON_DEMAND_TYPES else "")
+            for name in [n for n, i in self._topics.items()
+                         if n not in names and not i.subscribed]:
+                del self._topics[name]
+
+    def _topic_info(self, name: str, type_name: str) -> TopicInfo:
+        with self._lock:
+            info = self._topics.get(name)
+            if info is None or info.type_name != type_name:
+                info = self._topics[name] = TopicInfo(name, type_name)
+            return info
+
+    def _sink_for(self, observed: ObservedTopic) -> MessageSink:
+        info = self._topic_info(observed.name, observed.type_name)
+        info.subscribed, info.error = True, ""
+        return self._make_sink(info)
+
+    def _wanted(self, topic: str, type_name: str) -> bool:
+        """Whether the observer subscribes ``topic`` (on-demand types: while displayed)."""
+        if type_name not in ON_DEMAND_TYPES:
+            return True
+        with self._lock:
+            return topic in self._queues
+
+    def _unsubscribed(self, topic: str) -> None:
+        with self._lock:
+            info = self._topics.get(topic)
+            if info is not None:
+                info.subscribed = False
+
+    def _not_shown(self, topic: str, reason: str) -> None:
+        """A topic the observer does not subscribe: its reason shows in the topic panel
+        (set by :meth:`refresh`); a type conflict is worth a log line too."""
+        if not reason.startswith(("unknown message type", "not subscribed")):
+            self.logger.warning(f"viewer: not showing {topic}: {reason}")
 
     def _make_sink(self, info: TopicInfo) -> Callable[[Any], None]:
         handler: Callable[[Any], None] | None = None
@@ -352,6 +365,10 @@ class ViewerTap:
                 info.receipts.append(now)
                 if len(info.receipts) > 4096:  # bounded even without readers
                     info.receipts.popleft()
+                self._latest[name] = msg
+                queue = self._queues.get(name)
+            if queue is not None:
+                queue.append(msg)
             if handler is not None:
                 try:
                     handler(msg)
@@ -378,7 +395,7 @@ class ViewerTap:
             horizon = now + _MAX_FUTURE_NS if now > 0 else None
         stale: list[str] = []
         for t in msg.transforms:
-            if horizon is not None and _stamp_ns(t.header.stamp) > horizon:
+            if horizon is not None and stamp_to_ns(t.header.stamp) > horizon:
                 # What TransformListener does: one sample stamped years ahead would make
                 # every later real sample of the frame TF_OLD_DATA in the buffer.
                 self.rejected_transforms += 1
@@ -402,7 +419,7 @@ class ViewerTap:
                     for _ in range(MAX_FRAMES // 10):
                         stale.append(self._frames.pop(next(iter(self._frames))).name)
                 info.parent = t.header.frame_id.lstrip("/")
-                stamp = _stamp_ns(t.header.stamp)
+                stamp = stamp_to_ns(t.header.stamp)
                 if not is_static and (
                     self._newest_stamp is None or stamp > self._newest_stamp[0]
                 ):
@@ -414,7 +431,7 @@ class ViewerTap:
             self.buffer.forget_frames(stale)
 
     def _on_clock(self, msg: Any) -> None:
-        ns = _stamp_ns(msg.clock)
+        ns = stamp_to_ns(msg.clock)
         jumped = self._clock_ns is not None and ns < self._clock_ns - _BACKWARD_JUMP_NS
         self._clock_ns = ns
         if jumped:
@@ -451,7 +468,7 @@ class ViewerTap:
             self._warn("viewer: goal not drawn (non-finite pose)", GOAL_TOPIC)
             return
         goal = {"frame": msg.header.frame_id.lstrip("/") or "odom", "pose": values,
-                "stamp": _stamp_ns(msg.header.stamp) / NS}
+                "stamp": stamp_to_ns(msg.header.stamp) / NS}
         with self._lock:
             self._goal = goal
 
@@ -613,6 +630,41 @@ class ViewerTap:
         with self._lock:
             return self._images.get(topic)
 
+    def set_message_watches(self, depths: dict[str, int]) -> None:
+        """Keep the newest ``depths[topic]`` messages of each topic for the displays (a new
+        watch starts with the newest message already received); other topics' queues go."""
+        with self._lock:
+            on_demand = {n for n, i in self._topics.items() if i.type_name in ON_DEMAND_TYPES}
+            released = [t for t in self._queues if t not in depths and t in on_demand]
+            wanted = [t for t in depths if t not in self._queues and t in on_demand]
+            for topic in [t for t in self._queues if t not in depths]:
+                del self._queues[topic]
+            for topic, depth in depths.items():
+                queue = self._queues.get(topic)
+                if queue is None:
+                    queue = self._queues[topic] = MessageQueue(depth)
+                    if topic in self._latest:
+                        queue.append(self._latest[topic])
+                else:
+                    queue.resize(depth)
+        for topic in released:
+            self._observer.release(topic)
+        if wanted or released:
+            self.refresh()  # subscribe the newly displayed ones now
+
+    def messages_after(self, topic: str, seq: int) -> list[tuple[int, Any]]:
+        """``(number, message)`` of the kept messages of a watched ``topic`` newer than
+        ``seq`` (oldest first; empty when the topic is not watched)."""
+        with self._lock:
+            queue = self._queues.get(topic)
+        return [] if queue is None else queue.after(seq)
+
+    def topic_type(self, topic: str) -> str | None:
+        """The type of ``topic`` as the graph announced it, or None when not seen yet."""
+        with self._lock:
+            info = self._topics.get(topic)
+        return None if info is None else info.type_name
+
     def trails(self) -> dict[str, dict[str, Any]]:
         """Every Odometry display: frame, child frame, kept poses, messages received."""
         with self._lock:
@@ -635,11 +687,4 @@ class ViewerTap:
     def close(self) -> None:
         """Destroy every subscription; sinks ignore late messages."""
         self._closed = True
-        with self._lock:
-            endpoints = list(self._endpoints.values())
-            self._endpoints.clear()
-        for endpoint in endpoints:
-            try:
-                endpoint.destroy()
-            except Exception as exc:  # closing transport: nothing more to do
-                self.logger.debug(f"viewer: destroying a subscription failed: {exc}")
+        self._observer.close()

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from posekit.robot.worlds import ARUCO_BOX, World, load_world, marker_poses
+from posekit.worlds import ARUCO_BOX, World, load_world, marker_poses
 
 __all__ = ["WORLD_FRAME", "marker_png_data_url", "world_payload"]
 

@@ -1,7 +1,10 @@
-"""Simulated cameras, the ArUco box model and renderer, and ArUco detection with PnP.
+"""Simulated cameras, the ArUco box renderer, and ArUco detection with PnP.
 
-``camera`` and ``box_model`` need numpy only; ``render`` and ``detector`` import OpenCV
-(``pip install posekit[vision]``) and are loaded on first attribute access.
+``camera`` needs numpy only; ``render`` and ``detector`` import OpenCV
+(``pip install posekit[vision]``) and are loaded on first attribute access. The ArUco box
+model (``ARUCO_BOX``, ``ArucoBoxModel``, ``BoxFace``, ``MarkerGroundTruth``,
+``box_pose_matrix``, ``marker_corners_local``) lives in :mod:`posekit.worlds`; it is
+re-exported here because the vision examples import it from ``posekit.vision``.
 """
 
 from __future__ import annotations
@@ -9,14 +12,6 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from posekit.vision.box_model import (
-    ARUCO_BOX,
-    ArucoBoxModel,
-    BoxFace,
-    MarkerGroundTruth,
-    box_pose_matrix,
-    marker_corners_local,
-)
 from posekit.vision.camera import (
     OAK_RGB_CAMERA,
     OVERHEAD_CAMERA,
@@ -25,6 +20,14 @@ from posekit.vision.camera import (
     PinholeCamera,
 )
 from posekit.vision.errors import CameraModelError, InvalidImageError, VisionError
+from posekit.worlds import (
+    ARUCO_BOX,
+    ArucoBoxModel,
+    BoxFace,
+    MarkerGroundTruth,
+    box_pose_matrix,
+    marker_corners_local,
+)
 
 _LAZY = {
     "BoxRenderer": "posekit.vision.render",

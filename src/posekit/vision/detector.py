@@ -34,8 +34,8 @@ import numpy.typing as npt
 
 from posekit.geometry import Rotation, Transform
 from posekit.msgs.sensor_msgs import CameraInfo
-from posekit.vision.box_model import marker_corners_local
 from posekit.vision.errors import CameraModelError, InvalidImageError
+from posekit.worlds import marker_corners_local
 
 __all__ = [
     "ArucoMarkerDetector",

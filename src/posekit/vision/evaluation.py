@@ -16,8 +16,8 @@ import numpy as np
 import numpy.typing as npt
 
 from posekit.geometry import Rotation, Transform
-from posekit.vision.box_model import ARUCO_BOX, ArucoBoxModel, box_pose_matrix
 from posekit.vision.camera import OAK_RGB_CAMERA, PinholeCamera
+from posekit.worlds import ARUCO_BOX, ArucoBoxModel, box_pose_matrix
 
 __all__ = ["AccuracyCell", "accuracy_grid", "look_at", "marker_view_pose"]
 

@@ -44,10 +44,10 @@ import numpy as np
 import numpy.typing as npt
 
 from posekit.robot.depth import SceneQuads, rasterize
-from posekit.robot.obstacles import WallSegments
-from posekit.vision.box_model import ARUCO_BOX, ArucoBoxModel, BoxFace, marker_corners_local
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.errors import CameraModelError
+from posekit.worlds import ARUCO_BOX, ArucoBoxModel, BoxFace, marker_corners_local
+from posekit.worlds.obstacles import WallSegments
 
 __all__ = ["BoxRenderer", "VisibleMarker", "marker_texture", "render_boxes"]
 

@@ -11,9 +11,9 @@ from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import JointState
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.nodes import WheelOdometryNode
-from posekit.robot.nodes._util import stamp_msg
 from posekit.robot.params import WHEEL_JOINT_NAMES
 from posekit.runtime.node import Node
+from posekit.time import stamp_from_ns
 
 SIM = {"use_sim_time": True}
 R_EFF = 0.0425 * 0.95
@@ -35,7 +35,7 @@ class _Feeder(Node):
         t_ns = self.get_clock().now_ns()
         left, right = self.angles(t_ns / 1e9)
         msg = JointState()
-        msg.header.stamp = stamp_msg(t_ns)
+        msg.header.stamp = stamp_from_ns(t_ns)
         msg.name = self.names
         # Front and rear of a side differ by a constant; odometry uses their mean.
         msg.position = np.array([left + 0.1, right - 0.2, left - 0.1, right + 0.2])

@@ -16,12 +16,11 @@ from posekit.robot.drive import RosbotBase
 from posekit.robot.headless import sub_seeds
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.nodes import WorldSimulation
-from posekit.robot.nodes._util import stamp_msg
 from posekit.robot.params import DEFAULT_DRIVE, DEFAULT_SLIP, WHEEL_JOINT_NAMES
-from posekit.robot.worlds import WorldError
 from posekit.runtime.node import Node
 from posekit.tf2_ros import Buffer, TransformListener
-from posekit.time import Time
+from posekit.time import Time, stamp_from_ns
+from posekit.worlds import WorldError
 
 SIM = {"use_sim_time": True}
 
@@ -45,7 +44,7 @@ class _Commander(Node):
         if cmd is None:
             return
         msg = TwistStamped()
-        msg.header.stamp = stamp_msg(self.stamp(t_ns))
+        msg.header.stamp = stamp_from_ns(self.stamp(t_ns))
         msg.twist.linear.x, msg.twist.angular.z = cmd
         self.pub.publish(msg)
 
@@ -175,7 +174,7 @@ def test_stale_and_non_finite_commands_are_rejected_with_a_logged_reason(
     assert all(m.pose.pose.position.x == 0.0 for m in sink.truth)
 
     bad = TwistStamped()
-    bad.header.stamp = stamp_msg(executor.now_ns)
+    bad.header.stamp = stamp_from_ns(executor.now_ns)
     bad.twist.linear.x = float("nan")
     stale.pub.publish(bad)
     executor.run_until(2.01)
@@ -243,7 +242,7 @@ def test_a_flood_of_bad_commands_keeps_logs_and_memory_bounded(ctx, executor, lo
     executor.run_until(0.5)
     for i in range(5000):
         bad = TwistStamped()
-        bad.header.stamp = stamp_msg(executor.now_ns)
+        bad.header.stamp = stamp_from_ns(executor.now_ns)
         bad.twist.linear.x = float("nan") if i % 2 else float("inf")
         pub.publish(bad)
         if i % 10 == 9:  # the simulator's cmd_vel queue keeps 10

@@ -15,9 +15,9 @@ from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.node import Node
 from posekit.tf2_ros import StaticListenerQoS
+from posekit.time import stamp_from_ns
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.nodes import OakCameraNode, OverheadCameraNode
-from posekit.vision.nodes._common import stamp_msg
 
 SIM = {"use_sim_time": True}
 
@@ -48,7 +48,7 @@ def test_oak_camera_topics_size_stamps_and_intrinsics(ctx, executor) -> None:
     assert len(sink.images) == 6  # 30 Hz: t = 1/30 ... 6/30
     for k, (img, info) in enumerate(zip(sink.images, sink.infos, strict=True), start=1):
         ns = k * 33_333_333  # timers fire on the integer-ns grid of round(1e9 / 30)
-        assert img.header.stamp == stamp_msg(ns) == info.header.stamp
+        assert img.header.stamp == stamp_from_ns(ns) == info.header.stamp
         assert img.header.frame_id == info.header.frame_id == "oak_rgb_camera_optical_frame"
         assert (img.width, img.height, img.encoding, img.step) == (1280, 720, "rgb8", 3840)
     K = np.asarray(sink.infos[0].k).reshape(3, 3)
@@ -85,7 +85,7 @@ def test_oak_pose_follows_ground_truth_between_samples(ctx, executor, v, w) -> N
     executor.add_node(cam)
     executor.add_node(sink)
     msg = Odometry()
-    msg.header.stamp = stamp_msg(0)
+    msg.header.stamp = stamp_from_ns(0)
     msg.pose.pose.position.x, msg.pose.pose.position.y = 1.0, -0.5
     yaw0 = 0.4
     msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw0 / 2), math.cos(
@@ -200,3 +200,35 @@ def test_images_carry_an_optical_frame_of_the_tf_tree(ctx, executor, world, came
     expected = R.from_euler("xyz", [-np.pi / 2, 0.0, -np.pi / 2])
     assert (R.from_quat([q.x, q.y, q.z, q.w]) * expected.inv()).magnitude() < 1e-4
     assert buffer.can_transform(root, frame, Time())
+
+
+@pytest.mark.parametrize("yaw", [0.0, math.pi / 2, math.pi, -math.pi / 2])
+def test_oak_camera_sees_husarion_world_walls(ctx, yaw) -> None:
+    """In husarion_world the camera draws the walls: at the image centre, the optical axis
+    meets a wall at the distance the LiDAR's ray caster gives (within the far clip), and the
+    pixel is that wall face's flat shade (0.9 x the documented face light, normal turned to
+    the camera). The ring wall encloses the spawn, so every heading meets a wall."""
+    from posekit.worlds.obstacles import BoxObstacles, WallSegments, cast_rays
+
+    cam = OakCameraNode(context=ctx, parameter_overrides={"world": "husarion_world"})
+    sx, sy, syaw = cam.world.spawn
+    cam._truth = (0, sx, sy, syaw + yaw, 0.0, 0.0)  # the robot turned in place at its spawn
+    img = cam.render_at(0)
+    T = cam.last_T_world_optical
+    walls = WallSegments.from_world(cam.world)
+    axis = T[:3, 2]
+    r = cast_rays(T[:3, 3], axis[None, :], BoxObstacles.from_world(cam.world), walls=walls)[0]
+    centre = img[cam.camera.height // 2, cam.camera.width // 2, 0]
+    assert 1.0 < r < cam.camera.far
+    # The face hit: the segment whose line is at distance r along the axis.
+    hit = T[:3, 3] + r * axis
+    e = walls.ends - walls.starts
+    rel = hit[:2] - walls.starts
+    dist = np.abs(e[:, 0] * rel[:, 1] - e[:, 1] * rel[:, 0]) / np.linalg.norm(e, axis=1)
+    s = int(np.argmin(dist))
+    n = np.array([e[s, 1], -e[s, 0], 0.0]) / np.linalg.norm(e[s])
+    if n @ (T[:3, 3] - hit) < 0:
+        n = -n
+    sun = np.array([-0.5, 0.1, -0.9])
+    light = 0.5 + 0.45 * max(0.0, float(n @ (-sun / np.linalg.norm(sun))))
+    assert abs(int(centre) - round(255 * 0.9 * min(light, 1.0))) <= 1

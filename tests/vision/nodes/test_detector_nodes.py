@@ -15,12 +15,12 @@ from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
 from posekit.tf2_ros import StaticListenerQoS
-from posekit.vision.box_model import box_pose_matrix
+from posekit.time import stamp_from_ns
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.nodes import DynamicDetector, StaticArucoDetector
-from posekit.vision.nodes._common import stamp_msg
 from posekit.vision.render import BoxRenderer
+from posekit.worlds import box_pose_matrix
 
 SIM = {"use_sim_time": True}
 
@@ -70,7 +70,7 @@ class Feeder(Node):
                                  StaticListenerQoS())
 
     def image(self, pixels: np.ndarray, t: float, frame: str, encoding: str = "rgb8") -> None:
-        header = Header(stamp=stamp_msg(round(t * 1e9)), frame_id=frame)
+        header = Header(stamp=stamp_from_ns(round(t * 1e9)), frame_id=frame)
         self.image_pub.publish(numpy_to_image(pixels, encoding, header))
 
 

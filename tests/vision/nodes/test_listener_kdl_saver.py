@@ -15,9 +15,9 @@ from posekit.msgs.sensor_msgs import Image
 from posekit.msgs.std_msgs import Header
 from posekit.runtime.node import Node
 from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
-from posekit.time import Time
+from posekit.time import Time, stamp_from_ns
 from posekit.vision.nodes import ArucoMarkerListener, ImageSaver, KdlChainDemo
-from posekit.vision.nodes._common import stamp_msg, transform_msg
+from posekit.vision.nodes._common import transform_msg
 
 SIM = {"use_sim_time": True}
 T_ODOM_CAM = ((0.5, -0.2, 0.3), R.from_euler("xyz", [-np.pi / 2, 0.1, -np.pi / 2]))
@@ -34,7 +34,8 @@ class TfSource(Node):
         self.static = StaticTransformBroadcaster(self)
         self.dynamic = TransformBroadcaster(self)
         xyz, rot = T_ODOM_CAM
-        self.static.sendTransform(transform_msg("odom", "cam", stamp_msg(0), xyz, rot.as_quat()))
+        self.static.sendTransform(
+            transform_msg("odom", "cam", stamp_from_ns(0), xyz, rot.as_quat()))
         self.create_timer(0.1, self.tick)
 
     def tick(self) -> None:
@@ -84,11 +85,11 @@ def test_kdl_chain_demo_composes_the_two_hops(ctx, executor, logs) -> None:
     T_cam_opt = ((0.0, 0.0, 0.0), R.from_euler("xyz", [-1.5708, 0, -1.5708]))
     T_opt_box = ((0.01, -0.02, 1.49), R.from_rotvec([0.02, -0.01, 3.1]))
     static.sendTransform([
-        transform_msg("odom", "overhead_camera", stamp_msg(0), T_odom_cam[0],
+        transform_msg("odom", "overhead_camera", stamp_from_ns(0), T_odom_cam[0],
                       T_odom_cam[1].as_quat()),
-        transform_msg("overhead_camera", "overhead_camera_optical_frame", stamp_msg(0),
+        transform_msg("overhead_camera", "overhead_camera_optical_frame", stamp_from_ns(0),
                       T_cam_opt[0], T_cam_opt[1].as_quat()),
-        transform_msg("overhead_camera_optical_frame", "static_aruco_box", stamp_msg(0),
+        transform_msg("overhead_camera_optical_frame", "static_aruco_box", stamp_from_ns(0),
                       T_opt_box[0], T_opt_box[1].as_quat()),
     ])
     demo = KdlChainDemo(context=ctx, parameter_overrides=SIM)
@@ -134,7 +135,8 @@ class ImagePub(Node):
         self.pub = self.create_publisher(Image, "aruco_detection_image", 10)
 
     def send(self, pixels: np.ndarray, encoding: str, t: float) -> None:
-        self.pub.publish(numpy_to_image(pixels, encoding, Header(stamp=stamp_msg(round(t * 1e9)))))
+        self.pub.publish(
+            numpy_to_image(pixels, encoding, Header(stamp=stamp_from_ns(round(t * 1e9)))))
 
 
 def test_image_saver_writes_true_colour_pngs_at_its_period(ctx, executor, tmp_path, logs) -> None:

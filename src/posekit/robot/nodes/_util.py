@@ -1,40 +1,22 @@
-"""Helpers shared by the ROSbot nodes: stamps in integer nanoseconds and parameter reads."""
+"""Helpers shared by the ROSbot nodes: wheel-geometry parameters and rates as periods."""
 
 from __future__ import annotations
 
-from typing import Any, TypedDict
+from typing import TypedDict
 
-from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.robot.params import DEFAULT_DRIVE
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
+from posekit.time import NS_PER_S
 
 __all__ = [
     "NS",
     "WheelGeometry",
-    "declare",
     "declare_wheel_geometry",
     "period_ns",
-    "stamp_msg",
-    "stamp_ns",
 ]
 
-NS = 1_000_000_000
-
-
-def stamp_msg(ns: int) -> TimeMsg:
-    """builtin_interfaces/Time for ``ns`` nanoseconds."""
-    sec, nanosec = divmod(ns, NS)
-    return TimeMsg(sec, nanosec)  # positional: 2x faster than keywords
-
-
-def stamp_ns(stamp: Any) -> int:
-    """Nanoseconds of a builtin_interfaces/Time-like object (``sec``, ``nanosec``)."""
-    return int(stamp.sec) * NS + int(stamp.nanosec)
-
-
-def declare(node: Node, name: str, default: Any) -> Any:
-    """Declare ``name`` with ``default`` on ``node`` and return its (possibly overridden) value."""
-    return node.declare_parameter(name, default).value
+NS = NS_PER_S
 
 
 class WheelGeometry(TypedDict):
@@ -52,16 +34,16 @@ def declare_wheel_geometry(node: Node) -> WheelGeometry:
     the wheel odometry read, defaults from :data:`DEFAULT_DRIVE`; ``DriveParams`` keywords."""
     d = DEFAULT_DRIVE
     return WheelGeometry(
-        wheel_separation=float(declare(node, "wheel_separation", d.wheel_separation)),
-        wheel_radius=float(declare(node, "wheel_radius", d.wheel_radius)),
+        wheel_separation=float(declare_value(node, "wheel_separation", d.wheel_separation)),
+        wheel_radius=float(declare_value(node, "wheel_radius", d.wheel_radius)),
         wheel_separation_multiplier=float(
-            declare(node, "wheel_separation_multiplier", d.wheel_separation_multiplier)
+            declare_value(node, "wheel_separation_multiplier", d.wheel_separation_multiplier)
         ),
         left_wheel_radius_multiplier=float(
-            declare(node, "left_wheel_radius_multiplier", d.left_wheel_radius_multiplier)
+            declare_value(node, "left_wheel_radius_multiplier", d.left_wheel_radius_multiplier)
         ),
         right_wheel_radius_multiplier=float(
-            declare(node, "right_wheel_radius_multiplier", d.right_wheel_radius_multiplier)
+            declare_value(node, "right_wheel_radius_multiplier", d.right_wheel_radius_multiplier)
         ),
     )
 

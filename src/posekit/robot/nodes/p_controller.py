@@ -35,17 +35,18 @@ import dataclasses
 import math
 from typing import Any
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.geometry_msgs import PoseStamped, Twist, TwistStamped, Vector3
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.posekit_interfaces import NavigateToPose
 from posekit.msgs.std_msgs import Bool, Header
-from posekit.robot.kinematics import wrap_angle, yaw_from_quaternion_xyzw
-from posekit.robot.nodes._util import declare, stamp_msg
+from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.p_controller import PController, PControllerParams, Phase
 from posekit.runtime.action import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
 from posekit.runtime.node import Node
-from posekit.runtime.parameters import Parameter, SetParametersResult
+from posekit.runtime.parameters import Parameter, SetParametersResult, declare_value
 from posekit.runtime.task import Future
+from posekit.time import stamp_from_ns
 
 __all__ = ["PControllerNode"]
 
@@ -71,14 +72,14 @@ class PControllerNode(Node):
         super().__init__(node_name, **kwargs)
         d = PControllerParams()
         params = PControllerParams(
-            k_rho=float(declare(self, "k_rho", d.k_rho)),
-            k_alpha=float(declare(self, "k_alpha", d.k_alpha)),
-            k_yaw=float(declare(self, "k_yaw", d.k_yaw)),
-            goal_tolerance=float(declare(self, "goal_tolerance", d.goal_tolerance)),
-            yaw_tolerance=float(declare(self, "yaw_tolerance", d.yaw_tolerance)),
-            goal_x=float(declare(self, "goal_x", d.goal_x)),
-            goal_y=float(declare(self, "goal_y", d.goal_y)),
-            goal_yaw=float(declare(self, "goal_yaw", d.goal_yaw)),
+            k_rho=float(declare_value(self, "k_rho", d.k_rho)),
+            k_alpha=float(declare_value(self, "k_alpha", d.k_alpha)),
+            k_yaw=float(declare_value(self, "k_yaw", d.k_yaw)),
+            goal_tolerance=float(declare_value(self, "goal_tolerance", d.goal_tolerance)),
+            yaw_tolerance=float(declare_value(self, "yaw_tolerance", d.yaw_tolerance)),
+            goal_x=float(declare_value(self, "goal_x", d.goal_x)),
+            goal_y=float(declare_value(self, "goal_y", d.goal_y)),
+            goal_yaw=float(declare_value(self, "goal_yaw", d.goal_yaw)),
         )
         #: The control law.
         self.controller = PController(params)
@@ -225,7 +226,7 @@ class PControllerNode(Node):
         now_ns = self._now_ns()
         # Positional fields in ROS order (header, twist = (linear, angular)): fastest.
         cmd = TwistStamped(
-            Header(stamp_msg(now_ns), "base_link"),
+            Header(stamp_from_ns(now_ns), "base_link"),
             Twist(Vector3(out.v, 0.0, 0.0), Vector3(0.0, 0.0, out.omega)),
         )
         self._cmd_pub.publish_transfer(cmd)  # built for this publish: no copy

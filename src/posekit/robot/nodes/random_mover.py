@@ -16,9 +16,11 @@ from typing import Any
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
-from posekit.robot.nodes._util import declare, period_ns, stamp_msg
+from posekit.robot.nodes._util import period_ns
 from posekit.robot.random_mover import RandomMover, RandomMoverParams
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
+from posekit.time import stamp_from_ns
 
 __all__ = ["RandomMoverNode"]
 
@@ -28,8 +30,8 @@ class RandomMoverNode(Node):
 
     def __init__(self, node_name: str = "random_mover", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        rate = float(declare(self, "publish_rate", RandomMoverParams().publish_rate))
-        seed = int(declare(self, "seed", 0))
+        rate = float(declare_value(self, "publish_rate", RandomMoverParams().publish_rate))
+        seed = int(declare_value(self, "seed", 0))
         #: The command generator.
         self.mover = RandomMover(
             RandomMoverParams(publish_rate=rate, seed=None if seed == -1 else seed)
@@ -42,7 +44,7 @@ class RandomMoverNode(Node):
     def _on_tick(self) -> None:
         v, w = self.mover.next_command()
         cmd = TwistStamped()
-        cmd.header.stamp = stamp_msg(self._now_ns())
+        cmd.header.stamp = stamp_from_ns(self._now_ns())
         cmd.header.frame_id = "base_link"
         cmd.twist.linear.x = v
         cmd.twist.angular.z = w

@@ -17,11 +17,12 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from posekit.geometry import wrap_angle
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.std_msgs import Bool
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
-from posekit.robot.nodes._util import stamp_ns
 from posekit.runtime.node import Node
+from posekit.time import stamp_to_ns
 
 __all__ = ["COLUMNS", "DEFAULT_TOPICS", "OdometryRecorder", "OdometryRecording"]
 
@@ -38,14 +39,10 @@ DEFAULT_TOPICS: dict[str, str] = {
 _FloatArray = npt.NDArray[np.float64]
 
 
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
-
-
 @dataclass
 class OdometryRecording:
     """Recorded odometry: ``series[name]`` is an (N, 6) array with columns :data:`COLUMNS`
-    (stamp in s, pose in the message's frame, yaw wrapped to [-pi, pi), body twist);
+    (stamp in s, pose in the message's frame, yaw wrapped to [-pi, pi], body twist);
     ``goal_reached`` the sim times (s) at which ``goal_reached`` was True."""
 
     series: dict[str, _FloatArray] = field(default_factory=dict)
@@ -65,7 +62,7 @@ class OdometryRecording:
             i = int(np.searchsorted(ref[:, 0], last[0] + 1e-12, side="right")) - 1
             r = ref[max(i, 0)]
             pos = math.hypot(last[1] - r[1], last[2] - r[2])
-            out[name] = (pos, abs(_wrap(last[3] - r[3])))
+            out[name] = (pos, abs(wrap_angle(last[3] - r[3])))
         return out
 
     def save(self, path: str | Path) -> Path:
@@ -127,7 +124,7 @@ class OdometryRecorder(Node):
             twist = msg.twist.twist
             append(
                 (
-                    stamp_ns(msg.header.stamp) / 1e9,
+                    stamp_to_ns(msg.header.stamp) / 1e9,
                     float(pose.position.x),
                     float(pose.position.y),
                     yaw_from_quaternion_xyzw(float(q.x), float(q.y), float(q.z), float(q.w)),

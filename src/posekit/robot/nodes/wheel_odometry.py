@@ -32,17 +32,13 @@ from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import JointState
 from posekit.robot._msgutil import yaw_quaternion
-from posekit.robot.nodes._util import (
-    declare,
-    declare_wheel_geometry,
-    period_ns,
-    stamp_msg,
-    stamp_ns,
-)
+from posekit.robot.nodes._util import declare_wheel_geometry, period_ns
 from posekit.robot.odometry import WheelOdometry
 from posekit.robot.params import DEFAULT_DRIVE, WHEEL_JOINT_NAMES, DriveParams
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import TransformBroadcaster
+from posekit.time import stamp_from_ns, stamp_to_ns
 
 __all__ = ["WheelOdometryNode"]
 
@@ -58,26 +54,26 @@ class WheelOdometryNode(Node):
         d = DEFAULT_DRIVE
         params = DriveParams(
             **declare_wheel_geometry(self),
-            publish_rate_hz=float(declare(self, "publish_rate", d.publish_rate_hz)),
-            odom_frame_id=str(declare(self, "odom_frame_id", d.odom_frame_id)),
-            base_frame_id=str(declare(self, "base_frame_id", d.base_frame_id)),
+            publish_rate_hz=float(declare_value(self, "publish_rate", d.publish_rate_hz)),
+            odom_frame_id=str(declare_value(self, "odom_frame_id", d.odom_frame_id)),
+            base_frame_id=str(declare_value(self, "base_frame_id", d.base_frame_id)),
             pose_covariance_diagonal=tuple(
-                declare(self, "pose_covariance_diagonal", list(d.pose_covariance_diagonal))
+                declare_value(self, "pose_covariance_diagonal", list(d.pose_covariance_diagonal))
             ),
             twist_covariance_diagonal=tuple(
-                declare(self, "twist_covariance_diagonal", list(d.twist_covariance_diagonal))
+                declare_value(self, "twist_covariance_diagonal", list(d.twist_covariance_diagonal))
             ),
         )
         fl, fr, rl, rr = WHEEL_JOINT_NAMES
-        self._left_names = [str(n) for n in declare(self, "left_wheel_names", [fl, rl])]
-        self._right_names = [str(n) for n in declare(self, "right_wheel_names", [fr, rr])]
+        self._left_names = [str(n) for n in declare_value(self, "left_wheel_names", [fl, rl])]
+        self._right_names = [str(n) for n in declare_value(self, "right_wheel_names", [fr, rr])]
         if not self._left_names or not self._right_names:
             raise ValueError("left_wheel_names and right_wheel_names must not be empty")
-        self._publish_tf = bool(declare(self, "enable_odom_tf", False))
+        self._publish_tf = bool(declare_value(self, "enable_odom_tf", False))
         initial = (
-            float(declare(self, "initial_x", 0.0)),
-            float(declare(self, "initial_y", 0.0)),
-            float(declare(self, "initial_yaw", 0.0)),
+            float(declare_value(self, "initial_x", 0.0)),
+            float(declare_value(self, "initial_y", 0.0)),
+            float(declare_value(self, "initial_yaw", 0.0)),
         )
         #: The odometry model (pose in odom, unwrapped yaw).
         self.odometry = WheelOdometry(params)
@@ -120,7 +116,7 @@ class WheelOdometryNode(Node):
         values = position.tolist() if isinstance(position, np.ndarray) else position
         left = sum(float(values[i]) for i in left_idx) / len(left_idx)
         right = sum(float(values[i]) for i in right_idx) / len(right_idx)
-        t_ns = stamp_ns(msg.header.stamp)
+        t_ns = stamp_to_ns(msg.header.stamp)
         if not (math.isfinite(left) and math.isfinite(right)):
             self.get_logger().warning("Ignoring joint state: non-finite wheel position")
             return
@@ -142,12 +138,12 @@ class WheelOdometryNode(Node):
 
     def _publish(self, t_ns: int) -> None:
         msg = self.odometry.to_msg()
-        msg.header.stamp = stamp_msg(t_ns)
+        msg.header.stamp = stamp_from_ns(t_ns)
         self._pub.publish_transfer(msg)  # a fresh message: no copy
         if self._tf is not None:
             p = self.odometry.params
             tf = TransformStamped()
-            tf.header.stamp = stamp_msg(t_ns)
+            tf.header.stamp = stamp_from_ns(t_ns)
             tf.header.frame_id = p.odom_frame_id
             tf.child_frame_id = p.base_frame_id
             tf.transform.translation.x = self.odometry.x

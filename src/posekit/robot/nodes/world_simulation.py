@@ -72,7 +72,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Rotation, Transform, wrap_angle
 from posekit.msgs.geometry_msgs import TwistStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import Image, Imu, JointState, LaserScan, PointCloud2
@@ -96,10 +96,8 @@ from posekit.robot.drive import CommandResult, RosbotBase
 from posekit.robot.encoders import WheelEncoders
 from posekit.robot.headless import sub_seeds
 from posekit.robot.imu import ImuModel
-from posekit.robot.kinematics import wrap_angle
 from posekit.robot.lidar import DEFAULT_LIDAR, Lidar, LidarParams
-from posekit.robot.nodes._util import NS, declare, declare_wheel_geometry, period_ns, stamp_msg
-from posekit.robot.obstacles import BoxObstacles, WallSegments
+from posekit.robot.nodes._util import NS, declare_wheel_geometry, period_ns
 from posekit.robot.params import (
     DEFAULT_DRIVE,
     DEFAULT_IMU,
@@ -108,11 +106,14 @@ from posekit.robot.params import (
     ImuParams,
     SlipParams,
 )
-from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.tf2_ros import StaticTransformBroadcaster, TransformBroadcaster
+from posekit.time import stamp_from_ns
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import BoxObstacles, WallSegments
 
 __all__ = ["MAX_KEPT_REJECTIONS", "WorldSimulation"]
 
@@ -147,36 +148,36 @@ class WorldSimulation(Node):
     def __init__(self, node_name: str = "world_simulation", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
         d = DEFAULT_DRIVE
-        world_name = str(declare(self, "world", "empty_world"))
-        seed = int(declare(self, "seed", 0))
-        update_rate = float(declare(self, "update_rate", d.control_rate_hz))
+        world_name = str(declare_value(self, "world", "empty_world"))
+        seed = int(declare_value(self, "seed", 0))
+        update_rate = float(declare_value(self, "update_rate", d.control_rate_hz))
         drive = DriveParams(
             **declare_wheel_geometry(self),
-            cmd_vel_timeout=float(declare(self, "cmd_vel_timeout", d.cmd_vel_timeout)),
+            cmd_vel_timeout=float(declare_value(self, "cmd_vel_timeout", d.cmd_vel_timeout)),
             max_linear_velocity=float(
-                declare(self, "linear.x.max_velocity", d.max_linear_velocity)
+                declare_value(self, "linear.x.max_velocity", d.max_linear_velocity)
             ),
             max_linear_acceleration=float(
-                declare(self, "linear.x.max_acceleration", d.max_linear_acceleration)
+                declare_value(self, "linear.x.max_acceleration", d.max_linear_acceleration)
             ),
             max_angular_velocity=float(
-                declare(self, "angular.z.max_velocity", d.max_angular_velocity)
+                declare_value(self, "angular.z.max_velocity", d.max_angular_velocity)
             ),
             max_angular_acceleration=float(
-                declare(self, "angular.z.max_acceleration", d.max_angular_acceleration)
+                declare_value(self, "angular.z.max_acceleration", d.max_angular_acceleration)
             ),
             control_rate_hz=update_rate,
         )
-        imu_rate = float(declare(self, "imu_rate", DEFAULT_IMU.rate_hz))
-        joint_states_rate = float(declare(self, "joint_states_rate", 20.0))
-        ground_truth_rate = float(declare(self, "ground_truth_rate", 20.0))
-        self._gt_frame = str(declare(self, "ground_truth_frame_id", d.odom_frame_id))
-        slip = SlipParams(enabled=bool(declare(self, "slip_enabled", True)))
-        encoders = EncoderParams(quantize=bool(declare(self, "encoder_quantize", False)))
-        publish_world_statics = bool(declare(self, "publish_world_static_transforms", True))
-        lidar_rate = float(declare(self, "lidar_rate", DEFAULT_LIDAR.rate_hz))
-        contact_enabled = bool(declare(self, "contact", True))
-        depth_rate = float(declare(self, "depth_rate", DEFAULT_DEPTH.rate_hz))
+        imu_rate = float(declare_value(self, "imu_rate", DEFAULT_IMU.rate_hz))
+        joint_states_rate = float(declare_value(self, "joint_states_rate", 20.0))
+        ground_truth_rate = float(declare_value(self, "ground_truth_rate", 20.0))
+        self._gt_frame = str(declare_value(self, "ground_truth_frame_id", d.odom_frame_id))
+        slip = SlipParams(enabled=bool(declare_value(self, "slip_enabled", True)))
+        encoders = EncoderParams(quantize=bool(declare_value(self, "encoder_quantize", False)))
+        publish_world_statics = bool(declare_value(self, "publish_world_static_transforms", True))
+        lidar_rate = float(declare_value(self, "lidar_rate", DEFAULT_LIDAR.rate_hz))
+        contact_enabled = bool(declare_value(self, "contact", True))
+        depth_rate = float(declare_value(self, "depth_rate", DEFAULT_DEPTH.rate_hz))
 
         #: The loaded world (WorldError from the loader names the problem).
         self.world: World = load_world(world_name)
@@ -284,7 +285,7 @@ class WorldSimulation(Node):
         out = []
         for spec in self.world.static_transforms:
             tf = TransformStamped()
-            tf.header.stamp = stamp_msg(t_ns)
+            tf.header.stamp = stamp_from_ns(t_ns)
             tf.header.frame_id = spec.parent
             tf.child_frame_id = spec.child
             tf.transform.translation = Vector3(x=spec.xyz[0], y=spec.xyz[1], z=spec.xyz[2])
@@ -351,7 +352,7 @@ class WorldSimulation(Node):
         left, right = self.base.wheel_angles
         positions = (left, right, left, right)
         msg = self._encoders.joint_state(positions, self.base.wheel_velocities, now_ns / NS)
-        msg.header.stamp = stamp_msg(now_ns)
+        msg.header.stamp = stamp_from_ns(now_ns)
         self._joint_pub.publish_transfer(msg)  # fresh: no copy
         if self._tf.pub_tf.get_subscription_count():
             self._tf.sendTransform(wheel_transforms(positions, now_ns / NS))
@@ -362,7 +363,7 @@ class WorldSimulation(Node):
         x, y, yaw = self.base.pose
         v, w, _ = self.base.body_velocity
         msg = self._truth_msg
-        msg.header.stamp = stamp_msg(now_ns)
+        msg.header.stamp = stamp_from_ns(now_ns)
         pose = msg.pose.pose
         pose.position.x = x
         pose.position.y = y
@@ -384,7 +385,7 @@ class WorldSimulation(Node):
         scan_index = round(t_ns / (self._n_lidar * self._period_ns))
         ranges = self.lidar.scan(T_world_base * self._T_base_laser, scan_index)
         msg = self.lidar.to_msg(ranges)
-        msg.header.stamp = stamp_msg(t_ns)
+        msg.header.stamp = stamp_from_ns(t_ns)
         return msg
 
     def _publish_depth(self, now_ns: int) -> None:
@@ -393,7 +394,7 @@ class WorldSimulation(Node):
         if not (want_image or want_points):
             return  # lazy: no subscriber, no rendering
         depth = self.depth_frame(now_ns)
-        header = Header(stamp=stamp_msg(now_ns), frame_id=self.depth_camera.params.frame_id)
+        header = Header(stamp=stamp_from_ns(now_ns), frame_id=self.depth_camera.params.frame_id)
         if want_image:
             self._depth_pub.publish_transfer(depth_image_msg(depth, header))
         if want_points:

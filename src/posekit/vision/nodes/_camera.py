@@ -14,12 +14,13 @@ import numpy.typing as npt
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.std_msgs import Header
-from posekit.robot.obstacles import WallSegments
-from posekit.robot.worlds import World, load_world
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
+from posekit.time import stamp_from_ns
 from posekit.vision.camera import PinholeCamera
-from posekit.vision.nodes._common import declare, stamp_msg
 from posekit.vision.render import BoxRenderer
+from posekit.worlds import World, load_world
+from posekit.worlds.obstacles import WallSegments
 
 __all__ = ["SimulatedCamera"]
 
@@ -40,11 +41,11 @@ class SimulatedCamera(Node):
 
     def __init__(self, node_name: str, default_world: str, **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        self.world: World = load_world(str(declare(self, "world", default_world)))
-        self._noise_sigma = float(declare(self, "noise_sigma", 0.0))
-        self._seed = int(declare(self, "seed", 0))
-        self._supersample = int(declare(self, "supersample", 1))
-        self._lazy = bool(declare(self, "lazy", True))
+        self.world: World = load_world(str(declare_value(self, "world", default_world)))
+        self._noise_sigma = float(declare_value(self, "noise_sigma", 0.0))
+        self._seed = int(declare_value(self, "seed", 0))
+        self._supersample = int(declare_value(self, "supersample", 1))
+        self._lazy = bool(declare_value(self, "lazy", True))
         self._boxes = [box.T_world_box for box in self.world.boxes]
         self.frames_published = 0
         self.last_T_world_optical: F64Array | None = None
@@ -84,7 +85,7 @@ class SimulatedCamera(Node):
 
     def _on_frame(self) -> None:
         now_ns = self._now_ns()
-        header = Header(stamp=stamp_msg(now_ns), frame_id=self.frame_id)
+        header = Header(stamp=stamp_from_ns(now_ns), frame_id=self.frame_id)
         self._info_msg.header = header
         self._info_pub.publish(self._info_msg)
         if self._lazy and not self._image_pub.get_subscription_count():

@@ -1,5 +1,5 @@
 """Helpers shared by the vision nodes: image decoding with named rejections, intrinsics from
-``CameraInfo``, per-id marker sizes, TF messages from PnP results, stamps and poses."""
+``CameraInfo``, per-id marker sizes, TF messages from PnP results and poses."""
 
 from __future__ import annotations
 
@@ -11,12 +11,12 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Transform
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.image import image_to_numpy
-from posekit.runtime.node import Node
+from posekit.time import NS_PER_S
 
 __all__ = [
     "DETECTABLE_ENCODINGS",
@@ -24,17 +24,13 @@ __all__ = [
     "ImageRejectedError",
     "bgr_canvas",
     "camera_matrix_from_info",
-    "declare",
     "decode_for_detection",
     "parse_marker_sizes",
     "pose_from_chain",
-    "rpy_pose_matrix",
-    "stamp_msg",
-    "stamp_ns",
     "transform_msg",
 ]
 
-NS = 1_000_000_000
+NS = NS_PER_S
 F64Array = npt.NDArray[np.float64]
 U8Array = npt.NDArray[np.uint8]
 
@@ -44,22 +40,6 @@ DETECTABLE_ENCODINGS = ("rgb8", "bgr8", "mono8", "rgba8", "bgra8", "8UC1", "8UC3
 
 class ImageRejectedError(ValueError):
     """An image the detectors cannot use; the message says why (logged, then skipped)."""
-
-
-def declare(node: Node, name: str, default: Any) -> Any:
-    """Declare ``name`` with ``default`` and return its (possibly overridden) value."""
-    return node.declare_parameter(name, default).value
-
-
-def stamp_msg(ns: int) -> TimeMsg:
-    """``builtin_interfaces/Time`` of ``ns`` nanoseconds."""
-    sec, nanosec = divmod(int(ns), NS)
-    return TimeMsg(sec=sec, nanosec=nanosec)
-
-
-def stamp_ns(stamp: Any) -> int:
-    """Nanoseconds of a ``builtin_interfaces/Time``-like object."""
-    return int(stamp.sec) * NS + int(stamp.nanosec)
 
 
 def decode_for_detection(msg: Any) -> U8Array:
@@ -151,16 +131,6 @@ def transform_msg(parent: str, child: str, stamp: Any, translation: Iterable[flo
     return t
 
 
-def rpy_pose_matrix(xyz: Sequence[float], rpy: Sequence[float]) -> F64Array:
-    """4x4 ``T_parent_child`` of a URDF/SDF joint: ``xyz`` m, fixed-axis ``rpy`` rad."""
-    return _rpy_transform(xyz, rpy).as_matrix()
-
-
-def _rpy_transform(xyz: Sequence[float], rpy: Sequence[float]) -> Transform:
-    roll, pitch, yaw = (float(v) for v in rpy)
-    return Transform(Rotation.from_rpy(roll, pitch, yaw), [float(v) for v in xyz])
-
-
 def pose_from_chain(
     joints: Iterable[tuple[str, str, Sequence[float], Sequence[float]]], root: str, frame: str
 ) -> F64Array:
@@ -178,6 +148,6 @@ def pose_from_chain(
             raise KeyError(f"frame {frame!r} is not below {root!r} in the robot description")
         seen.add(current)
         parent, xyz, rpy = parent_of[current]
-        T = _rpy_transform(xyz, rpy) * T
+        T = Transform.from_xyz_rpy(xyz, rpy) * T
         current = parent
     return T.as_matrix()

@@ -16,13 +16,14 @@ from typing import Any
 
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
 from posekit.runtime.qos import qos_profile_sensor_data
+from posekit.time import stamp_to_ns
 from posekit.vision.detector import ArucoMarkerDetector, MarkerDetection
 from posekit.vision.nodes._common import (
     ImageRejectedError,
     U8Array,
     camera_matrix_from_info,
-    declare,
     decode_for_detection,
     parse_marker_sizes,
 )
@@ -40,13 +41,13 @@ class ArucoDetectorNodeBase(Node):
     def __init__(self, node_name: str, *, image_topic: str, info_topic: str,
                  marker_size: float, **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        self._camera_image_topic = str(declare(self, "camera_image_topic", image_topic))
-        self._camera_info_topic = str(declare(self, "camera_info_topic", info_topic))
-        self._marker_size = float(declare(self, "marker_size", marker_size))
-        self._dictionary_id = str(declare(self, "dictionary_id", "DICT_5X5_250"))
-        self._parent_frame_id = str(declare(self, "parent_frame_id", ""))
-        self._refine_subpixel = bool(declare(self, "refine_subpixel", False))
-        self._marker_sizes = parse_marker_sizes(str(declare(self, "marker_sizes", "")))
+        self._camera_image_topic = str(declare_value(self, "camera_image_topic", image_topic))
+        self._camera_info_topic = str(declare_value(self, "camera_info_topic", info_topic))
+        self._marker_size = float(declare_value(self, "marker_size", marker_size))
+        self._dictionary_id = str(declare_value(self, "dictionary_id", "DICT_5X5_250"))
+        self._parent_frame_id = str(declare_value(self, "parent_frame_id", ""))
+        self._refine_subpixel = bool(declare_value(self, "refine_subpixel", False))
+        self._marker_sizes = parse_marker_sizes(str(declare_value(self, "marker_sizes", "")))
         if not self._marker_size > 0.0:
             raise ValueError(f"marker_size must be > 0 m, got {self._marker_size}")
         # Fail at start-up on a bad dictionary name, not at the first CameraInfo.
@@ -88,7 +89,7 @@ class ArucoDetectorNodeBase(Node):
     # ------------------------------------------------------------------ images
     def _reject(self, msg: Image, reason: str) -> None:
         stamp = msg.header.stamp
-        self.images_rejected.append((int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec),
+        self.images_rejected.append((stamp_to_ns(stamp),
                                      reason))
         self.get_logger().error(f"Skipping image: {reason}", throttle_duration_sec=2.0)
 

@@ -11,10 +11,10 @@ from __future__ import annotations
 from typing import Any
 
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import declare_value
 from posekit.tf2 import Buffer
 from posekit.tf2_ros import TransformListener
 from posekit.time import Duration
-from posekit.vision.nodes._common import declare
 
 __all__ = ["PeriodicTfLookupNode"]
 
@@ -24,8 +24,8 @@ class PeriodicTfLookupNode(Node):
 
     def __init__(self, node_name: str, **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        period = float(declare(self, "period", 1.0))
-        timeout = float(declare(self, "lookup_timeout", 0.1))
+        period = float(declare_value(self, "period", 1.0))
+        timeout = float(declare_value(self, "lookup_timeout", 0.1))
         if not period > 0.0:
             raise ValueError(f"period must be > 0 s, got {period}")
         self._timeout = Duration(seconds=max(timeout, 0.0))

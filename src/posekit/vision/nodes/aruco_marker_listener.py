@@ -21,9 +21,9 @@ from typing import Any
 
 import yaml
 
+from posekit.runtime.parameters import declare_value
 from posekit.tf2.exceptions import TransformException
 from posekit.time import Time
-from posekit.vision.nodes._common import declare
 from posekit.vision.nodes._tf_lookup import PeriodicTfLookupNode
 
 __all__ = ["ArucoMarkerListener"]
@@ -41,8 +41,8 @@ class ArucoMarkerListener(PeriodicTfLookupNode):
 
     def __init__(self, node_name: str = "aruco_marker_listener", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        self._target_frame = str(declare(self, "target_frame", "odom"))
-        self._marker_prefix = str(declare(self, "marker_prefix", "aruco_marker_"))
+        self._target_frame = str(declare_value(self, "target_frame", "odom"))
+        self._marker_prefix = str(declare_value(self, "marker_prefix", "aruco_marker_"))
         self.positions: dict[str, tuple[float, float, float]] = {}
         self.lookups: list[tuple[int, str, tuple[float, float, float]]] = []
         self.failures: list[tuple[int, str, str]] = []

@@ -34,9 +34,10 @@ import numpy as np
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import Image
 from posekit.msgs.std_msgs import Header
+from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import TransformBroadcaster
 from posekit.vision.detector import MarkerDetection, draw_detections
-from posekit.vision.nodes._common import bgr_canvas, declare, transform_msg
+from posekit.vision.nodes._common import bgr_canvas, transform_msg
 from posekit.vision.nodes._detector_base import ArucoDetectorNodeBase
 
 __all__ = ["DynamicDetector"]
@@ -54,10 +55,10 @@ class DynamicDetector(ArucoDetectorNodeBase):
     def __init__(self, node_name: str = "dynamic_detector", **kwargs: Any) -> None:
         super().__init__(node_name, image_topic="/oak/rgb/color",
                          info_topic="/oak/stereo/camera_info", marker_size=0.194, **kwargs)
-        self._publish_tf = bool(declare(self, "publish_tf", True))
-        self._publish_alt = bool(declare(self, "publish_alternative_tf", False))
-        self._alt_prefix = str(declare(self, "alternative_frame_prefix", "ippe_alt_marker_"))
-        self._ambiguity_warn = float(declare(self, "ambiguity_warn_ratio", 0.0))
+        self._publish_tf = bool(declare_value(self, "publish_tf", True))
+        self._publish_alt = bool(declare_value(self, "publish_alternative_tf", False))
+        self._alt_prefix = str(declare_value(self, "alternative_frame_prefix", "ippe_alt_marker_"))
+        self._ambiguity_warn = float(declare_value(self, "ambiguity_warn_ratio", 0.0))
         self._debug_image_pub = self.create_publisher(Image, "aruco_detection_image", 10)
         self._tf_broadcaster = TransformBroadcaster(self) if self._publish_tf else None
         self.last_detections: list[MarkerDetection] = []

@@ -29,7 +29,9 @@ from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.image import image_to_numpy
 from posekit.msgs.sensor_msgs import Image
 from posekit.runtime.node import Node
-from posekit.vision.nodes._common import NS, declare, stamp_ns
+from posekit.runtime.parameters import declare_value
+from posekit.time import stamp_to_ns
+from posekit.vision.nodes._common import NS
 
 __all__ = ["ImageSaver", "attach_image_saver", "image_saver_entry"]
 
@@ -43,12 +45,12 @@ class ImageSaver(Node):
 
     def __init__(self, node_name: str = "image_saver", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        topic = str(declare(self, "topic", "aruco_detection_image"))
-        self.output_dir = Path(str(declare(self, "output_dir", "posekit_images")))
-        prefix = str(declare(self, "prefix", ""))
-        period = float(declare(self, "period", 1.0))
-        self._max_images = int(declare(self, "max_images", 0))
-        self._save_last = bool(declare(self, "save_last_on_shutdown", True))
+        topic = str(declare_value(self, "topic", "aruco_detection_image"))
+        self.output_dir = Path(str(declare_value(self, "output_dir", "posekit_images")))
+        prefix = str(declare_value(self, "prefix", ""))
+        period = float(declare_value(self, "period", 1.0))
+        self._max_images = int(declare_value(self, "max_images", 0))
+        self._save_last = bool(declare_value(self, "save_last_on_shutdown", True))
         self._prefix = prefix or topic.strip("/").split("/")[-1] or "image"
         self._period_ns = max(0, round(period * NS))
         self._next_ns: int | None = None
@@ -59,7 +61,7 @@ class ImageSaver(Node):
 
     def _on_image(self, msg: Image) -> None:
         self._last_msg = msg
-        t_ns = stamp_ns(msg.header.stamp)
+        t_ns = stamp_to_ns(msg.header.stamp)
         if self._next_ns is not None and t_ns < self._next_ns:
             return
         if self._max_images and len(self.saved) >= self._max_images:

@@ -27,9 +27,9 @@ from typing import Any
 
 import posekit.kdl as PyKDL  # noqa: N812 - the lecture's spelling
 from posekit.msgs.geometry_msgs import Pose, TransformStamped
+from posekit.runtime.parameters import declare_value
 from posekit.tf2.exceptions import TransformException
 from posekit.time import Time
-from posekit.vision.nodes._common import declare
 from posekit.vision.nodes._tf_lookup import PeriodicTfLookupNode
 
 __all__ = ["KdlChainDemo", "kdl_to_pose", "transform_to_kdl"]
@@ -61,9 +61,10 @@ class KdlChainDemo(PeriodicTfLookupNode):
 
     def __init__(self, node_name: str = "kdl_chain_demo", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        self._target = str(declare(self, "target_frame", "odom"))
-        self._middle = str(declare(self, "intermediate_frame", "overhead_camera_optical_frame"))
-        self._source = str(declare(self, "source_frame", "static_aruco_box"))
+        self._target = str(declare_value(self, "target_frame", "odom"))
+        self._middle = str(
+            declare_value(self, "intermediate_frame", "overhead_camera_optical_frame"))
+        self._source = str(declare_value(self, "source_frame", "static_aruco_box"))
         self.last_frame: PyKDL.Frame | None = None
         self.last_pose: Pose | None = None
         self.hops: tuple[TransformStamped, TransformStamped] | None = None

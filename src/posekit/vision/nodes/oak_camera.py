@@ -41,9 +41,11 @@ from posekit.geometry.se2 import integrate_arc
 from posekit.msgs.nav_msgs import Odometry
 from posekit.robot.description import FIXED_JOINTS
 from posekit.robot.kinematics import yaw_from_quaternion_xyzw
+from posekit.runtime.parameters import declare_value
+from posekit.time import stamp_to_ns
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
-from posekit.vision.nodes._common import NS, declare, pose_from_chain, stamp_ns
+from posekit.vision.nodes._common import NS, pose_from_chain
 
 __all__ = ["OakCameraNode"]
 
@@ -53,15 +55,15 @@ class OakCameraNode(SimulatedCamera):
 
     def __init__(self, node_name: str = "oak_camera", **kwargs: Any) -> None:
         super().__init__(node_name, "aruco_box_world", **kwargs)
-        width = int(declare(self, "width", 1280))
-        height = int(declare(self, "height", 720))
-        hfov = float(declare(self, "horizontal_fov", math.radians(60.0)))
-        rate = float(declare(self, "rate", 30.0))
-        image_topic = str(declare(self, "image_topic", "/oak/rgb/color"))
-        info_topic = str(declare(self, "camera_info_topic", "/oak/stereo/camera_info"))
-        optical = str(declare(self, "optical_frame_id", "oak_rgb_camera_optical_frame"))
-        frame_id = str(declare(self, "frame_id", "")) or optical
-        truth_topic = str(declare(self, "ground_truth_topic", "/ground_truth/odom"))
+        width = int(declare_value(self, "width", 1280))
+        height = int(declare_value(self, "height", 720))
+        hfov = float(declare_value(self, "horizontal_fov", math.radians(60.0)))
+        rate = float(declare_value(self, "rate", 30.0))
+        image_topic = str(declare_value(self, "image_topic", "/oak/rgb/color"))
+        info_topic = str(declare_value(self, "camera_info_topic", "/oak/stereo/camera_info"))
+        optical = str(declare_value(self, "optical_frame_id", "oak_rgb_camera_optical_frame"))
+        frame_id = str(declare_value(self, "frame_id", "")) or optical
+        truth_topic = str(declare_value(self, "ground_truth_topic", "/ground_truth/odom"))
         #: T_base_optical from the robot description (metres).
         self.T_base_optical: F64Array = pose_from_chain(FIXED_JOINTS, "base_link", optical)
         sx, sy, syaw = self.world.spawn
@@ -76,7 +78,7 @@ class OakCameraNode(SimulatedCamera):
         q = msg.pose.pose.orientation
         yaw = yaw_from_quaternion_xyzw(q.x, q.y, q.z, q.w)
         tw = msg.twist.twist
-        self._truth = (stamp_ns(msg.header.stamp), float(p.x), float(p.y), yaw,
+        self._truth = (stamp_to_ns(msg.header.stamp), float(p.x), float(p.y), yaw,
                        float(tw.linear.x), float(tw.angular.z))
 
     def T_world_base_at(self, t_ns: int) -> F64Array:

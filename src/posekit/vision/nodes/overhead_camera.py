@@ -25,10 +25,13 @@ from typing import Any
 
 import numpy as np
 
+from posekit.geometry import Transform
+from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import StaticTransformBroadcaster
+from posekit.time import stamp_from_ns
 from posekit.vision.camera import T_CAMERA_FRAME_OPTICAL, PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
-from posekit.vision.nodes._common import declare, rpy_pose_matrix, stamp_msg, transform_msg
+from posekit.vision.nodes._common import transform_msg
 
 __all__ = ["OverheadCameraNode"]
 
@@ -38,8 +41,8 @@ class OverheadCameraNode(SimulatedCamera):
 
     def __init__(self, node_name: str = "overhead_camera", **kwargs: Any) -> None:
         super().__init__(node_name, "aruco_box_camera_world", **kwargs)
-        name = str(declare(self, "camera_name", "overhead_camera"))
-        publish_statics = bool(declare(self, "publish_static_frames", True))
+        name = str(declare_value(self, "camera_name", "overhead_camera"))
+        publish_statics = bool(declare_value(self, "publish_static_frames", True))
         specs = {c.name: c for c in self.world.cameras}
         if name not in specs:
             raise ValueError(
@@ -52,7 +55,7 @@ class OverheadCameraNode(SimulatedCamera):
         header_frame = frame  # a world without an optical frame: the body frame
         for s in self._statics:
             if s.parent == frame and s.child.endswith("optical_frame"):
-                T_camera_optical = rpy_pose_matrix(s.xyz, s.rpy)
+                T_camera_optical = Transform.from_xyz_rpy(s.xyz, s.rpy).as_matrix()
                 header_frame = s.child
         #: Pose of the optical frame in the world (odom), metres.
         self.T_world_optical: F64Array = spec.T_world_camera @ T_camera_optical
@@ -61,7 +64,7 @@ class OverheadCameraNode(SimulatedCamera):
                                          near=near, far=far)
         if publish_statics and self._statics:
             self._static_broadcaster = StaticTransformBroadcaster(self)
-            stamp = stamp_msg(self.get_clock().now_ns())
+            stamp = stamp_from_ns(self.get_clock().now_ns())
             self._static_broadcaster.sendTransform(
                 [transform_msg(s.parent, s.child, stamp, s.xyz, s.quaternion_xyzw)
                  for s in self._statics]

@@ -24,9 +24,11 @@ from typing import Any
 
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.sensor_msgs import Image
+from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import StaticTransformBroadcaster
+from posekit.time import stamp_from_ns
 from posekit.vision.detector import MarkerDetection
-from posekit.vision.nodes._common import declare, stamp_msg, transform_msg
+from posekit.vision.nodes._common import transform_msg
 from posekit.vision.nodes._detector_base import ArucoDetectorNodeBase
 
 __all__ = ["StaticArucoDetector"]
@@ -43,8 +45,8 @@ class StaticArucoDetector(ArucoDetectorNodeBase):
     def __init__(self, node_name: str = "static_aruco_detector", **kwargs: Any) -> None:
         super().__init__(node_name, image_topic="/overhead_camera/image_raw",
                          info_topic="/overhead_camera/camera_info", marker_size=0.1, **kwargs)
-        self._child_frame_id = str(declare(self, "child_frame_id", "static_aruco_box"))
-        self._marker_id = int(declare(self, "marker_id", -1))
+        self._child_frame_id = str(declare_value(self, "child_frame_id", "static_aruco_box"))
+        self._marker_id = int(declare_value(self, "marker_id", -1))
         self._static_tf_broadcaster = StaticTransformBroadcaster(self)
         self.tf_published = False
         self.published_transform: TransformStamped | None = None
@@ -71,7 +73,7 @@ class StaticArucoDetector(ArucoDetectorNodeBase):
             return
         det = detections[0]
         parent = self._parent_frame(msg)
-        t = transform_msg(parent, self._child_frame_id, stamp_msg(self.get_clock().now_ns()),
+        t = transform_msg(parent, self._child_frame_id, stamp_from_ns(self.get_clock().now_ns()),
                           det.translation, det.quaternion_xyzw)
         self._static_tf_broadcaster.sendTransform(t)
         self.tf_published = True

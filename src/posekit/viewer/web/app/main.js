@@ -1,6 +1,9 @@
 // posekit viewer page: WebSocket client, panels and controls; the scene is drawn by
 // scene3d.js (three.js / WebGL) or, when WebGL or three.js is unavailable, scene2d.js.
-// Protocol: see src/posekit/viewer/server.py.
+// Protocol: see src/posekit/viewer/server.py. Displays added from the topic list:
+// display_manager.js and the modules in displays/.
+
+import { createDisplayManager, loadDisplayModules } from "./display_manager.js";
 
 const params = new URLSearchParams(location.search);
 const STALE_S = Number(params.get("stale") || 1.0);          // frames older than this: grey
@@ -29,6 +32,9 @@ const state = {
   fps: Number(params.get("fps") || 30),
 };
 
+// The displays added from the topic list (display_manager.js), once the modules are loaded.
+let displays = null;
+
 // RViz2's TF display options (per-frame axes and names, marker scale).
 const tfOptions = { hidden: new Set(), noName: new Set(), scale: 1.0 };
 let knownFrames = [];
@@ -53,6 +59,7 @@ const visibility = () => ({
   truth: $("show-truth").checked,
   world: $("show-world").checked,
   goal: $("show-goal").checked,
+  detections: $("show-detections").checked,
 });
 
 // ------------------------------------------------------------------------------ scene
@@ -107,6 +114,7 @@ async function createScene() {
   scene.setVisibility(visibility());
   scene.setTfOptions(tfOptions);
   debug.labels = () => scene.labelState();
+  debug.detections = () => (scene.detections ? scene.detections() : {});
 }
 
 // Render loop capped at state.fps (30 by default) so a laptop stays cool.
@@ -139,6 +147,7 @@ function connect() {
     if (state.fixedFrame) send({ op: "fixed_frame", frame: state.fixedFrame });
     if (state.paused) send({ op: "pause", paused: true });
     updateWatch(true);
+    if (displays) displays.onConnected();
   };
   ws.onclose = () => {
     debug.connected = false;
@@ -154,6 +163,8 @@ function connect() {
       case "odom": onOdom(msg); break;
       case "graph": onGraph(msg); break;
       case "goal_sent": debug.goalSent = msg; break;
+      case "initial_pose_sent": debug.initialPoseSent = msg; break;
+      case "display": if (!state.paused && displays) displays.onMessages(msg.topic, msg.messages); break;
       case "error": console.warn("viewer server:", msg.message); break;
       default: break;
     }
@@ -173,6 +184,16 @@ function onHello(msg) {
   if (scene) scene.setWorld(msg.world);
   debug.world = msg.world ? msg.world.name : null;
   fillFixedFrames([]);
+  // A configuration the server was started with (posekit view --config FILE), once, unless
+  // the URL names one.
+  if (msg.config && !params.get("view") && !state.serverConfigApplied) {
+    state.serverConfigApplied = true;
+    try {
+      applyConfig(msg.config);
+    } catch (err) {
+      showConfigError(err);
+    }
+  }
   state.dirty = true;
 }
 
@@ -195,6 +216,7 @@ function onTf(msg) {
   $("sim-time").textContent = `t = ${msg.now.toFixed(2)} s`;
   fillFixedFrames(debug.frames);
   if (scene) scene.setFrames(msg, STALE_S);
+  if (displays) displays.onFrames();
   state.dirty = true;
 }
 
@@ -231,10 +253,38 @@ function onGraph(msg) {
   if (scene) scene.setGoal(msg.goal);
   fillTree(msg.tree);
   fillTopics(msg.topics);
+  state.topics = msg.topics;
+  addCameras(msg.topics);
   state.imageTopics = msg.images;
   fillCameraTopics(msg.images);
   updateWatch(false);
 }
+
+// ------------------------------------------------------------------------------ cameras
+// "Cameras": a Camera display (camera.js: frustum and image) for every camera_info topic as
+// it appears; a camera whose display the user removed is not added again. Unticked, the
+// Camera displays are hidden.
+const CAMERA_INFO = "sensor_msgs/msg/CameraInfo";
+let camerasHandled = new Set();
+
+function addCameras(topics) {
+  if (!displays || !$("show-cameras").checked) return;
+  for (const t of topics) {
+    if (t.type !== CAMERA_INFO || camerasHandled.has(t.name)) continue;
+    camerasHandled.add(t.name);
+    const exists = displays.state().displays.some((d) => d.display === "Camera" && d.topic === t.name);
+    if (!exists) {
+      try { displays.add("Camera", t.name, t.type); } catch (err) { console.warn("viewer: no Camera display", err); }
+    }
+  }
+}
+
+$("show-cameras").addEventListener("change", () => {
+  if (!displays) return;
+  const on = $("show-cameras").checked;
+  for (const d of displays.state().displays) if (d.display === "Camera") displays.setEnabled(d.id, on);
+  if (on && state.topics) addCameras(state.topics);
+});
 
 // ------------------------------------------------------------------------------ controls
 function fillFixedFrames(frames) {
@@ -272,42 +322,52 @@ for (const input of document.querySelectorAll(".toggles input")) {
   });
 }
 
-// 2D Goal Pose (RViz2's tool): press on the ground for the position, drag for the heading,
-// release to publish geometry_msgs/PoseStamped on goal_pose in the Fixed Frame (the server
-// publishes it). One goal per activation, as in RViz2.
-const goalTool = { active: false, from: null, yaw: 0 };
+// RViz2's pose tools: press on the ground for the position, drag for the heading, release
+// to publish in the Fixed Frame (the server publishes). One pose per activation, as in RViz2.
+// * 2D Goal Pose: geometry_msgs/PoseStamped on goal_pose;
+// * 2D Pose Estimate: geometry_msgs/PoseWithCovarianceStamped on initialpose (RViz2's
+//   covariance: 0.25 m² in x and y, (pi/12)² rad² in yaw).
+const TOOLS = {
+  goal: { button: "goal-tool", op: "goal", debugKey: "goalTool" },
+  pose: { button: "pose-tool", op: "initial_pose", debugKey: "poseTool" },
+};
+const poseTool = { kind: null, from: null, yaw: 0 };
 
-function setGoalTool(active) {
-  goalTool.active = active;
-  goalTool.from = null;
-  debug.goalTool = active;
-  $("goal-tool").setAttribute("aria-pressed", String(active));
-  $("view").classList.toggle("goal-tool", active);
-  if (scene) { scene.setControlsEnabled(!active); scene.setDraft(null, 0); }
+function setTool(kind) {
+  poseTool.kind = kind;
+  poseTool.from = null;
+  for (const [k, t] of Object.entries(TOOLS)) {
+    debug[t.debugKey] = k === kind;
+    $(t.button).setAttribute("aria-pressed", String(k === kind));
+  }
+  $("view").classList.toggle("goal-tool", Boolean(kind));
+  if (scene) { scene.setControlsEnabled(!kind); scene.setDraft(null, 0); }
   state.dirty = true;
 }
 
-$("goal-tool").addEventListener("click", () => setGoalTool(!goalTool.active));
+for (const kind of Object.keys(TOOLS)) {
+  $(TOOLS[kind].button).addEventListener("click", () => setTool(poseTool.kind === kind ? null : kind));
+}
 
 function goalPointer(kind, ev) {
-  if (!goalTool.active || !scene || ev.button > 0) return;
+  if (!poseTool.kind || !scene || ev.button > 0) return;
   const p = scene.pickGround(ev.clientX, ev.clientY);
   if (kind === "down") {
     if (!p) return;
-    goalTool.from = p;
-    goalTool.yaw = 0;
-  } else if (goalTool.from && p) {
-    const dx = p.x - goalTool.from.x, dy = p.y - goalTool.from.y;
-    if (Math.hypot(dx, dy) > 1e-3) goalTool.yaw = Math.atan2(dy, dx);
+    poseTool.from = p;
+    poseTool.yaw = 0;
+  } else if (poseTool.from && p) {
+    const dx = p.x - poseTool.from.x, dy = p.y - poseTool.from.y;
+    if (Math.hypot(dx, dy) > 1e-3) poseTool.yaw = Math.atan2(dy, dx);
   }
-  if (!goalTool.from) return;
+  if (!poseTool.from) return;
   ev.preventDefault();
   if (kind === "up") {
-    const { from, yaw } = goalTool;
-    send({ op: "goal", frame: state.fixedFrame, x: from.x, y: from.y, yaw });
-    setGoalTool(false);
+    const { from, yaw } = poseTool;
+    send({ op: TOOLS[poseTool.kind].op, frame: state.fixedFrame, x: from.x, y: from.y, yaw });
+    setTool(null);
   } else {
-    scene.setDraft(goalTool.from, goalTool.yaw);
+    scene.setDraft(poseTool.from, poseTool.yaw, poseTool.kind);
   }
   state.dirty = true;
 }
@@ -328,6 +388,8 @@ function viewConfig() {
     view: scene ? scene.getView() : null,
     displays: Object.fromEntries(toggleIds().map((id) => [id.replace(/^show-/, ""), $(id).checked])),
     tf: { hidden: [...tfOptions.hidden].sort(), no_name: [...tfOptions.noName].sort(), marker_scale: tfOptions.scale },
+    topic_displays: displays ? displays.toConfig() : [],
+    cameras_handled: [...camerasHandled].sort(),
     panels: {
       camera_topic: $("camera-topic").value || null,
       open: Object.fromEntries([...document.querySelectorAll("#panels details")].map((d) => [d.id, d.open])),
@@ -365,6 +427,12 @@ function applyConfig(cfg) {
     tfOptions.scale = tf.marker_scale;
     $("marker-scale").value = String(tf.marker_scale);
   } else if (tf.marker_scale !== undefined) problems.push("tf.marker_scale");
+  if (cfg.topic_displays !== undefined) {
+    if (displays) problems.push(...displays.fromConfig(cfg.topic_displays));
+    else problems.push("topic_displays");
+  }
+  if (names(cfg.cameras_handled)) camerasHandled = new Set(cfg.cameras_handled);
+  else if (cfg.cameras_handled !== undefined) problems.push("cameras_handled");
   const panels = cfg.panels || {};
   for (const [id, open] of Object.entries(panels.open || {})) {
     const d = $(id);
@@ -514,15 +582,48 @@ function fillTree(tree) {
   body.replaceChildren(...rows);
 }
 
+// The topic rows are rebuilt only when the topics change (their buttons stay put); the
+// rates are updated in place.
 function fillTopics(topics) {
   const body = $("topics").tBodies[0];
-  body.replaceChildren(...topics.map((t) => {
-    const tr = document.createElement("tr");
-    tr.dataset.topic = t.name;
-    tr.append(cell(t.name), cell(t.type.replace("/msg/", "/")), cell(t.rate.toFixed(1), "num"));
-    if (t.error) tr.title = t.error;
-    return tr;
-  }));
+  const key = topics.map((t) => `${t.name} ${t.type} ${t.error || ""}`).join("\n");
+  if (body.dataset.key !== key) {
+    body.dataset.key = key;
+    body.replaceChildren(...topics.map((t) => {
+      const tr = document.createElement("tr");
+      tr.dataset.topic = t.name;
+      tr.append(cell(t.name), cell(t.type.replace("/msg/", "/")), cell("", "num"), addCell(t));
+      if (t.error) tr.title = t.error;
+      return tr;
+    }));
+  }
+  topics.forEach((t, i) => {
+    const td = body.rows[i] && body.rows[i].cells[2];
+    const text = t.rate.toFixed(1);
+    if (td && td.textContent !== text) td.textContent = text;
+  });
+}
+
+// One "+ Name" button per display module that draws the topic's type.
+function addCell(topic) {
+  const td = document.createElement("td");
+  for (const mod of displays ? displays.forType(topic.type) : []) {
+    const b = document.createElement("button");
+    b.type = "button";
+    b.className = "add-display";
+    b.dataset.addDisplay = mod.name;
+    b.textContent = `+ ${mod.name}`;
+    b.title = `add a ${mod.name} display for ${topic.name}`;
+    b.addEventListener("click", () => {
+      try {
+        displays.add(mod.name, topic.name, topic.type);
+      } catch (err) {
+        showConfigError(err);
+      }
+    });
+    td.append(b);
+  }
+  return td;
 }
 
 const isAruco = (t) => t.endsWith("aruco_detection_image");
@@ -553,6 +654,7 @@ function updateWatch(force) {
   if ($("camera-panel").open && cam) want.add(cam);
   const aruco = state.imageTopics.find(isAruco);
   if ($("aruco-panel").open && aruco) want.add(aruco);
+  if (displays) for (const t of displays.imageTopics()) want.add(t);
   const same = want.size === state.watched.size && [...want].every((t) => state.watched.has(t));
   if (same && !force) return;
   state.watched = want;
@@ -565,6 +667,7 @@ function onImage(buffer) {
   const headerLength = view.getUint32(0, false);
   const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, headerLength)));
   const blob = new Blob([new Uint8Array(buffer, 4 + headerLength)], { type: "image/jpeg" });
+  if (displays) displays.onImage(header.topic, blob, header);
   const target = isAruco(header.topic) ? "aruco" : (header.topic === $("camera-topic").value ? "camera" : null);
   if (!target) return;
   const img = $(`${target}-image`);
@@ -581,6 +684,29 @@ function onImage(buffer) {
 
 // ------------------------------------------------------------------------------ start
 await createScene();
+displays = createDisplayManager(await loadDisplayModules(), {
+  scene,
+  send,
+  requestRender: () => { state.dirty = true; },
+  fixedFrame: () => state.fixedFrame,
+  now: () => (state.lastTf ? state.lastTf.now : null),
+  topics: () => state.topics || [],
+  panels: $("panels"),
+  list: $("display-list"),
+  watchImages: () => updateWatch(false),
+  builtin: {
+    // The TF display (tf.js) drives the toolbar's TF toggles and the marker scale.
+    tf(o) {
+      if (o.visible !== undefined) $("show-tf").checked = o.visible;
+      if (o.names !== undefined) $("show-names").checked = o.names;
+      if (o.scale !== undefined) { tfOptions.scale = o.scale; $("marker-scale").value = String(o.scale); }
+      if (scene) scene.setVisibility(visibility());
+      applyTfOptions();
+    },
+  },
+});
+debug.displays = () => displays.state();
+debug.addDisplay = (name, topic, type, options) => displays.add(name, topic, type, options);
 if (params.get("view")) {
   try {
     applyConfig(decodeConfig(params.get("view")));

@@ -9,14 +9,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation as SciRotation
 
-from posekit.vision.box_model import (
+from posekit.worlds import (
     ARUCO_BOX,
     ArucoBoxModel,
     BoxFace,
+    WorldError,
     box_pose_matrix,
     marker_corners_local,
 )
-from posekit.vision.errors import CameraModelError
 
 
 def _quat_close(q, ref, atol):
@@ -88,8 +88,8 @@ def test_face_by_id_and_errors():
     assert ARUCO_BOX.face_by_id(5).normal == (0.0, 1.0, 0.0)
     with pytest.raises(KeyError):
         ARUCO_BOX.face_by_id(7)
-    with pytest.raises(CameraModelError, match="marker_size"):
+    with pytest.raises(WorldError, match="marker_size"):
         ArucoBoxModel(size=0.5, marker_size=0.6)
     bad = (BoxFace((0.0, 0.0, 1.0), 3, (1.0, 0.0, 0.0), (0.0, -1.0, 0.0)),)  # mirrored
-    with pytest.raises(CameraModelError, match="normal"):
+    with pytest.raises(WorldError, match="normal"):
         ArucoBoxModel(faces=bad)

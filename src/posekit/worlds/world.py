@@ -52,29 +52,27 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Transform
 from posekit.geometry.scalar import quat_from_rpy
+from posekit.worlds.aruco_box import ARUCO_BOX, ArucoBoxModel
+from posekit.worlds.errors import WorldError
 
 __all__ = [
-    "ARUCO_BOX",
     "MAX_CAMERA_PIXELS",
     "MAX_CAMERA_RATE_HZ",
     "MAX_CAMERA_SIDE",
     "MAX_LIST_ITEMS",
     "MAX_WORLD_FILE_BYTES",
     "WORLDS",
-    "ArucoBoxModel",
     "BoxSpec",
     "CameraSpec",
     "MarkerPose",
     "StaticTransformSpec",
     "WallSpec",
     "World",
-    "WorldError",
     "box_half_extents",
     "load_world",
     "marker_poses",
-    "pose_matrix",
     "world_names",
 ]
 
@@ -93,57 +91,9 @@ _FloatArray = npt.NDArray[np.float64]
 _POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
-class WorldError(ValueError):
-    """A world description is malformed; the message names the world and the field."""
+def _pose_matrix(pose: Sequence[float]) -> _FloatArray:
+    return Transform.from_xyz_rpy(pose[:3], pose[3:]).as_matrix()
 
-
-def pose_matrix(pose: Sequence[float]) -> _FloatArray:
-    """4x4 homogeneous matrix of ``(x, y, z, roll, pitch, yaw)`` (SDF fixed-axis rpy)."""
-    x, y, z, roll, pitch, yaw = (float(v) for v in pose)
-    return Transform(Rotation.from_rpy(roll, pitch, yaw), (x, y, z)).as_matrix()
-
-
-@dataclass(frozen=True, slots=True)
-class ArucoBoxModel:
-    """A cube of side ``size`` (m) with one ``marker_size`` (m) marker centred on each face.
-
-    ``faces`` maps marker id -> (outward normal, marker x axis, marker y axis) in the box
-    frame; the marker z axis is x cross y and equals the outward normal (no mirrored face).
-    """
-
-    name: str
-    size: float
-    marker_size: float
-    dictionary: str
-    faces: Mapping[int, tuple[tuple[int, int, int], tuple[int, int, int], tuple[int, int, int]]]
-
-    def T_box_marker(self, marker_id: int) -> _FloatArray:
-        """4x4 pose of marker ``marker_id`` in the box frame (origin at the face centre)."""
-        normal, x_axis, y_axis = self.faces[marker_id]
-        m = np.eye(4)
-        m[:3, 0] = x_axis
-        m[:3, 1] = y_axis
-        m[:3, 2] = np.cross(x_axis, y_axis)
-        m[:3, 3] = 0.5 * self.size * np.asarray(normal, dtype=np.float64)
-        return m
-
-
-#: The course's ``aruco_box`` (husarion_gz_worlds/models/aruco_box): the face table of
-#: docs/specs/rosbot_and_worlds.md.
-ARUCO_BOX = ArucoBoxModel(
-    name="aruco_box",
-    size=0.5,
-    marker_size=0.2,
-    dictionary="DICT_5X5_250",
-    faces={
-        3: ((0, 0, 1), (-1, 0, 0), (0, -1, 0)),
-        2: ((0, -1, 0), (0, 0, 1), (-1, 0, 0)),
-        4: ((-1, 0, 0), (0, 0, 1), (0, 1, 0)),
-        1: ((0, 0, -1), (1, 0, 0), (0, -1, 0)),
-        6: ((1, 0, 0), (0, 0, 1), (0, -1, 0)),
-        5: ((0, 1, 0), (0, 0, 1), (1, 0, 0)),
-    },
-)
 
 _MODELS: dict[str, ArucoBoxModel] = {ARUCO_BOX.name: ARUCO_BOX}
 
@@ -161,7 +111,7 @@ class BoxSpec:
     @property
     def T_world_box(self) -> _FloatArray:
         """4x4 pose of the box (centre) in the world frame."""
-        return pose_matrix(self.pose)
+        return _pose_matrix(self.pose)
 
     def to_dict(self) -> dict[str, Any]:
         """As the plain mapping the loader accepts."""
@@ -228,7 +178,7 @@ class CameraSpec:
     @property
     def T_world_camera(self) -> _FloatArray:
         """4x4 pose of the camera model frame in the world."""
-        return pose_matrix(self.pose)
+        return _pose_matrix(self.pose)
 
     @property
     def K(self) -> _FloatArray:
@@ -326,7 +276,7 @@ def marker_poses(world: World) -> list[MarkerPose]:
     for box in world.boxes:
         model = _MODELS[box.model]
         T_world_box = box.T_world_box
-        for marker_id in sorted(model.faces):
+        for marker_id in model.marker_ids:
             out.append(
                 MarkerPose(
                     box.name,
@@ -630,7 +580,7 @@ _BUILTIN: dict[str, dict[str, Any]] = {
 }
 
 def _husarion_world() -> dict[str, Any]:
-    from posekit.robot._husarion_world import WALLS
+    from posekit.worlds._husarion_world import WALLS
 
     return {
         "name": "husarion_world",

@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from posekit.robot.worlds import (
+from posekit.worlds import (
     ARUCO_BOX,
+    BoxSpec,
     WorldError,
     load_world,
     marker_poses,
-    pose_matrix,
     world_names,
 )
 
@@ -50,8 +50,10 @@ def test_aruco_box_world_faces_seen_from_origin_match_spec() -> None:
 
 
 def test_marker_axes_are_right_handed_and_outward() -> None:
-    for marker_id, (normal, _, _) in ARUCO_BOX.faces.items():
-        T = ARUCO_BOX.T_box_marker(marker_id)
+    for face in ARUCO_BOX.faces:
+        normal = face.normal
+        T = ARUCO_BOX.T_box_marker(face.marker_id)
+        assert np.array_equal(T, ARUCO_BOX.T_box_marker(face))  # by id or by face: one pose
         assert np.linalg.det(T[:3, :3]) == pytest.approx(1.0)
         assert np.allclose(T[:3, 2], normal)
         assert np.allclose(T[:3, 3], 0.25 * np.asarray(normal))
@@ -83,12 +85,12 @@ def test_camera_world() -> None:
     assert np.allclose(R.apply([0, 0, 1]), (0, 0, -1), atol=1e-4)
 
 
-def test_pose_matrix_against_scipy() -> None:
+def test_box_pose_against_scipy() -> None:
     rng = np.random.default_rng(0)
     for _ in range(20):
         pose = rng.uniform(-3, 3, 6)
         ref = Rotation.from_euler("xyz", pose[3:]).as_matrix()  # extrinsic x-y-z = SDF rpy
-        m = pose_matrix(pose)
+        m = BoxSpec("b", "aruco_box", tuple(pose)).T_world_box
         assert np.allclose(m[:3, :3], ref, atol=1e-12)
         assert np.allclose(m[:3, 3], pose[:3])
 
@@ -206,7 +208,7 @@ def test_validation_errors(tmp_path: Path, data: Any, match: str) -> None:
 
 
 def test_non_finite_rejected() -> None:
-    from posekit.robot.worlds import World
+    from posekit.worlds import World
 
     with pytest.raises(WorldError, match="finite"):
         World.from_dict(_world(spawn=[0.0, float("nan"), 0.0]))
@@ -261,7 +263,7 @@ def test_absurd_cameras_are_refused_at_validation(tmp_path: Path, camera: dict[s
 
 
 def test_limits_are_inclusive(tmp_path: Path) -> None:
-    from posekit.robot.worlds import MAX_CAMERA_PIXELS, MAX_CAMERA_SIDE
+    from posekit.worlds import MAX_CAMERA_PIXELS, MAX_CAMERA_SIDE
 
     side = math.isqrt(MAX_CAMERA_PIXELS)
     assert side <= MAX_CAMERA_SIDE
@@ -270,7 +272,7 @@ def test_limits_are_inclusive(tmp_path: Path) -> None:
 
 
 def test_non_utf8_and_oversized_files_are_named_errors(tmp_path: Path) -> None:
-    from posekit.robot.worlds import MAX_WORLD_FILE_BYTES
+    from posekit.worlds import MAX_WORLD_FILE_BYTES
 
     latin = tmp_path / "latin.yaml"
     latin.write_bytes(b"name: caf\xe9\n")

@@ -1,10 +1,11 @@
 """The world's solid geometry as numpy arrays, and vectorised ray casting against it.
 
-Every box of a :class:`~posekit.robot.worlds.World` is an oriented cuboid: its centre
+Every box of a :class:`~posekit.worlds.World` is an oriented cuboid: its centre
 ``centres[m]`` (m, world frame), its rotation ``rotations[m]`` (3x3, R_world_box) and its
 half side lengths ``half_extents[m]`` (m, box frame). :func:`cast_rays` intersects many rays
 with all boxes at once (the slab method in each box's frame, numpy over rays x boxes), which
-is what the simulated LiDAR needs for 3000 beams at 10 Hz. A world's walls are vertical
+is what the simulated LiDAR needs for 3000 beams at 10 Hz (the robot's contact model, its
+depth camera and the vision renderer use the same arrays). A world's walls are vertical
 faces: :class:`WallSegments` holds each face as a ground segment ``starts[s]`` ->
 ``ends[s]`` (m) and its ``heights[s]`` (m); :func:`cast_rays` intersects them too (a ray
 hits a face where its height at the crossing lies in [0, height]). The ground plane is not
@@ -19,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from posekit.robot.worlds import World, box_half_extents
+from posekit.worlds.world import World, box_half_extents
 
 __all__ = ["BoxObstacles", "WallSegments", "cast_rays"]
 

@@ -1,5 +1,8 @@
 """The course's ``aruco_box`` model: a 0.5 m cube with one DICT_5X5_250 marker per face.
 
+One model serves the world loader (box sizes, marker poses), the simulated cameras and the
+detector evaluation (:mod:`posekit.vision` re-exports it).
+
 Frames
 ------
 * **Box frame** (``T_world_box``): origin at the cube's centre, axes of the SDF model.
@@ -21,9 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
-from posekit.robot.worlds import ARUCO_BOX as _WORLD_BOX
-from posekit.vision.errors import CameraModelError
+from posekit.geometry import Transform
+from posekit.worlds.errors import WorldError
 
 __all__ = [
     "ARUCO_BOX",
@@ -64,22 +66,26 @@ def marker_corners_local(side: float) -> F64Array:
     return np.array([[-h, h, 0.0], [h, h, 0.0], [h, -h, 0.0], [-h, -h, 0.0]])
 
 
-def _faces_of_world_model() -> tuple[BoxFace, ...]:
-    """docs/specs/rosbot_and_worlds.md's face table, kept once in
-    :data:`posekit.robot.worlds.ARUCO_BOX`."""
-    def as_float(v: Sequence[float]) -> tuple[float, float, float]:
-        return (float(v[0]), float(v[1]), float(v[2]))
-
-    return tuple(
-        BoxFace(as_float(normal), marker_id, as_float(x_axis), as_float(y_axis))
-        for marker_id, (normal, x_axis, y_axis) in _WORLD_BOX.faces.items()
+#: The aruco_box face table (docs/specs/rosbot_and_worlds.md): per marker id, the face's
+#: outward normal and the marker's x and y axes, in the box frame.
+ARUCO_BOX_FACES: tuple[BoxFace, ...] = tuple(
+    BoxFace(normal, marker_id, x_axis, y_axis)
+    for marker_id, normal, x_axis, y_axis in (
+        (3, (0.0, 0.0, 1.0), (-1.0, 0.0, 0.0), (0.0, -1.0, 0.0)),
+        (2, (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), (-1.0, 0.0, 0.0)),
+        (4, (-1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
+        (1, (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (0.0, -1.0, 0.0)),
+        (6, (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0)),
+        (5, (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0)),
     )
+)
 
 
 def box_pose_matrix(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0.0,
                     yaw: float = 0.0) -> F64Array:
-    """``T_world_box`` from an SDF ``<pose>`` (metres; rpy radians, fixed-axis x-y-z)."""
-    return Transform(Rotation.from_rpy(roll, pitch, yaw), (x, y, z)).as_matrix()
+    """``T_world_box`` (4x4) from an SDF ``<pose>`` (metres; rpy radians, fixed-axis x-y-z):
+    :meth:`posekit.geometry.Transform.from_xyz_rpy` as a matrix, by keyword."""
+    return Transform.from_xyz_rpy((x, y, z), (roll, pitch, yaw)).as_matrix()
 
 
 @dataclass(frozen=True)
@@ -87,32 +93,49 @@ class ArucoBoxModel:
     """A cube with a square ArUco marker centred on each face.
 
     Attributes:
+        name: the model name worlds refer to (``model: aruco_box``).
         size: cube side, metres.
         marker_size: marker side including its one-cell black border, metres.
         dictionary: OpenCV predefined dictionary name.
-        faces: the six faces (normal, marker id, marker axes) in the box frame.
+        faces: the six faces (normal, marker id, marker axes) in the box frame; the marker z
+            axis is x × y and equals the outward normal (no mirrored face).
+
+    Raises:
+        WorldError: marker larger than the cube, or a face whose x × y is not its normal.
     """
 
-    size: float = _WORLD_BOX.size
-    marker_size: float = _WORLD_BOX.marker_size
-    dictionary: str = _WORLD_BOX.dictionary
-    faces: tuple[BoxFace, ...] = field(default_factory=lambda: _faces_of_world_model())
+    name: str = "aruco_box"
+    size: float = 0.5
+    marker_size: float = 0.2
+    dictionary: str = "DICT_5X5_250"
+    faces: tuple[BoxFace, ...] = field(default=ARUCO_BOX_FACES)
 
     def __post_init__(self) -> None:
         if not 0.0 < self.marker_size <= self.size:
-            raise CameraModelError(
+            raise WorldError(
                 f"need 0 < marker_size <= size, got {self.marker_size} and {self.size}"
             )
         for face in self.faces:
             x, y, n = (np.asarray(a) for a in (face.x_axis, face.y_axis, face.normal))
             if not np.allclose(np.cross(x, y), n):
-                raise CameraModelError(f"face of marker {face.marker_id}: x × y != normal")
+                raise WorldError(f"face of marker {face.marker_id}: x × y != normal")
 
-    def T_box_marker(self, face: BoxFace) -> F64Array:
-        """Pose of ``face``'s marker frame in the box frame (4x4)."""
-        R = np.column_stack([face.x_axis, face.y_axis, face.normal])
-        t_box_marker = np.asarray(face.normal) * (self.size / 2.0)
-        return Transform(Rotation.from_matrix(R), t_box_marker).as_matrix()
+    @property
+    def marker_ids(self) -> list[int]:
+        """The marker ids of the faces, sorted."""
+        return sorted(face.marker_id for face in self.faces)
+
+    def T_box_marker(self, face: BoxFace | int) -> F64Array:
+        """Pose (4x4) of the marker frame of ``face`` (a face or its marker id) in the box
+        frame: columns x, y, normal; origin at the face centre."""
+        if not isinstance(face, BoxFace):
+            face = self.face_by_id(face)
+        m = np.eye(4)
+        m[:3, 0] = face.x_axis
+        m[:3, 1] = face.y_axis
+        m[:3, 2] = face.normal
+        m[:3, 3] = 0.5 * self.size * np.asarray(face.normal, dtype=np.float64)
+        return m
 
     def face_by_id(self, marker_id: int) -> BoxFace:
         """The face carrying ``marker_id`` (KeyError if the box has none)."""

@@ -1,0 +1,40 @@
+// Image (RViz2's Image display / rqt_image_view): the newest frame of a sensor_msgs/Image
+// topic in a panel of its own (JPEG from the server's image path, newest only).
+export default {
+  name: "Image",
+  types: ["sensor_msgs/msg/Image"],
+  messages: false,
+  needs3d: false,
+  options: {
+    width: { type: "number", default: 100, min: 10, max: 100, step: 10, label: "Width %" },
+  },
+  create(ctx, topic, options) {
+    const body = ctx.panel(`Image ${topic}`);
+    const img = document.createElement("img");
+    img.alt = "no image yet";
+    img.className = "display-image";
+    const info = document.createElement("span");
+    info.className = "image-info";
+    info.textContent = "waiting for an image…";
+    body.append(img, info);
+    let url = null, frames = 0;
+    const size = (o) => { img.style.width = `${o.width}%`; };
+    size(options);
+    ctx.watchImage(topic, (blob, header) => {
+      const next = URL.createObjectURL(blob);
+      img.onload = () => {
+        if (url) URL.revokeObjectURL(url);
+        url = next;
+        frames += 1;
+      };
+      img.src = next;
+      info.textContent = `${header.width}×${header.height} ${header.encoding}  stamp ${header.stamp.toFixed(3)} s`;
+    });
+    return {
+      update() {},
+      setOptions: size,
+      dispose() { if (url) URL.revokeObjectURL(url); },
+      info: () => ({ frames, width: img.naturalWidth, height: img.naturalHeight }),
+    };
+  },
+};
