@@ -19,11 +19,11 @@ $(PY):
 	$(PY) -m pip install --quiet --upgrade pip
 
 # The demo and the README's tour: posekit with every extra (plot, viewer, zenoh, bag, ...).
-$(STAMP_DEMO): pyproject.toml | $(PY)
+$(STAMP_DEMO): pyproject.toml setup.py $(wildcard src/posekit/*/_accel.c) | $(PY)
 	$(PY) -m pip install --quiet -e '.[all]'
 	touch $@
 
-$(STAMP_DEV): pyproject.toml | $(PY)
+$(STAMP_DEV): pyproject.toml setup.py $(wildcard src/posekit/*/_accel.c) | $(PY)
 	$(PY) -m pip install --quiet -e '.[dev]'
 	touch $@ $(STAMP_DEMO)
 

@@ -34,7 +34,8 @@ Phases:
   (received - 1) / (last receive - first receive), measured in the subscriber; the CPU
   time of each process (all threads) per message.
 * latency: one message per millisecond; one-way latency = receive wall clock minus the
-  ``header.stamp`` written just before publishing (same host, same clock). p50 / p99.
+  ``header.stamp`` written just before publishing (same host, same clock). p50 / p99 of
+  all but the first 5 % (warm-up: discovery, reliable repairs of the first samples).
 
 Each round runs every mode once per message and phase, in alternating order from round to
 round, so a burst of load from other processes falls on all modes alike. Ratios are taken
@@ -51,12 +52,15 @@ import socket
 import statistics
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from typing import Any
 
 LATENCY_RATE_HZ = 1000.0
 IDLE_END_S = 0.6
+#: The first 1/WARM_UP_SHARE of the latency phase's messages are not counted.
+WARM_UP_SHARE = 20
 FIRST_MESSAGE_TIMEOUT_S = 30.0
 ROS2_VENV = os.environ.get(
     "POSEKIT_ROS2_VENV",
@@ -72,7 +76,8 @@ QUICK_SIZES = {"tf": (5_000, 1_000), "image": (500, 1_000)}
 RCLPY_BURST = 5_000
 
 Publish = Callable[[], None]
-Spin = Callable[[float], None]
+#: ``serve(done)``: receive (run the callbacks) until ``done()`` is true.
+Spin = Callable[[Callable[[], bool]], None]
 Close = Callable[[], None]
 OnStamp = Callable[[int, int], None]
 
@@ -134,7 +139,17 @@ def _stamp_now(stamp: Any) -> None:
 
 
 # ---------------------------------------------------------------------------------------
-# endpoints: (publish, spin, close) of one mode, transport and message
+# endpoints: (publish, serve, close) of one mode, transport and message
+
+
+def _loop(step: Callable[[float], Any]) -> Spin:
+    """``serve`` from a step that waits up to the given seconds for data and handles it."""
+
+    def serve(done: Callable[[], bool]) -> None:
+        while not done():
+            step(0.02)
+
+    return serve
 
 
 def _posekit_endpoints(transport: str, mode: str, message: str, role: str,
@@ -163,11 +178,22 @@ def _posekit_endpoints(transport: str, mode: str, message: str, role: str,
             endpoint = node.transport.subscribe(
                 EndpointInfo(topic, cls, keep_all, node.get_name(), node.get_namespace(),
                              node.get_logger()), callback)
-            return None, time.sleep, lambda: (endpoint.destroy(), ctx.shutdown())[1]
+            return None, _loop(time.sleep), lambda: (endpoint.destroy(), ctx.shutdown())[1]
         node.create_subscription(cls, topic, callback, keep_all)
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
-        return None, executor.spin_once, ctx.shutdown
+
+        def serve(done: Callable[[], bool]) -> None:
+            # executor.spin(), as a user calls it (rclpy.spin); a watcher thread ends it
+            def watch() -> None:
+                while not done():
+                    time.sleep(0.02)
+                executor.shutdown()
+
+            threading.Thread(target=watch, daemon=True).start()
+            executor.spin()
+
+        return None, serve, ctx.shutdown
     pub = node.create_publisher(cls, topic, keep_all)
     msg = _posekit_message(message)
     stamp = msg.header.stamp
@@ -207,7 +233,7 @@ def _zenoh_raw_endpoints(message: str, role: str, endpoint: str,
             on_stamp(stamp.sec, stamp.nanosec)
 
         sub = session.declare_subscriber(key, callback)
-        return None, time.sleep, lambda: (sub.undeclare(), session.close())[1]
+        return None, _loop(time.sleep), lambda: (sub.undeclare(), session.close())[1]
     pub = session.declare_publisher(key, reliability=zenoh.Reliability.RELIABLE,
                                     congestion_control=zenoh.CongestionControl.BLOCK)
     msg, time_cls = _rosbags_message(message)
@@ -271,7 +297,7 @@ def _cyclone_endpoints(mode: str, message: str, role: str,
                 if m.sample_info.valid_data:
                     on_stamp(m.header.stamp.sec, m.header.stamp.nanosec)
 
-        return None, spin, lambda: None
+        return None, _loop(spin), lambda: None
     writer = DataWriter(participant, topic, qos)
     _wait_matched(lambda: len(writer.get_matched_subscriptions()))
     if mode == "raw":
@@ -333,7 +359,7 @@ def _rclpy_endpoints(message: str, role: str,
         assert on_stamp is not None
         node.create_subscription(cls, TOPICS[message], lambda m: on_stamp(
             m.header.stamp.sec, m.header.stamp.nanosec), qos)
-        return None, lambda s: rclpy.spin_once(node, timeout_sec=s), rclpy.shutdown
+        return None, _loop(lambda s: rclpy.spin_once(node, timeout_sec=s)), rclpy.shutdown
     pub = node.create_publisher(cls, TOPICS[message], qos)
     msg = cls()
     if message == "tf":
@@ -356,7 +382,8 @@ def _rclpy_endpoints(message: str, role: str,
 
 def _endpoints(transport: str, mode: str, message: str, role: str, endpoint: str,
                on_stamp: OnStamp | None = None) -> tuple[Publish | None, Spin | None, Close]:
-    if mode in ("posekit", "transport"):
+    if mode in ("posekit", "transport", "before"):
+        mode = "posekit" if mode == "before" else mode
         return _posekit_endpoints(transport, mode, message, role, on_stamp)
     if mode == "rclpy":
         return _rclpy_endpoints(message, role, on_stamp)
@@ -382,27 +409,39 @@ def child_sub(transport: str, mode: str, message: str, endpoint: str) -> None:
     lat: list[int] = []
     now_wall, now_mono = time.time_ns, time.monotonic_ns
 
+    cpu_first = [0.0]  # process CPU time at the first message
+
     def on_stamp(sec: int, nsec: int) -> None:
         t = now_wall()
+        if not recv:
+            cpu_first[0] = time.process_time()
         recv.append(now_mono())
         lat.append(t - (sec * 1_000_000_000 + nsec))
 
-    _, spin, close = _endpoints(transport, mode, message, "sub", endpoint, on_stamp)
-    assert spin is not None
+    _, serve, close = _endpoints(transport, mode, message, "sub", endpoint, on_stamp)
+    assert serve is not None
     print("ready", flush=True)
     give_up = time.monotonic() + FIRST_MESSAGE_TIMEOUT_S
-    while not recv and time.monotonic() < give_up:
-        spin(0.02)
-    cpu0, last = time.process_time(), (len(recv), time.monotonic())
-    while time.monotonic() - last[1] < IDLE_END_S:
-        spin(0.02)
-        if len(recv) != last[0]:
-            last = (len(recv), time.monotonic())
-    cpu = time.process_time() - cpu0
+    state = {"count": 0, "since": 0.0}
+
+    def done() -> bool:
+        """Idle for IDLE_END_S after the first message (or no message at all)."""
+        now = time.monotonic()
+        if not state["since"]:
+            if not recv and now < give_up:
+                return False
+            state["since"] = now
+        if len(recv) != state["count"]:
+            state.update(count=len(recv), since=now)
+        return now - state["since"] >= IDLE_END_S
+
+    serve(done)
+    cpu = time.process_time() - cpu_first[0]
     close()
     out: dict[str, Any] = {"count": len(recv), "cpu_s": cpu}
     if len(recv) >= 2:
         out["rate"] = (len(recv) - 1) / ((recv[-1] - recv[0]) * 1e-9)
+    lat = lat[len(lat) // WARM_UP_SHARE:]  # discovery and first-sample repairs excluded
     if lat:
         lat.sort()
         out.update(p50=lat[len(lat) // 2], p99=lat[int(len(lat) * 0.99)])
@@ -429,9 +468,11 @@ def child_pub(transport: str, mode: str, message: str, endpoint: str, phase: str
             next_at += period
             while time.perf_counter() < next_at:  # sub-ms pacing: sleep is too coarse
                 pass
-    time.sleep(1.0)  # what is still queued reaches the subscriber before the session closes
-    close()
     print(json.dumps({"send_cpu_us": 1e6 * cpu / count}), flush=True)
+    # Stay connected until the subscriber is done (the parent closes our stdin then):
+    # what is still queued for a slower subscriber must not be dropped by closing.
+    sys.stdin.read()
+    close()
 
 
 # ---------------------------------------------------------------------------------------
@@ -439,13 +480,16 @@ def child_pub(transport: str, mode: str, message: str, endpoint: str, phase: str
 
 
 def run_pair(transport: str, mode: str, message: str, phase: str, count: int,
-             domain_id: int) -> dict[str, Any]:
+             domain_id: int, before_src: str | None = None) -> dict[str, Any]:
     """One publisher process and one subscriber process of ``mode``: the subscriber's
-    figures plus the publisher's CPU per message."""
+    figures plus the publisher's CPU per message. Mode ``before`` is ``posekit`` importing
+    posekit from ``before_src`` (another checkout's ``src``)."""
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(("ZENOH_", "ROS_", "RMW_", "POSEKIT_", "CYCLONEDDS_"))}
     env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONUNBUFFERED="1")
+    if mode == "before" and before_src:
+        env["PYTHONPATH"] = os.path.abspath(before_src)
     python = os.path.join(ROS2_VENV, "bin", "python") if mode == "rclpy" else sys.executable
     me = [python, os.path.abspath(__file__), "--child"]
     router = None
@@ -466,14 +510,25 @@ def run_pair(transport: str, mode: str, message: str, phase: str, count: int,
                 raise RuntimeError(f"{transport} {mode} subscriber did not start")
             pub = subprocess.Popen(
                 [*me, "pub", transport, mode, message, endpoint, phase, str(count)],
-                env=env, stdout=subprocess.PIPE, text=True)
-            pub_out, _ = pub.communicate(timeout=180)
-            if pub.returncode != 0:
-                raise RuntimeError(f"{transport} {mode} publisher failed ({pub.returncode})")
-            line = sub.stdout.readline()
-            sub.wait(timeout=60)
+                env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+            assert pub.stdin is not None
+            assert pub.stdout is not None
+            # the publisher's figures once it has sent everything, the subscriber's once
+            # the stream went idle; then the publisher may disconnect
+            give_up = threading.Timer(300, lambda: [p.kill() for p in (pub, sub) if p])
+            give_up.start()
+            try:
+                pub_line = pub.stdout.readline()
+                line = sub.stdout.readline()
+                pub.stdin.close()
+                pub.wait(timeout=60)
+                sub.wait(timeout=60)
+            finally:
+                give_up.cancel()
+            if not pub_line or not line:
+                raise RuntimeError(f"{transport} {mode}: a child ended without its figures")
             result = dict(json.loads(line))
-            result.update(json.loads(pub_out.strip().splitlines()[-1]))
+            result.update(json.loads(pub_line))
             return result
         finally:
             for proc in (pub, sub):
@@ -494,10 +549,16 @@ def _spread(values: list[float], fmt: str) -> str:
     return f"{format(med, fmt)} ({format(min(values), fmt)}-{format(max(values), fmt)})"
 
 
+def _cpu_per_msg(figures: dict[str, dict[str, Any]]) -> float:
+    """The subscriber process's CPU µs (all threads) per message received in the burst."""
+    tput = figures["throughput"]
+    return float(tput["cpu_s"]) * 1e6 / max(1, int(tput["count"]))
+
+
 def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int],
            rounds: list[dict[str, dict[str, dict[str, Any]]]]) -> None:
     """One table per transport and message: each mode's median (range) over the rounds,
-    then posekit's ratios to raw taken within each round."""
+    then posekit's ratios to raw taken within each round (> 1: posekit costs more)."""
     burst, n_lat = sizes
     print(f"\n== {transport}, {message} ({TYPES[message]}); throughput: burst of {burst}; "
           f"latency: {n_lat} msgs at {LATENCY_RATE_HZ:.0f} Hz; {len(rounds)} round(s): "
@@ -510,8 +571,7 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
                 if key in r.get(mode, {}).get(phase, {})]
 
     for mode in modes:
-        cpu = [r[mode]["throughput"]["cpu_s"] * 1e6 / max(1, r[mode]["throughput"]["count"])
-               for r in rounds if mode in r]
+        cpu = [_cpu_per_msg(r[mode]) for r in rounds if mode in r]
         counts = {r[mode]["throughput"]["count"] for r in rounds if mode in r}
         short = "" if counts <= {burst} else f"  received {sorted(counts)} of {burst}"
         print(f"{mode:<10}{_spread(col(mode, 'throughput', 'rate'), ',.0f'):>26}"
@@ -522,13 +582,14 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
     for mode in [m for m in modes if m not in ("raw",)]:
         both = [r for r in rounds if mode in r and "raw" in r]
         tput = [r["raw"]["throughput"]["rate"] / r[mode]["throughput"]["rate"] for r in both]
+        cpu_ratio = [_cpu_per_msg(r[mode]) / _cpu_per_msg(r["raw"]) for r in both]
         p50 = [r[mode]["latency"]["p50"] / r["raw"]["latency"]["p50"] for r in both]
         best_t = (max(col("raw", "throughput", "rate"))
                   / max(col(mode, "throughput", "rate")))
         best_l = min(col(mode, "latency", "p50")) / min(col("raw", "latency", "p50"))
         print(f"  {mode} / raw, per round: time per message {_spread(tput, '.2f')}, median "
-              f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}"
-              "  (<= 1.10: within 1.1x of raw)")
+              f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}; "
+              f"receive CPU per message {_spread(cpu_ratio, '.2f')}")
 
 
 def main() -> None:
@@ -541,6 +602,9 @@ def main() -> None:
                         help="skip the transport-layer-alone mode")
     parser.add_argument("--references", action="store_true",
                         help="DDS: add the real rclpy (Fast DDS) and cyclonedds' Python API")
+    parser.add_argument("--before", metavar="SRC",
+                        help="add mode 'before': posekit imported from SRC, another checkout's "
+                             "src directory (e.g. git worktree add /tmp/before <commit>)")
     parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -563,6 +627,7 @@ def main() -> None:
     domain = 180
     for transport in transports:
         modes = ["raw", "posekit"] + ([] if args.no_transport_mode else ["transport"])
+        modes += ["before"] if args.before else []
         if args.references and transport == "dds":
             modes += ["cyclone", "rclpy"]
         for message in messages:
@@ -577,7 +642,7 @@ def main() -> None:
                             n = min(n, RCLPY_BURST)
                         domain = 180 + (domain - 179) % 50  # each pair on its own domain
                         this[mode][phase] = run_pair(transport, mode, message, phase, n,
-                                                     domain)
+                                                     domain, args.before)
                 rounds.append(this)
                 print(f"   round {i + 1}: " + ", ".join(
                     f"{m} {this[m]['throughput'].get('rate', 0):,.0f}/s "

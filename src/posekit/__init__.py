@@ -2,7 +2,7 @@
 
 Layers, lowest first (a package imports only packages of lower layers; tests/test_layers.py
 pins the table and docs/architecture.md describes it): msgs; time, geometry, cv_bridge; tf2,
-kdl; runtime; transport, rclpy, tf2_ros, launch; robot; vision; bag, demos, viewer; cli.
+kdl, worlds; runtime; transport, rclpy, tf2_ros, launch; robot; vision; bag, demos, viewer; cli.
 Importing :mod:`posekit` itself loads nothing heavy.
 """
 

@@ -49,3 +49,60 @@ def drawn_fraction(image: np.ndarray) -> float:
 def debug(page: Any, key: str) -> Any:
     """``window.posekitViewer.<key>`` in the page (the page's introspection object)."""
     return page.evaluate(f"window.posekitViewer && window.posekitViewer.{key}")
+
+
+# -- the page's displays (docs/viewer.md, "Writing a display")
+def displays(page: Any) -> dict[str, Any]:
+    """``window.posekitViewer.displays()``: every display, the subscriptions, counts."""
+    state: dict[str, Any] = page.evaluate("window.posekitViewer.displays()")
+    return state
+
+
+def display_entry(page: Any, name: str, topic: str) -> dict[str, Any] | None:
+    """The display ``name`` of ``topic`` (id, options, status, info), or None."""
+    for d in displays(page)["displays"]:
+        if d["display"] == name and d["topic"] == topic:
+            return dict(d)
+    return None
+
+
+def display_info(page: Any, name: str, topic: str) -> Any:
+    """The display's ``info()`` (None while it is not added or has drawn nothing)."""
+    d = display_entry(page, name, topic)
+    return d["info"] if d else None
+
+
+def add_from_topic_list(page: Any, topic: str, name: str, timeout: float = 10.0
+                        ) -> dict[str, Any]:
+    """Click the topic list's **+ name** button of ``topic``; the new display's entry."""
+    button = f"#topics tr[data-topic='{topic}'] button[data-add-display='{name}']"
+    wait_for(lambda: page.query_selector(button), timeout,
+             what=f"the '+ {name}' button of {topic}")
+    page.click(button)
+    return dict(wait_for(lambda: display_entry(page, name, topic), what=f"the {name} display"))
+
+
+def set_option(page: Any, display_id: int, key: str, value: Any) -> None:
+    """Change an option in the display's form, as a user does (input/change events)."""
+    row = f"#display-list details[data-display-id='{display_id}']"
+    page.evaluate(f"document.querySelector(\"{row}\").open = true")
+    selector = f"{row} [data-option='{key}']"
+    kind = page.eval_on_selector(selector, "e => e.tagName === 'SELECT' ? 'select' : e.type")
+    if isinstance(value, bool):
+        page.set_checked(selector, value)
+    elif kind == "select":
+        page.select_option(selector, value)
+    elif kind == "color":  # a colour input takes its value and a change event
+        page.eval_on_selector(selector, "(e, v) => { e.value = v; "
+                              "e.dispatchEvent(new Event('change')); }", value)
+    else:  # number and text fields: typed (input events)
+        page.fill(selector, str(value))
+
+
+def set_display_shown(page: Any, display_id: int, shown: bool) -> None:
+    """Tick or untick the display's box in the Displays panel."""
+    box = f"#display-list details[data-display-id='{display_id}'] .display-enabled"
+    if shown:
+        page.check(box)
+    else:
+        page.uncheck(box)

@@ -27,8 +27,8 @@ from posekit.msgs.point_cloud2 import create_cloud, read_points
 from posekit.msgs.sensor_msgs import LaserScan, PointCloud2
 from posekit.msgs.std_msgs import Header
 from posekit.runtime.context import Context
-from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.node import Node
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 ROS = get_typestore(Stores.ROS2_JAZZY)
 CLOUD_TOPIC = "/cloud"

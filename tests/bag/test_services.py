@@ -26,10 +26,10 @@ from _support.ros2 import run_ros2_script
 from posekit.bag import Player, Recorder, bag_info, format_info, read_messages
 from posekit.msgs.std_srvs import SetBool
 from posekit.runtime.context import Context
-from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.node import Node
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.services import ServiceIntrospectionState
+from posekit.runtime.sim_executor import SimulatedTimeExecutor
 
 EVENT_TOPIC = "/toggle/_service_event"
 EVENT_TYPE = "std_srvs/srv/SetBool_Event"

@@ -9,7 +9,7 @@ from posekit.cli.tf_echo import USAGE, format_echo_block, main, parse_rate
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.runtime.context import Context
 from posekit.runtime.node import Node
-from posekit.tf2._linear_math import quat_from_rpy
+from posekit.tf2 import quat_from_rpy
 from posekit.tf2_ros import StaticTransformBroadcaster
 
 SPEC_BLOCK = """At time 1700000000.5000000

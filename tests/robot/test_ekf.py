@@ -224,3 +224,29 @@ def test_state_array_is_updated_in_place_and_edits_are_picked_up() -> None:
     assert ekf.pose == pytest.approx((2.0, 2.0, 0.0))
     with pytest.raises(ValueError, match="6 entries"):
         ekf.state = np.zeros(3)
+
+
+def test_set_pose_replaces_state_covariance_and_queue() -> None:
+    """robot_localization's set_pose: the pose with zero velocities, 1e-6 I with the given
+    pose block, queued and older measurements dropped, relative IMU yaw restarted."""
+    ekf = Ekf2D(t0=0.0)
+    ekf.add_wheel_twist(0.5, 1.0, 0.0, 0.2, (1e-3, 1e-3, 1e-3))
+    ekf.step(1.0)
+    ekf.add_wheel_twist(1.5, 1.0, 0.0, 0.2, (1e-3, 1e-3, 1e-3))  # queued, then dropped
+    cov3 = np.array([[0.25, 0.01, 0.0], [0.01, 0.25, 0.0], [0.0, 0.0, 0.07]])
+    ekf.set_pose(2.0, 3.0, -1.0, 0.5, cov3)
+    assert np.array_equal(ekf.state, [3.0, -1.0, 0.5, 0.0, 0.0, 0.0])
+    expected = np.eye(6) * 1e-6
+    expected[np.ix_([0, 1, 2], [0, 1, 2])] = cov3
+    assert np.array_equal(ekf.covariance, expected)
+    assert ekf.t == 2.0
+    ekf.add_wheel_twist(1.9, 5.0, 0.0, 0.0, (1e-3, 1e-3, 1e-3))  # before the reset: ignored
+    ekf.add_imu(2.1, 1.3, 0.0, (1e-3, 1e-3))   # the new zero of the relative IMU yaw
+    ekf.step(2.1)
+    assert ekf.state[0] == 3.0
+    assert ekf.state[3] == 0.0
+    assert ekf.state[YAW] == pytest.approx(0.5, abs=1e-9)
+    with pytest.raises(ValueError, match="3x3"):
+        ekf.set_pose(3.0, 0.0, 0.0, 0.0, np.eye(2))
+    with pytest.raises(ValueError, match="finite"):
+        ekf.set_pose(3.0, float("nan"), 0.0, 0.0, np.eye(3))

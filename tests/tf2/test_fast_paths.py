@@ -14,9 +14,10 @@ import math
 from typing import Any
 
 from hypothesis import given
-from hypothesis import strategies as st
 
-from posekit.msgs.geometry_msgs import TransformStamped
+from _support.tf2_trees import apply as _apply
+from _support.tf2_trees import msg as _msg
+from _support.tf2_trees import scene as _scene
 from posekit.tf2 import BufferCore, TransformException
 
 S = 1_000_000_000
@@ -27,18 +28,6 @@ class _GeneralOnly(BufferCore):
 
     def _build_path(self, tid: int, sid: int) -> None:
         return None
-
-
-def _msg(parent: str, child: str, ns: int, q: tuple[float, ...], v: tuple[float, ...]) -> Any:
-    m = TransformStamped()
-    m.header.frame_id = parent
-    m.child_frame_id = child
-    m.header.stamp.sec, m.header.stamp.nanosec = divmod(ns, S)
-    r = m.transform.rotation
-    r.x, r.y, r.z, r.w = q
-    tr = m.transform.translation
-    tr.x, tr.y, tr.z = v
-    return m
 
 
 def _bits(res: Any) -> tuple[Any, ...]:
@@ -66,45 +55,6 @@ def _outcome(core: BufferCore, target: str, source: str, t: int) -> tuple[Any, .
         return ("ok", _bits(core.lookup_transform_core(target, source, t)))
     except TransformException as exc:
         return ("error", type(exc).__name__, str(exc))
-
-
-_component = st.sampled_from([0.0, -0.0, 0.5, -0.5, 1.0, 0.3, -0.7, 2.0])
-_quat = st.tuples(_component, _component, _component, _component).filter(
-    lambda q: sum(c * c for c in q) > 0.0
-)
-_vec = st.tuples(_component, _component, _component)
-
-
-@st.composite
-def _scene(draw: st.DrawFn) -> tuple[list[tuple[Any, bool]], list[int], int]:
-    n = draw(st.integers(3, 6))
-    names = [f"f{i}" for i in range(n)]
-    inserts: list[tuple[Any, bool]] = []
-    for i in range(1, n):
-        parent = draw(st.integers(0, i - 1))
-        if draw(st.integers(0, 4)) == 0:
-            inserts.append((_msg(names[parent], names[i], 0, draw(_quat), draw(_vec)), True))
-            continue
-        for k in range(draw(st.integers(1, 4))):
-            stamp = 10 * S + draw(st.sampled_from([0, 1, 2, 3])) * S // 10 + k
-            p = parent
-            if draw(st.integers(0, 5)) == 0:  # re-parented sample
-                p = draw(st.integers(0, n - 1))
-                if p == i:
-                    p = parent
-            inserts.append((_msg(names[p], names[i], stamp, draw(_quat), draw(_vec)), False))
-    times = [0, 10 * S, 10 * S + S // 20, 10 * S + S // 10, 10 * S + 2 * S // 10 + 1]
-    times += [10 * S + S // 7, 10 * S + 4 * S // 10, 9 * S]
-    return inserts, times, n
-
-
-def _apply(cores: list[BufferCore], inserts: list[tuple[Any, bool]]) -> None:
-    for msg, static in inserts:
-        for core in cores:
-            if static:
-                core.set_transform_static(msg, "test")
-            else:
-                core.set_transform(msg, "test")
 
 
 @given(_scene(), _scene())

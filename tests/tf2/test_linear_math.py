@@ -132,6 +132,6 @@ def test_get_rpy_gimbal_lock_branch() -> None:
 
 @given(quats)
 def test_core_unrolled_canonical_equals_linear_math(q: tuple[float, float, float, float]) -> None:
-    from posekit.tf2.buffer_core import _canonical
+    from posekit.tf2.path import canonical as _canonical
 
     assert _canonical(q) == canonical_quat(q)  # bit-identical, every getRotation branch

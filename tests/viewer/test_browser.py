@@ -492,7 +492,7 @@ def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
     spinner.start()
     page = browser.new_page(viewport={"width": 1280, "height": 800})
     try:
-        page.goto(server.url)
+        page.goto(server.url + "?camera=0.5,-1.2,1.0&target=2,0.3,0.25")
         wait_for(lambda: debug(page, "world") == "aruco_box_world", what="the world")
         updates = wait_for(
             lambda: (debug(page, "imageUpdates") or {}).get("/aruco_detection_image", 0) >= 2
@@ -507,8 +507,56 @@ def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
         assert markers <= {f"aruco_marker_{i}" for i in (2, 4, 5)}
         width = page.eval_on_selector("#aruco-image", "img => img.naturalWidth")
         assert width == 1280
+        _camera_frustum_and_detections(page, server)
     finally:
         page.close()
         server.stop()
         run.shutdown()
         spinner.join(timeout=5.0)
+
+
+def _highlight_pixels(page: Any) -> int:
+    """Pixels of the detection highlight's colour #00ff66 (BGR 102, 255, 0), blends included."""
+    image = canvas_pixels(page, "#scene").astype(int)
+    b, g, r = image[..., 0], image[..., 1], image[..., 2]
+    return int(((g > 150) & (g > r + 80) & (g > b + 60) & (b > 0.2 * g)).sum())
+
+
+def _camera_frustum_and_detections(page: Any, server: Any) -> None:
+    """The camera drawn in 3D: a Camera display added by itself for the camera_info topic,
+    paired with the colour image, its far-plane corners where the pinhole K puts them
+    (numpy: K^-1 [u, v, 1] at 1 m) and the image textured there; the detected markers
+    highlighted at their TF frames, and the highlight toggled with Detections."""
+    info_topic = "/oak/stereo/camera_info"
+
+    def camera() -> Any:
+        for d in page.evaluate("window.posekitViewer.displays()")["displays"]:
+            if d["display"] == "Camera" and d["topic"] == info_topic and d["info"] \
+                    and d["info"]["corners"] and d["info"]["image_frames"] >= 1:
+                return d["info"]
+        return None
+
+    cam = wait_for(camera, timeout=20.0, what="the Camera display with an image")
+    assert cam["image_topic"] == "/oak/rgb/color"
+    assert cam["image_size"] == [1280, 720]
+    assert cam["image_shown"] is True
+    info = server.tap.messages_after(info_topic, 0)[-1][1]
+    assert cam["frame"] == info.header.frame_id
+    k = np.array(info.k, float).reshape(3, 3)
+    pixels = np.array([[0, 0, 1], [info.width, 0, 1], [info.width, info.height, 1],
+                       [0, info.height, 1]], float)
+    expected = (np.linalg.inv(k) @ pixels.T).T
+    assert np.allclose(cam["corners"], expected, atol=1e-9)
+
+    def detections() -> Any:
+        d = debug(page, "detections()")
+        return d if d and set(d) <= {f"aruco_marker_{i}" for i in (2, 4, 5)} else None
+
+    highlighted = wait_for(detections, timeout=10.0, what="highlighted detections")
+    rows = {r[0]: r for r in debug(page, "tf.frames")}
+    for name, h in highlighted.items():
+        assert np.allclose(h["position"], rows[name][2:5], atol=0.05), (name, h, rows[name])
+    wait_for(lambda: _highlight_pixels(page) > 100, what="the highlight drawn")
+    page.uncheck("#show-detections")
+    wait_for(lambda: _highlight_pixels(page) < 20, what="the highlight hidden")
+    page.check("#show-detections")

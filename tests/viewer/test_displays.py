@@ -24,11 +24,20 @@ pytestmark = pytest.mark.slow  # a scenario and a browser
 
 cv2 = pytest.importorskip("cv2")
 
-from _support.browser import canvas_pixels, debug, wait_for  # noqa: E402
-from posekit.cli.interface_cmd import default_message  # noqa: E402
+from _support.browser import (  # noqa: E402
+    add_from_topic_list,
+    canvas_pixels,
+    debug,
+    display_entry,
+    display_info,
+    displays,
+    set_option,
+    wait_for,
+)
 from posekit.msgs.geometry_msgs import PoseStamped  # noqa: E402
 from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.msgs.registry import find_message_class  # noqa: E402
+from posekit.msgs.yaml_io import default_message  # noqa: E402
 from posekit.runtime.node import Node  # noqa: E402
 
 #: Marker types the display draws, one marker each in ns "types" (id = type).
@@ -185,44 +194,12 @@ def page(browser: Any, viewer: Any) -> Iterator[Any]:
     page.close()
 
 
-def displays(page: Any) -> dict[str, Any]:
-    state: dict[str, Any] = page.evaluate("window.posekitViewer.displays()")
-    return state
-
-
 def entry(page: Any, name: str, topic: str) -> dict[str, Any] | None:
-    for d in displays(page)["displays"]:
-        if d["display"] == name and d["topic"] == topic:
-            return dict(d)
-    return None
-
-
-def add_from_topic_list(page: Any, topic: str, name: str) -> dict[str, Any]:
-    button = f"#topics tr[data-topic='{topic}'] button[data-add-display='{name}']"
-    wait_for(lambda: page.query_selector(button), what=f"the '+ {name}' button of {topic}")
-    page.click(button)
-    return dict(wait_for(lambda: entry(page, name, topic), what=f"the {name} display"))
-
-
-def set_option(page: Any, display_id: int, key: str, value: Any) -> None:
-    """Change an option in the display's form, as a user does (input/change events)."""
-    row = f"#display-list details[data-display-id='{display_id}']"
-    page.evaluate(f"document.querySelector(\"{row}\").open = true")
-    selector = f"{row} [data-option='{key}']"
-    if isinstance(value, bool):
-        page.set_checked(selector, value)
-    elif isinstance(value, str) and value.startswith("#"):
-        page.eval_on_selector(selector, "(e, v) => { e.value = v; "
-                              "e.dispatchEvent(new Event('change')); }", value)
-    elif isinstance(value, str):
-        page.select_option(selector, value)
-    else:
-        page.fill(selector, str(value))
+    return display_entry(page, name, topic)
 
 
 def info(page: Any, name: str, topic: str) -> Any:
-    d = entry(page, name, topic)
-    return d["info"] if d else None
+    return display_info(page, name, topic)
 
 
 def colour_mask(image: np.ndarray, bgr: tuple[int, int, int], tol: int = 40) -> np.ndarray:
@@ -434,3 +411,66 @@ def test_saved_displays_restore_from_a_file_the_url_and_the_server_option(
     for d in displays(page)["displays"]:
         page.click(f"#display-list details[data-display-id='{d['id']}'] .display-remove")
     assert displays(page)["displays"] == []
+
+
+def test_pose_estimate_tool_publishes_an_initial_pose_the_ekf_adopts(
+    page: Any, viewer: Any
+) -> None:
+    """Press and drag with the 2D Pose Estimate tool: a PoseWithCovarianceStamped arrives on
+    /initialpose (an independent subscription) at the pressed point, heading along the drag,
+    with RViz2's covariance; the scenario's EKF (set_pose remapped to /initialpose) resets
+    to it: odometry/filtered jumps there while the simulator's ground truth does not."""
+    from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+    from posekit.runtime.qos import QoSProfile
+    from posekit.runtime.transport import EndpointInfo
+
+    transport, logger = viewer.tap.transport, viewer.tap.logger
+    poses: list[Any] = []
+    filtered: list[Any] = []
+    truth: list[Any] = []
+    subs = [transport.subscribe(EndpointInfo(topic, cls, QoSProfile(depth=50), name, "/",
+                                             logger), sink)
+            for topic, cls, name, sink in [
+                ("/initialpose", PoseWithCovarianceStamped, "test_pose_listener", poses.append),
+                ("/odometry/filtered", Odometry, "test_filtered_listener", filtered.append),
+                ("/ground_truth/odom", Odometry, "test_truth_listener", truth.append)]]
+    try:
+        wait_for(lambda: truth and filtered, what="odometry")
+        robot = truth[-1].pose.pose.position
+        # Two metres beside the robot, heading along -y.
+        px, py = robot.x + 2.0, robot.y - 0.5
+        start = page.evaluate(f"window.posekitViewer.project({px}, {py})")
+        end = page.evaluate(f"window.posekitViewer.project({px}, {py - 0.5})")
+        assert 0 < start["x"] < 800, start  # on the 3D view
+        assert 0 < start["y"] < 800, start
+        page.click("#pose-tool")
+        assert debug(page, "poseTool") is True
+        page.mouse.move(start["x"], start["y"])
+        page.mouse.down()
+        page.mouse.move(end["x"], end["y"], steps=5)
+        page.mouse.up()
+        sent = wait_for(lambda: debug(page, "initialPoseSent"), what="initial_pose_sent")
+        assert debug(page, "poseTool") is False  # one pose per activation
+        assert (sent["x"], sent["y"]) == pytest.approx((px, py), abs=0.05)
+        assert sent["yaw"] == pytest.approx(-math.pi / 2, abs=0.1)
+        msg = wait_for(lambda: poses and poses[-1], what="a pose on /initialpose")
+        assert msg.header.frame_id == "odom"
+        assert (msg.pose.pose.position.x, msg.pose.pose.position.y) == pytest.approx(
+            (sent["x"], sent["y"]))
+        cov = np.asarray(msg.pose.covariance).reshape(6, 6)
+        expected = np.zeros((6, 6))
+        expected[0, 0] = expected[1, 1] = 0.25
+        expected[5, 5] = (math.pi / 12) ** 2
+        assert np.array_equal(cov, expected)
+        received = len(filtered)
+
+        def adopted() -> bool:
+            p = filtered[-1].pose.pose.position
+            return len(filtered) > received and math.dist((p.x, p.y), (px, py)) < 0.3
+
+        wait_for(adopted, what="odometry/filtered at the estimated pose")
+        t = truth[-1].pose.pose.position
+        assert math.dist((t.x, t.y), (px, py)) > 1.5  # the robot itself did not jump
+    finally:
+        for sub in subs:
+            sub.destroy()

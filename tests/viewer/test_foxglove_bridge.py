@@ -125,6 +125,19 @@ async def _message(ws: Any, sub_id: int) -> tuple[int, bytes]:
             return log_time, bytes(msg.data[13:])
 
 
+async def _publish_until_message(ws: Any, sub_id: int, publish: Any) -> bytes:
+    """Call ``publish()`` until subscription ``sub_id`` delivers a message (the server
+    registers a subscription asynchronously); its payload. Bounded: 40 tries, 0.5 s each."""
+    for _attempt in range(40):
+        publish()
+        try:
+            _, payload = await asyncio.wait_for(_message(ws, sub_id), 0.5)
+            return payload
+        except TimeoutError:
+            continue
+    raise AssertionError(f"subscription {sub_id} received nothing within 20 s")
+
+
 async def _subscribe(ws: Any, channel_id: int, sub_id: int) -> None:
     await ws.send_str(json.dumps(
         {"op": "subscribe", "subscriptions": [{"id": sub_id, "channelId": channel_id}]}
@@ -159,9 +172,7 @@ def test_plain_client_gets_channels_and_cdr_messages(system: System, subprotocol
             assert static.transforms[0].transform.translation.x == pytest.approx(0.12)
 
             await _subscribe(ws, channels["/odometry/filtered"]["id"], 2)
-            await asyncio.sleep(0.05)  # let the server register the subscription
-            system.publish(2.5)
-            _, payload = await _message(ws, 2)
+            payload = await _publish_until_message(ws, 2, lambda: system.publish(2.5))
             odom = ROS.deserialize_cdr(payload, "nav_msgs/msg/Odometry")
             assert odom.child_frame_id == "base_link"
             assert odom.pose.pose.position.x == pytest.approx(2.5)
@@ -359,6 +370,55 @@ def test_time_follows_clock_and_a_client_publishes_a_goal(system: System,
     assert goal.pose.orientation.w == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("subprotocol", ["foxglove.sdk.v1", "foxglove.websocket.v1"])
+def test_a_client_publishes_in_json(system: System, subprotocol: str) -> None:
+    """clientPublish with message encoding json: a PoseWithCovarianceStamped written as a
+    JSON object (what Foxglove's Publish panel sends) reaches a posekit subscriber with the
+    values given and defaults elsewhere; a field the type lacks is dropped with one logged
+    line and the channel keeps working."""
+    from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+
+    poses: list[Any] = []
+    system.node.create_subscription(PoseWithCovarianceStamped, "initialpose", poses.append, 10)
+    executor = SingleThreadedExecutor(context=system.ctx)
+    executor.add_node(system.node)
+    covariance = [0.0] * 36
+    covariance[0], covariance[7], covariance[35] = 0.25, 0.25, 0.0685
+    good = {"header": {"stamp": {"sec": 7, "nanosec": 500}, "frame_id": "odom"},
+            "pose": {"pose": {"position": {"x": 2.5, "y": -1.0},
+                              "orientation": {"z": 0.6, "w": 0.8}},
+                     "covariance": covariance}}
+    bad = {"pose": {"pose": {"position": {"x": 1.0, "q": 3}}}}
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+            system.url, protocols=(subprotocol,)
+        ) as ws:
+            info = await _server_info(ws)
+            assert "json" in info["supportedEncodings"]
+            await ws.send_str(json.dumps({"op": "advertise", "channels": [{
+                "id": 4, "topic": "initialpose", "encoding": "json",
+                "schemaName": "geometry_msgs/msg/PoseWithCovarianceStamped"}]}))
+            loop = asyncio.get_running_loop()
+            deadline = loop.time() + 5.0
+            while not poses and loop.time() < deadline:
+                await ws.send_bytes(struct.pack("<BI", 1, 4) + json.dumps(bad).encode())
+                await ws.send_bytes(struct.pack("<BI", 1, 4) + json.dumps(good).encode())
+                await asyncio.sleep(0.05)
+                executor.spin_once(timeout_sec=0.0)
+
+    asyncio.run(go())
+    assert poses, "the published pose never reached a posekit subscriber"
+    assert all(p.pose.pose.position.x == 2.5 for p in poses)  # the bad ones were dropped
+    msg = poses[0]
+    assert msg.header.frame_id == "odom"
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == (7, 500)
+    p = msg.pose.pose
+    assert (p.position.x, p.position.y, p.position.z) == (2.5, -1.0, 0.0)
+    assert (p.orientation.x, p.orientation.z, p.orientation.w) == (0.0, 0.6, 0.8)
+    assert list(msg.pose.covariance) == covariance
+
+
 async def _exact_time(ws: Any, ns: int) -> int:
     while True:
         stamp = await _time_at_least(ws, 0)
@@ -426,9 +486,8 @@ def test_laser_scan_and_point_cloud_decode_from_the_advertised_schema(system: Sy
                 ch = channels[topic]
                 assert (ch["encoding"], ch["schemaEncoding"]) == ("cdr", "ros2msg")
                 await _subscribe(ws, ch["id"], sub_id)
-                await asyncio.sleep(0.05)  # let the server register the subscription
-                pub.publish(msg)
-                _, payload = await _message(ws, sub_id)
+                payload = await _publish_until_message(
+                    ws, sub_id, lambda pub=pub, msg=msg: pub.publish(msg))
                 decoder = generate_dynamic(ch["schemaName"], ch["schema"])[ch["schemaName"]]
                 decoded[topic] = decoder(payload)
             got_scan, got_cloud = decoded["/scan"], decoded["/points"]

@@ -318,3 +318,24 @@ def test_time_state_follows_clock_else_the_wall(ctx: Context, node: Node) -> Non
     pub.publish(msg)
     state = tap.time_state()
     assert (state["source"], state["sim"], state["rate_clock"]) == ("/clock", 42.5, "sim")
+
+
+def test_best_effort_topics_arrive_and_topics_that_leave_are_dropped(
+    ctx: Context, node: Node
+) -> None:
+    """A best-effort odometry publisher (a request of reliable would not match it) reaches
+    the trail; a topic whose publisher is destroyed is unsubscribed and leaves the panel."""
+    from posekit.runtime.qos import qos_profile_sensor_data
+
+    pub = node.create_publisher(Odometry, "/odometry/filtered", qos_profile_sensor_data)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    pub.publish(odometry(1.5, 0.0, 0.0))
+    assert tap.trails()["/odometry/filtered"]["trail"][0][0] == 1.5
+    assert [t["name"] for t in tap.topics()].count("/odometry/filtered") == 1
+    node.destroy_publisher(pub)
+    for _ in range(3):  # the observer lets go after its grace refreshes
+        tap.refresh()
+    assert ctx.transport().count_subscribers("/odometry/filtered") == 0
+    assert "/odometry/filtered" not in [t["name"] for t in tap.topics()]
+    tap.close()

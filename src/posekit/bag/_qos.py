@@ -1,8 +1,9 @@
 """QoS between posekit's runtime and rosbag2 metadata (``offered_qos_profiles``).
 
-rosbag2 stores, per topic, the QoS every publisher *offered* when the recorder discovered it.
-The recorder then subscribes with a profile every one of those publishers can serve, and the
-player publishes with a profile derived from the recorded offers (rosbag2's adaptive QoS).
+rosbag2 stores, per topic, the QoS every publisher *offered* when the recorder discovered it
+(what the offers are and the profile the recorder subscribes with are the passive observer's:
+:mod:`posekit.runtime.observe`); the player publishes with a profile derived from the recorded
+offers (rosbag2's adaptive QoS).
 
 Durations (deadline, lifespan, liveliness lease) are not modelled by posekit's runtime; they
 are written as rmw's "infinite" (9223372036 s 854775807 ns), as ROS 2 records default

@@ -27,6 +27,8 @@ import sys
 from collections.abc import Sequence
 from typing import Any, TextIO
 
+from posekit.msgs.yaml_io import default_message
+
 __all__ = ["definition_lines", "interfaces", "main", "prototype"]
 
 _PLACEHOLDER = "structure_needs_at_least_one_member"
@@ -131,35 +133,6 @@ def show_text(type_name: str) -> str:
             lines.append("---")
         _show(part, 0, lines)
     return "".join(f"{line}\n" for line in lines)
-
-
-def _default(desc: Any) -> Any:
-    from rosbags.interfaces import Nodetype
-
-    kind, info = desc
-    if kind == Nodetype.BASE:
-        base = info[0]
-        if base == "string":
-            return ""
-        if base == "bool":
-            return False
-        return 0.0 if base.startswith("float") else 0
-    if kind == Nodetype.NAME:
-        return default_message(info)
-    element, count = info
-    return [_default(element) for _ in range(count)] if kind == Nodetype.ARRAY else []
-
-
-def default_message(type_name: str) -> Any:
-    """A default-valued instance of ``type_name`` (posekit's class when it has one)."""
-    from posekit.msgs.registry import MESSAGE_CLASSES
-
-    cls = MESSAGE_CLASSES.get(type_name)
-    if cls is not None:
-        return cls()
-    store = _store()
-    fields = store.fielddefs[type_name][1]
-    return store.types[type_name](*[_default(desc) for _, desc in fields])
 
 
 def prototype(type_name: str) -> str:

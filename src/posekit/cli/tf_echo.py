@@ -16,7 +16,7 @@ import time
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-from posekit.tf2._linear_math import matrix_from_quat, matrix_get_rpy
+from posekit.tf2 import matrix_from_quat, rpy_from_quat
 
 __all__ = ["USAGE", "format_echo_block", "main", "parse_rate"]
 
@@ -60,7 +60,7 @@ def format_echo_block(sec: int, nanosec: int, translation: Sequence[float],
     """
     q = (float(quat_xyzw[0]), float(quat_xyzw[1]), float(quat_xyzw[2]), float(quat_xyzw[3]))
     m = matrix_from_quat(q)
-    roll, pitch, yaw = matrix_get_rpy(m)
+    roll, pitch, yaw = rpy_from_quat(q)
     tx, ty, tz = (float(v) for v in translation)
 
     def fixed(values: Sequence[float]) -> str:

@@ -16,7 +16,7 @@ __all__ = ["main", "make_transform"]
 def make_transform(argv: Sequence[str]) -> Any:
     """The TransformStamped the tool would publish (stamp left at zero), or StaticArgsError."""
     from posekit.msgs.geometry_msgs import TransformStamped
-    from posekit.tf2._linear_math import quat_from_rpy
+    from posekit.tf2 import quat_from_rpy
 
     args = parse_static_args(list(argv))
     t = TransformStamped()

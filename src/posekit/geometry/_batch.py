@@ -7,7 +7,7 @@ unit-norm (the public classes do that); outputs are fresh arrays.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from posekit.geometry._lazy import lazy_module
 
@@ -34,6 +34,7 @@ __all__ = [
     "slerp",
     "to_euler",
     "to_matrix",
+    "to_matrix_numpy",
     "to_rotvec",
     "wrap",
 ]
@@ -115,8 +116,34 @@ def rotate(q: F64, v: F64) -> F64:
     return out
 
 
+def _load_accel() -> Any:
+    import os
+
+    if os.environ.get("POSEKIT_PURE_PYTHON", "") not in ("", "0"):
+        return None
+    try:
+        from posekit.geometry import _accel  # type: ignore[attr-defined]
+    except ImportError:
+        return None
+    return _accel
+
+
+#: the optional compiled kernels (None where the extension was not built)
+_accel = _load_accel()
+
+
 def to_matrix(q: F64) -> F64:
-    """``(N, 3, 3)`` rotation matrices of unit quaternions.
+    """``(N, 3, 3)`` rotation matrices of unit quaternions (compiled where available; the
+    same IEEE operations in the same order as :func:`to_matrix_numpy`)."""
+    if _accel is not None and q.dtype == np.float64 and q.flags.c_contiguous:
+        m = np.empty((q.shape[0], 3, 3))
+        _accel.quat_to_matrix(q, m)
+        return m
+    return to_matrix_numpy(q)
+
+
+def to_matrix_numpy(q: F64) -> F64:
+    """``(N, 3, 3)`` rotation matrices of unit quaternions, in numpy.
 
     Per block: copy the components into contiguous rows scaled by √2 (so every product comes
     out already doubled), form the 9 products and 9 entries in reused buffers, and write the

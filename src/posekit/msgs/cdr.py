@@ -499,26 +499,30 @@ def from_cdr(data: bytes | bytearray | memoryview, msg_type: str | type[Any]) ->
         CdrError: truncated, corrupted or trailing-garbage input (the message says why).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
-    codec = _class_codecs.get(msg_type) if not isinstance(msg_type, str) else None
+    # (a class is looked up first: a type name is never a key of _class_codecs)
+    codec = _class_codecs.get(msg_type)  # type: ignore[arg-type]
     if codec is None:
         name = _resolve_name(msg_type)
         codec = _codecs.get(name) or _codec(name)
         if not isinstance(msg_type, str):
             _class_codecs[msg_type] = codec
     typename = codec.typename
-    try:
-        view = data if isinstance(data, memoryview) else memoryview(data)
-    except TypeError as exc:
-        raise CdrError(f"CDR input must be bytes-like, got {type(data).__name__}") from exc
-    if view.ndim != 1 or view.itemsize != 1:
-        view = view.cast("B")
-    if len(view) < 4:
-        raise CdrError(f"{typename}: {len(view)} bytes is shorter than the CDR header")
-    if view[0] != 0 or view[1] > 1:
-        raise CdrError(
-            f"{typename}: unsupported CDR encapsulation {bytes(view[:2]).hex(' ')} "
-            "(expected 00 01 little endian or 00 00 big endian)"
-        )
+    if type(data) is bytes and len(data) >= 4 and data[0] == 0 and data[1] == 1:
+        view = memoryview(data)  # the common case (little endian bytes), checks done
+    else:
+        try:
+            view = data if isinstance(data, memoryview) else memoryview(data)
+        except TypeError as exc:
+            raise CdrError(f"CDR input must be bytes-like, got {type(data).__name__}") from exc
+        if view.ndim != 1 or view.itemsize != 1:
+            view = view.cast("B")
+        if len(view) < 4:
+            raise CdrError(f"{typename}: {len(view)} bytes is shorter than the CDR header")
+        if view[0] != 0 or view[1] > 1:
+            raise CdrError(
+                f"{typename}: unsupported CDR encapsulation {bytes(view[:2]).hex(' ')} "
+                "(expected 00 01 little endian or 00 00 big endian)"
+            )
     store = _store
     try:
         if view[1]:

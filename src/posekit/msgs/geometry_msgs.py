@@ -22,6 +22,7 @@ __all__ = [
     "Pose",
     "PoseStamped",
     "PoseWithCovariance",
+    "PoseWithCovarianceStamped",
     "Quaternion",
     "Transform",
     "TransformStamped",
@@ -148,6 +149,18 @@ class PoseWithCovariance:
     pose: Pose = field(default_factory=Pose)
     covariance: npt.NDArray[np.float64] = field(default_factory=_zero_covariance)
     __msgtype__: ClassVar[str] = "geometry_msgs/msg/PoseWithCovariance"
+
+    __eq__ = array_aware_eq
+
+
+@dataclass(slots=True, eq=False)
+class PoseWithCovarianceStamped:
+    """geometry_msgs/msg/PoseWithCovarianceStamped (RViz2's "2D Pose Estimate" on
+    ``initialpose``, robot_localization's ``set_pose``)."""
+
+    header: Header = field(default_factory=Header)
+    pose: PoseWithCovariance = field(default_factory=PoseWithCovariance)
+    __msgtype__: ClassVar[str] = "geometry_msgs/msg/PoseWithCovarianceStamped"
 
     __eq__ = array_aware_eq
 

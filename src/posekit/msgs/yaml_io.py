@@ -10,6 +10,8 @@
 * :func:`set_message_fields` / :func:`parse_values`: YAML VALUES -> a message, as
   ``ros2 topic pub`` fills one (``header: auto``, ``stamp: now``).
 * :func:`message_class`: posekit's class for a type name, else rosbags' (any Jazzy type).
+* :func:`default_message`: a default-valued instance of any type (what ``ros2 interface
+  proto`` shows, what ``set_message_fields`` fills).
 * :func:`get_field`: a dotted field path (``pose.position.x``) of a message.
 
 Used by the CLI tools (``topic echo/pub``, ``bag info``, plots) and the viewer.
@@ -32,6 +34,7 @@ from posekit.msgs.errors import MessageError
 __all__ = [
     "TRUNCATE_LENGTH",
     "MessageFieldError",
+    "default_message",
     "get_field",
     "message_class",
     "message_to_csv",
@@ -537,6 +540,41 @@ def message_class(type_name: str) -> type:
     from posekit.msgs.registry import find_message_class
 
     return find_message_class(type_name)
+
+
+def _default_value(desc: Any) -> Any:
+    from rosbags.interfaces import Nodetype
+
+    kind, info = desc
+    if kind == Nodetype.BASE:
+        base = info[0]
+        if base == "string":
+            return ""
+        if base == "bool":
+            return False
+        return 0.0 if base.startswith("float") else 0
+    if kind == Nodetype.NAME:
+        return default_message(info)
+    element, count = info
+    return [_default_value(element) for _ in range(count)] if kind == Nodetype.ARRAY else []
+
+
+def default_message(type_name: str) -> Any:
+    """A default-valued instance of ``type_name`` (posekit's class when it has one, else
+    the rosbags class of ROS 2 Jazzy's definition: zeros, empty strings and sequences).
+
+    Raises:
+        KeyError: no such message type.
+    """
+    from posekit.msgs.cdr import get_typestore
+    from posekit.msgs.registry import MESSAGE_CLASSES
+
+    cls = MESSAGE_CLASSES.get(type_name)
+    if cls is not None:
+        return cls()
+    store = get_typestore()
+    fields = store.fielddefs[type_name][1]
+    return store.types[type_name](*[_default_value(desc) for _, desc in fields])
 
 
 def parse_values(text: str) -> Any:

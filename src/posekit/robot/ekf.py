@@ -27,6 +27,11 @@ Measurements are queued and, at each :meth:`Ekf2D.step` (20 Hz), processed in st
 each preceded by a prediction to its stamp; the filter then predicts to the step time and
 reports. A measurement older than the filter time is fused without prediction (no history
 smoothing, robot_localization's default). Zero variances are floored at 1e-9.
+
+:meth:`Ekf2D.set_pose` resets the filter to a given pose, as robot_localization's
+``set_pose`` does: the state becomes that pose with zero velocities, the covariance
+``1e-6 I`` with the pose's x, y, yaw block, queued measurements are dropped, later ones
+stamped before the new pose are ignored, and a relative IMU yaw restarts from it.
 """
 
 from __future__ import annotations
@@ -110,10 +115,15 @@ class Ekf2D:
         self._queue: list[tuple[float, int, Measurement]] = []
         self._seq = 0
         self._imu_yaw_offset: float | None = None
+        # Measurements stamped before the last set_pose are ignored (s; None: none yet).
+        self._ignore_before: float | None = None
 
     # ------------------------------------------------------------------ queue
     def enqueue(self, m: Measurement) -> None:
-        """Queue a measurement for the next :meth:`step`."""
+        """Queue a measurement for the next :meth:`step` (one stamped before the last
+        :meth:`set_pose` is dropped)."""
+        if self._ignore_before is not None and m.t < self._ignore_before:
+            return
         heapq.heappush(self._queue, (m.t, self._seq, m))
         self._seq += 1
 
@@ -151,6 +161,34 @@ class Ekf2D:
             float(msg.angular_velocity.z),
             (float(msg.orientation_covariance[8]), float(msg.angular_velocity_covariance[8])),
         )
+
+    def set_pose(self, t: float, x: float, y: float, yaw: float,
+                 covariance: npt.ArrayLike) -> None:
+        """Reset the filter to pose ``(x, y, yaw)`` (m, m, rad in the world frame) at time
+        ``t`` (s), as robot_localization's ``set_pose``: zero velocities, the covariance
+        ``1e-6 I`` with the 3x3 ``covariance`` (over x, y, yaw) as its pose block, the
+        queue emptied, measurements stamped before ``t`` ignored from now on, and a relative
+        IMU yaw measured from ``yaw`` with the next IMU reading as its zero.
+
+        Raises:
+            ValueError: a non-finite value or a covariance that is not 3x3.
+        """
+        cov3 = np.asarray(covariance, dtype=np.float64)
+        if cov3.shape != (3, 3):
+            raise ValueError(f"set_pose needs a 3x3 covariance over x, y, yaw, got {cov3.shape}")
+        values = (t, x, y, yaw)
+        if not all(math.isfinite(v) for v in values) or not np.isfinite(cov3).all():
+            raise ValueError(f"set_pose needs finite values, got {values} and {cov3.tolist()}")
+        self.state = np.array([x, y, wrap_angle(yaw), 0.0, 0.0, 0.0])
+        full = np.eye(6) * 1e-6
+        idx = np.array([X, Y, YAW])
+        full[np.ix_(idx, idx)] = cov3
+        self.covariance = full
+        self._queue.clear()
+        self.t = float(t)
+        self._ignore_before = float(t)
+        self._yaw0 = float(yaw)
+        self._imu_yaw_offset = None
 
     # ------------------------------------------------------------------ state, covariance
     @property

@@ -79,7 +79,10 @@ def robot_nodes(
             {"initial_x": sx, "initial_y": sy, "initial_yaw": syaw},
             params,
         ),
-        scenario_node(EkfNode, "ekf_node", {"initial_state": initial_state}, params),
+        # RViz2's "2D Pose Estimate" (initialpose) resets the EKF, as robot_localization
+        # is commonly launched (set_pose:=initialpose).
+        scenario_node(EkfNode, "ekf_node", {"initial_state": initial_state}, params,
+                      remappings=[("set_pose", "/initialpose")]),
     ]
 
 

@@ -23,6 +23,7 @@ __all__ = [
     "quat_inverse",
     "quat_mul",
     "quat_rotate",
+    "rpy_from_quat",
     "slerp",
 ]
 
@@ -163,3 +164,9 @@ def matrix_get_rpy(m: Mat3) -> tuple[float, float, float]:
     pitch = -math.asin(m20)
     cp = math.cos(pitch)
     return (math.atan2(m21 / cp, m22 / cp), pitch, math.atan2(m10 / cp, m00 / cp))
+
+
+def rpy_from_quat(q: Quat) -> tuple[float, float, float]:
+    """tf2 ``Matrix3x3(q).getRPY()``: (roll, pitch, yaw) in radians of a quaternion (x, y, z, w),
+    through tf2's matrix (any norm is normalised by ``setRotation``)."""
+    return matrix_get_rpy(matrix_from_quat(q))

@@ -19,7 +19,7 @@ from posekit.tf2.exceptions import TransformException
 from posekit.tf2.time_cache import display_time
 
 if TYPE_CHECKING:
-    from posekit.tf2.buffer_core import BufferCore
+    from posekit.tf2.buffer_core import LockedView
 
 __all__ = ["canonical_quats", "lookup_transforms_locked"]
 
@@ -205,19 +205,19 @@ def _edge(cache: Any, t: I64) -> tuple[int, Cols, B | None] | None:
 
 
 def lookup_transforms_locked(
-    core: BufferCore, target: str, source: str, times: I64
+    core: LockedView, target: str, source: str, times: I64
 ) -> tuple[F64, F64]:
     """T_target_source at each stamp (lock held): translations (N,3), quaternions (N,4) xyzw."""
     n = times.shape[0]
     if target == source:
         return np.zeros((n, 3)), np.tile(np.array([0.0, 0.0, 0.0, 1.0]), (n, 1))
-    tid = core._validate(target, "lookupTransform argument target_frame")
-    sid = core._validate(source, "lookupTransform argument source_frame")
+    tid = core.frame_id(target, "lookupTransform argument target_frame")
+    sid = core.frame_id(source, "lookupTransform argument source_frame")
     t = times
     zero = t == 0
     if n and zero.any():
         try:
-            lct = core._latest_common_time(tid, sid)  # raises like a single lookup at 0
+            lct = core.latest_common_time(tid, sid)  # raises like a single lookup at 0
         except TransformException as exc:
             raise _named(exc, int(np.argmax(zero)), 0, 0) from None
         t = np.where(zero, lct, t)
@@ -241,11 +241,11 @@ def lookup_transforms_locked(
         suspect[lo:hi] = cs
     for i in np.flatnonzero(suspect):
         try:
-            (qi, vi), _ = core._lookup_raw(target, source, int(times[i]))
+            raw, _ = core.lookup_raw(target, source, int(times[i]))
         except TransformException as exc:
             raise _named(exc, int(i), int(times[i]), int(t[i])) from None
-        q[i] = canonical_quats(np.array([qi]))[0]
-        v[i] = vi
+        q[i] = canonical_quats(np.array([raw[:4]]))[0]
+        v[i] = raw[4:]
     return v, q
 
 
@@ -259,18 +259,17 @@ def _named(exc: TransformException, index: int, stamp: int, used: int) -> Transf
     return out
 
 
-def _walk(core: BufferCore, tid: int, sid: int, t: I64) -> tuple[F64, F64, B]:
+def _walk(core: LockedView, tid: int, sid: int, t: I64) -> tuple[F64, F64, B]:
     """Vectorised walkToTopParent; returns (translations, raw quaternions (4, N), suspect mask)."""
-    from posekit.tf2.buffer_core import MAX_GRAPH_DEPTH
-
     n = t.shape[0]
-    caches = core._caches
+    cache_of = core.cache
+    max_depth = core.max_depth
     suspect = np.zeros(n, dtype=bool)
     fail = (np.zeros((n, 3)), np.zeros((4, n)), np.ones(n, dtype=bool))
     src: Cols | None = None
     frame, top, depth = sid, sid, 0
     while frame != 0:
-        cache = caches[frame]
+        cache = cache_of(frame)
         if cache is None:
             top = frame
             break
@@ -288,12 +287,12 @@ def _walk(core: BufferCore, tid: int, sid: int, t: I64) -> tuple[F64, F64, B]:
         top = frame
         frame = parent
         depth += 1
-        if depth > MAX_GRAPH_DEPTH:
+        if depth > max_depth:
             raise _Fallback
     tgt: Cols | None = None
     frame, depth = tid, 0
     while frame != top:
-        cache = caches[frame]
+        cache = cache_of(frame)
         if cache is None:
             break
         edge = _edge(cache, t)
@@ -307,7 +306,7 @@ def _walk(core: BufferCore, tid: int, sid: int, t: I64) -> tuple[F64, F64, B]:
         tgt = e if tgt is None else _accum(e, tgt)
         frame = parent
         depth += 1
-        if depth > MAX_GRAPH_DEPTH:
+        if depth > max_depth:
             raise _Fallback
     if frame != top:
         return fail

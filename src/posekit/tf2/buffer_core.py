@@ -18,13 +18,11 @@ import logging
 import math
 import numbers
 import threading
-from bisect import bisect_right as _bisect_right
 from collections.abc import Iterable
 from typing import Any
 
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
-from posekit.msgs.geometry_msgs import Quaternion, Transform, TransformStamped, Vector3
-from posekit.msgs.std_msgs import Header
+from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.tf2 import introspection
 from posekit.tf2._linear_math import matrix_from_quat, quat_from_matrix
 from posekit.tf2.exceptions import (
@@ -34,16 +32,21 @@ from posekit.tf2.exceptions import (
     LookupException,
     TransformException,
 )
+from posekit.tf2.path import (
+    UP,
+    FramePath,
+    accumulate,
+    build_path,
+    canonical,
+    evaluate,
+    inverse_compose,
+    latest_up,
+    result_python,
+    sample_from_msg,
+    stamped,
+)
 from posekit.tf2.static_cache import StaticCache
-from posekit.tf2.time_cache import (
-    DEFAULT_CACHE_TIME_NS,
-    Sample,
-    TimeCache,
-    display_time,
-)
-from posekit.tf2.time_cache import (
-    slerp_terms as _slerp_terms,
-)
+from posekit.tf2.time_cache import DEFAULT_CACHE_TIME_NS, Sample, TimeCache, display_time
 from posekit.time import Duration, Time
 
 __all__ = ["MAX_GRAPH_DEPTH", "BufferCore", "time_to_ns"]
@@ -58,49 +61,9 @@ _NS = 1_000_000_000
 _INF = math.inf
 
 Cache = TimeCache | StaticCache
-# Raw result of a walk: (qx, qy, qz, qw), (tx, ty, tz), before tf2's matrix round trip.
-_Raw = tuple[tuple[float, float, float, float], tuple[float, float, float]]
-_IDENTITY: _Raw = ((0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0))
-
-# Fast-path walk shapes (see BufferCore._build_path): target is an ancestor of the source
-# (or the top), source is an ancestor of the target, or both walk to the top.
-_UP = "up"
-_DOWN = "down"
-_FULL = "full"
-# One edge of a cached path: a TimeCache's (stamps, parents, data, slerp memo) lists (mutated
-# in place, never replaced), the parent id the edge must have, and the StaticCache if static.
-_Edge = tuple[Any, Any, Any, Any, int, Any]
-# [shape, chain(s), edge that must evaluate without error or None, target id, source id,
-#  memo]: a list so the memo of the last evaluated result can be replaced in place. The memo
-# is None or (buffer version, requested time ns, *_Result) of the last fast-path answer.
-_Path = list[Any]
-# A finished lookup result: (stamp sec, stamp nanosec, qx, qy, qz, qw, vx, vy, vz), the
-# quaternion after tf2's matrix round trip.
-_Result = tuple[int, int, float, float, float, float, float, float, float]
-
-
-def _latest_up(chain: tuple[_Edge, ...]) -> int:
-    """tf2's latest common time when the target is an ancestor of the source: the oldest of
-    the chain's newest non-zero stamps (0 if none), provided every edge's newest sample has
-    the cached parent, which is when getLatestCommonTime walks exactly this chain; else -1."""
-    common = -1
-    for stamps, parents, _, _, expected, static in chain:
-        if stamps is None:
-            if static.parent != expected:
-                return -1
-        elif not stamps or parents[-1] != expected:
-            return -1
-        else:
-            stamp = stamps[-1]
-            if stamp != 0 and (common < 0 or stamp < common):
-                common = stamp
-    return common if common >= 0 else 0
-
-
-def _edge_evaluates(edge: _Edge, t: int) -> bool:
-    """Whether TimeCache.get(t) certainly succeeds on this edge (static edges always do)."""
-    stamps = edge[0]
-    return stamps is None or bool(stamps and stamps[0] < t <= stamps[-1])
+# The walk's identity result (raw results are (qx, qy, qz, qw, tx, ty, tz), before tf2's
+# matrix round trip).
+_IDENTITY: Sample = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
 
 
 _INT32 = 1 << 31
@@ -158,85 +121,41 @@ def _duration_ns(duration: Any) -> int:
     return int(duration.sec) * _NS + int(duration.nanosec)
 
 
-_new = object.__new__
+def _make_stamped(target: str, source: str, stamp_ns: int, raw: Sample) -> TransformStamped:
+    """The result message of a raw walk result: its quaternion through tf2's matrix round
+    trip, the stamp split as builtin_interfaces/Time."""
+    return stamped(target, source, result_python(stamp_ns, raw))
 
 
-def _make_stamped(
-    target: str, source: str, stamp_ns: int, q: tuple[float, ...], v: tuple[float, ...]
-) -> TransformStamped:
-    """The result message with quaternion ``q`` and translation ``v`` as given."""
-    sec, nanosec = divmod(stamp_ns, _NS)
-    return _stamped(target, source, (sec, nanosec, q[0], q[1], q[2], q[3], v[0], v[1], v[2]))
+class LockedView:
+    """The part of a :class:`BufferCore` that a lookup policy outside this module may use
+    while it holds the core's lock (``posekit.tf2.batch`` does): validated frame ids, each
+    frame's cache, tf2's latest common time, and the reference single lookup."""
 
+    __slots__ = ("_core",)
 
-def _make_stamped_canonical(
-    target: str, source: str, stamp_ns: int, q: tuple[float, ...], v: tuple[float, ...]
-) -> TransformStamped:
-    """``_make_stamped(target, source, stamp_ns, _canonical(q), v)``: the raw quaternion
-    through tf2's matrix round trip."""
-    return _stamped(target, source, _result(stamp_ns, (q, v)))  # type: ignore[arg-type]
+    #: tf2's walk limit; a longer walk is a loop.
+    max_depth = MAX_GRAPH_DEPTH
 
+    def __init__(self, core: BufferCore) -> None:
+        self._core = core
 
-def _result(stamp_ns: int, raw: _Raw) -> _Result:
-    """The finished values of a lookup: the stamp split as builtin_interfaces/Time and the
-    raw quaternion through tf2's matrix round trip (positive-trace branch of getRotation
-    inlined, the others in :func:`_canonical`)."""
-    (x, y, z, w), (vx, vy, vz) = raw
-    sec, nanosec = divmod(stamp_ns, _NS)
-    d = x * x + y * y + z * z + w * w
-    s = 2.0 / d
-    xs, ys, zs = x * s, y * s, z * s
-    wx, wy, wz = w * xs, w * ys, w * zs
-    xx, xy, xz = x * xs, x * ys, x * zs
-    yy, yz, zz = y * ys, y * zs, z * zs
-    trace = (1.0 - (yy + zz)) + (1.0 - (xx + zz)) + (1.0 - (xx + yy))
-    if not trace > 0.0:
-        qx, qy, qz, qw = _canonical((x, y, z, w))
-        return sec, nanosec, qx, qy, qz, qw, vx, vy, vz
-    s = _sqrt(trace + 1.0)
-    qw = s * 0.5
-    s = 0.5 / s
-    return (
-        sec,
-        nanosec,
-        ((yz + wx) - (yz - wx)) * s,
-        ((xz + wy) - (xz - wy)) * s,
-        ((xy + wz) - (xy - wz)) * s,
-        qw,
-        vx,
-        vy,
-        vz,
-    )
+    def frame_id(self, name: str, arg: str) -> int:
+        """The id of a frame lookups may name, else tf2's exception naming ``arg``."""
+        return self._core._validate(name, arg)
 
+    def cache(self, frame_id: int) -> TimeCache | StaticCache | None:
+        """The frame's cache of parent_T_frame samples (None: no data, e.g. a root)."""
+        return self._core._caches[frame_id]
 
-def _stamped(target: str, source: str, r: tuple[Any, ...]) -> TransformStamped:
-    """A fresh TransformStamped from a :data:`_Result` (``r``), field by field (skipping the
-    dataclass __init__ chain, which costs more than a tree walk); tests check it equals the
-    normally built message."""
-    sec, nanosec, qx, qy, qz, qw, vx, vy, vz = r
-    stamp = _new(TimeMsg)
-    stamp.sec = sec
-    stamp.nanosec = nanosec
-    header = _new(Header)
-    header.stamp = stamp
-    header.frame_id = target
-    vec = _new(Vector3)
-    vec.x = vx
-    vec.y = vy
-    vec.z = vz
-    rot = _new(Quaternion)
-    rot.x = qx
-    rot.y = qy
-    rot.z = qz
-    rot.w = qw
-    tr = _new(Transform)
-    tr.translation = vec
-    tr.rotation = rot
-    msg = _new(TransformStamped)
-    msg.header = header
-    msg.child_frame_id = source
-    msg.transform = tr
-    return msg
+    def latest_common_time(self, target_id: int, source_id: int) -> int:
+        """tf2 ``getLatestCommonTime`` in ns; raises tf2's exceptions."""
+        return self._core._latest_common_time(target_id, source_id)
+
+    def lookup_raw(self, target: str, source: str, t: int) -> tuple[Sample, int]:
+        """The reference lookup: raw (qx, qy, qz, qw, tx, ty, tz) before the matrix round
+        trip, and the time used; raises tf2's exceptions."""
+        return self._core._lookup_raw(target, source, t)
 
 
 class BufferCore:
@@ -256,8 +175,12 @@ class BufferCore:
         self._ids: dict[str, int] = {"NO_PARENT": 0}
         self._caches: list[Cache | None] = [None]
         self._authority: dict[int, str] = {}
-        # fast-path walks per (target, source) name pair; emptied whenever a cache is created
-        self._paths: dict[tuple[str, str], _Path] = {}
+        # cached paths per (target, source) name pair; emptied whenever a cache is created,
+        # replaced or forgotten (the tree's structure may then change)
+        self._paths: dict[tuple[str, str], FramePath] = {}
+        # dynamic caches with a deferred drop of samples older than their window (see
+        # TimeCache): pruned before the lists are read directly (path evaluation, forget)
+        self._unpruned: set[TimeCache] = set()
         # bumped by every change of the stored data (insert attempts, clear, forget_frames):
         # a path's memoised result is valid while the version it was computed at is current
         self._version = 0
@@ -284,6 +207,49 @@ class BufferCore:
         return self._set(transform, authority, True)
 
     def _set(self, msg: Any, authority: str, is_static: bool) -> bool:
+        got = sample_from_msg(msg)  # compiled: the common valid message, or None
+        if got is None:
+            got = self._checked_sample(msg, authority)
+            if got is None:
+                return False
+        stamp_ns, parent, child, sample = got
+        with self._lock:
+            self._version += 1
+            ids = self._ids
+            caches = self._caches
+            cid = ids.get(child)
+            if cid is None:
+                cid = self._add_frame(child)
+            cache = caches[cid]
+            if cache is None or cache.is_static is not is_static:
+                cache = (StaticCache() if is_static
+                         else TimeCache(self._cache_time_ns, self._unpruned))
+                caches[cid] = cache
+                self._paths.clear()
+            pid = ids.get(parent)
+            if pid is None:
+                pid = self._add_frame(parent)
+            if not cache.insert(stamp_ns, pid, sample):
+                _logger.warning(
+                    "TF_OLD_DATA ignoring data from the past for frame %s at time %s according "
+                    "to authority %s\nPossible reasons are listed at "
+                    "http://wiki.ros.org/tf/Errors%%20explained",
+                    child,
+                    display_time(stamp_ns),
+                    authority,
+                )
+                return False
+            self._authority[cid] = authority
+            self._on_new_data_locked()
+        self._on_new_data()
+        return True
+
+    def _checked_sample(self, msg: Any, authority: str) -> tuple[int, str, str, Sample] | None:
+        """(stamp ns, parent, child, stored sample) of a message, or None if tf2 rejects it
+        (reason logged with tf2's text); raises for a stamp that is no builtin_interfaces/Time.
+
+        The reference conversion: the compiled ``sample_from_msg`` gives the same values for
+        the messages it accepts (exact floats and ints, names without a leading '/')."""
         tr = msg.transform
         t = tr.translation
         r = tr.rotation
@@ -304,24 +270,7 @@ class BufferCore:
             x, y, z, w = float(x), float(y), float(z), float(w)
         d = x * x + y * y + z * z + w * w
         if 0.0 < d < _INF:
-            s = 2.0 / d
-            xs, ys, zs = x * s, y * s, z * s
-            wx, wy, wz = w * xs, w * ys, w * zs
-            xx, xy, xz = x * xs, x * ys, x * zs
-            yy, yz, zz = y * ys, y * zs, z * zs
-            m00 = 1.0 - (yy + zz)
-            m11 = 1.0 - (xx + zz)
-            m22 = 1.0 - (xx + yy)
-            trace = m00 + m11 + m22
-            if trace > 0.0:
-                s = _sqrt(trace + 1.0)
-                qw = s * 0.5
-                s = 0.5 / s
-                qx = ((yz + wx) - (yz - wx)) * s
-                qy = ((xz + wy) - (xz - wy)) * s
-                qz = ((xy + wz) - (xy - wz)) * s
-            else:
-                qx, qy, qz, qw = _canonical((x, y, z, w))
+            qx, qy, qz, qw = canonical((x, y, z, w))
         else:  # zero, infinite, NaN or overflowing |q|^2: tf2's arithmetic decides (mostly NaN)
             qx, qy, qz, qw = quat_from_matrix(matrix_from_quat((x, y, z, w)))
         header = msg.header
@@ -347,37 +296,8 @@ class BufferCore:
                 and tx == tx and ty == ty and tz == tz):  # the common case: nothing to reject
             pass
         elif not self._accept(authority, parent, child, tx, ty, tz, qx, qy, qz, qw):
-            return False
-        sample: Sample = (qx, qy, qz, qw, tx, ty, tz)
-        with self._lock:
-            self._version += 1
-            ids = self._ids
-            caches = self._caches
-            cid = ids.get(child)
-            if cid is None:
-                cid = self._add_frame(child)
-            cache = caches[cid]
-            if cache is None or cache.is_static is not is_static:
-                cache = StaticCache() if is_static else TimeCache(self._cache_time_ns)
-                caches[cid] = cache
-                self._paths.clear()
-            pid = ids.get(parent)
-            if pid is None:
-                pid = self._add_frame(parent)
-            if not cache.insert(stamp_ns, pid, sample):
-                _logger.warning(
-                    "TF_OLD_DATA ignoring data from the past for frame %s at time %s according "
-                    "to authority %s\nPossible reasons are listed at "
-                    "http://wiki.ros.org/tf/Errors%%20explained",
-                    child,
-                    display_time(stamp_ns),
-                    authority,
-                )
-                return False
-            self._authority[cid] = authority
-            self._on_new_data_locked()
-        self._on_new_data()
-        return True
+            return None
+        return stamp_ns, parent, child, (qx, qy, qz, qw, tx, ty, tz)
 
     @staticmethod
     def _accept(
@@ -442,6 +362,12 @@ class BufferCore:
             ok = False
         return ok
 
+    def _prune_pending(self) -> None:
+        """Carry out every cache's deferred drop of samples older than its window."""
+        for cache in self._unpruned:
+            cache.prune()
+        self._unpruned.clear()
+
     def _add_frame(self, name: str) -> int:
         fid = len(self._names)
         self._names.append(name)
@@ -471,6 +397,7 @@ class BufferCore:
         a forgotten frame is unknown until it is set again."""
         with self._lock:
             self._version += 1
+            self._prune_pending()
             caches = self._caches
             for name in frames:
                 fid = self._ids.get(name[1:] if name[:1] == "/" else name)
@@ -626,22 +553,20 @@ class BufferCore:
             f"{exc}, when looking up transform from frame [{names[sid]}] to frame [{names[tid]}]"
         )
 
-    def _walk(self, tid: int, sid: int, t: int) -> _Raw:
-        """tf2 ``walkToTopParent`` + ``TransformAccum`` at time ``t`` != 0 (lock held).
+    def _walk(self, tid: int, sid: int, t: int) -> Sample:
+        """tf2 ``walkToTopParent`` + ``TransformAccum`` at time ``t`` != 0 (lock held): the
+        reference for every lookup's values and errors.
 
-        Returns the raw (quaternion, translation) of T_target_source before tf2's final
+        Returns the raw T_target_source (qx, qy, qz, qw, tx, ty, tz) before tf2's final
         matrix round trip; raises tf2's exceptions.
         """
         caches = self._caches
-        # source -> top, accumulating parent_T_source: v = rotate(q_e, v) + t_e, q = q_e * q
+        # source -> top, accumulating parent_T_source
         frame = sid
         top = sid
         depth = 0
         src_err: ExtrapolationException | None = None
-        sx = sy = sz = 0.0
-        sqx = sqy = sqz = 0.0
-        sqw = 1.0
-        first = True
+        source_chain: Sample | None = None
         while frame != 0:
             cache = caches[frame]
             if cache is None:
@@ -653,39 +578,19 @@ class BufferCore:
                 src_err = exc
                 top = frame
                 break
-            if frame == tid:
-                return (sqx, sqy, sqz, sqw), (sx, sy, sz)
-            qx, qy, qz, qw, ex, ey, ez = e
-            if first:
-                sqx, sqy, sqz, sqw, sx, sy, sz = qx, qy, qz, qw, ex, ey, ez
-                first = False
-            else:
-                px = qw * sx + qy * sz - qz * sy
-                py = qw * sy + qz * sx - qx * sz
-                pz = qw * sz + qx * sy - qy * sx
-                pw = -qx * sx - qy * sy - qz * sz
-                sx = px * qw - pw * qx - py * qz + pz * qy + ex
-                sy = py * qw - pw * qy - pz * qx + px * qz + ey
-                sz = pz * qw - pw * qz - px * qy + py * qx + ez
-                sqx, sqy, sqz, sqw = (
-                    qw * sqx + qx * sqw + qy * sqz - qz * sqy,
-                    qw * sqy + qy * sqw + qz * sqx - qx * sqz,
-                    qw * sqz + qz * sqw + qx * sqy - qy * sqx,
-                    qw * sqw - qx * sqx - qy * sqy - qz * sqz,
-                )
+            if frame == tid:  # target is an ancestor of the source
+                return _IDENTITY if source_chain is None else source_chain
+            source_chain = e if source_chain is None else accumulate(e, source_chain)
             top = frame
             frame = parent
             depth += 1
             if depth > MAX_GRAPH_DEPTH:
                 raise self._loop_error()
 
-        # target -> top
+        # target -> top, accumulating parent_T_target
         frame = tid
         depth = 0
-        vx = vy = vz = 0.0
-        tqx = tqy = tqz = 0.0
-        tqw = 1.0
-        first = True
+        target_chain: Sample | None = None
         while frame != top:
             cache = caches[frame]
             if cache is None:
@@ -694,27 +599,9 @@ class BufferCore:
                 parent, e = cache.get(t)
             except ExtrapolationException as exc:
                 raise self._suffixed(exc, sid, tid) from None
-            if frame == sid:
-                # source is an ancestor of target: result = inverse(target chain)
-                return _inverse_rotate(tqx, tqy, tqz, tqw, vx, vy, vz, 0.0, 0.0, 0.0)
-            qx, qy, qz, qw, ex, ey, ez = e
-            if first:
-                tqx, tqy, tqz, tqw, vx, vy, vz = qx, qy, qz, qw, ex, ey, ez
-                first = False
-            else:
-                px = qw * vx + qy * vz - qz * vy
-                py = qw * vy + qz * vx - qx * vz
-                pz = qw * vz + qx * vy - qy * vx
-                pw = -qx * vx - qy * vy - qz * vz
-                vx = px * qw - pw * qx - py * qz + pz * qy + ex
-                vy = py * qw - pw * qy - pz * qx + px * qz + ey
-                vz = pz * qw - pw * qz - px * qy + py * qx + ez
-                tqx, tqy, tqz, tqw = (
-                    qw * tqx + qx * tqw + qy * tqz - qz * tqy,
-                    qw * tqy + qy * tqw + qz * tqx - qx * tqz,
-                    qw * tqz + qz * tqw + qx * tqy - qy * tqx,
-                    qw * tqw - qx * tqx - qy * tqy - qz * tqz,
-                )
+            if frame == sid:  # source is an ancestor of the target: inverse(target chain)
+                return inverse_compose(_IDENTITY if target_chain is None else target_chain, None)
+            target_chain = e if target_chain is None else accumulate(e, target_chain)
             frame = parent
             depth += 1
             if depth > MAX_GRAPH_DEPTH:
@@ -723,171 +610,16 @@ class BufferCore:
             if src_err is not None:
                 raise self._suffixed(src_err, sid, tid) from None
             raise self._connectivity_error(sid, tid)
-        if first:  # target is the top: T_target_source = source chain
-            return (sqx, sqy, sqz, sqw), (sx, sy, sz)
-        # full path: q = conj(q_t) * q_s, v = rotate(conj(q_t), v_s) + rotate(conj(q_t), -v_t)
-        return _inverse_rotate(tqx, tqy, tqz, tqw, vx, vy, vz, sx, sy, sz, (sqx, sqy, sqz, sqw))
+        source = _IDENTITY if source_chain is None else source_chain
+        if target_chain is None:  # target is the top: T_target_source = source chain
+            return source
+        return inverse_compose(target_chain, source)
 
-    # ------------------------------------------------------------------------------------------
-    # fast path for single lookups (the general walk above is the reference)
-    # ------------------------------------------------------------------------------------------
-    # A lookup between two known, distinct frames repeats the same walk most of the time. The
-    # path (which caches the walk visits, and the parent each edge must have) is cached per
-    # (target, source) name pair, built from the newest parents. At lookup time every edge is
-    # evaluated with TimeCache.get's arithmetic inlined, checking that the sample's parent is
-    # the cached one; any surprise (re-parented sample, stamp outside the common case,
-    # extrapolation) returns None and the caller runs the general walk, which then decides
-    # results and errors. The fast path only reads (plus the same slerp memo get() fills), so
-    # falling back is always safe. Cache objects change only where set() creates or replaces
-    # one, which empties the path cache; tests/tf2/test_fast_paths.py checks bit-identity.
+    def _build_path(self, tid: int, sid: int) -> FramePath | None:
+        """The path to cache for a lookup that the reference walk just answered."""
+        return build_path(self._caches, tid, sid, MAX_GRAPH_DEPTH)
 
-    def _build_path(self, tid: int, sid: int) -> _Path | None:
-        """The walk's shape from the newest parents, or None if the fast path cannot serve it."""
-        caches = self._caches
-
-        def edge(frame: int) -> tuple[_Edge, int] | None:
-            cache = caches[frame]
-            if cache is None:
-                return None
-            parent = cache.latest_time_and_parent()[1]
-            if parent == 0:
-                return None
-            if isinstance(cache, TimeCache):
-                return (cache.stamps, cache.parents, cache.data, cache._iv, parent, None), parent
-            return (None, None, None, None, parent, cache), parent
-
-        src: list[_Edge] = []
-        frame = sid
-        while True:
-            if len(src) >= MAX_GRAPH_DEPTH:
-                return None
-            cache = caches[frame]
-            if cache is None:
-                top = frame
-                break
-            got = edge(frame)
-            if got is None:
-                return None
-            if frame == tid:  # target is an ancestor: its edge must only evaluate
-                return [_UP, tuple(src), got[0], tid, sid, None]
-            src.append(got[0])
-            frame = got[1]
-        if top == tid:
-            return [_UP, tuple(src), None, tid, sid, None]
-        tgt: list[_Edge] = []
-        frame = tid
-        while frame != top:
-            if len(tgt) >= MAX_GRAPH_DEPTH:
-                return None
-            got = edge(frame)
-            if got is None:
-                return None
-            if frame == sid:  # source is an ancestor of the target
-                return [_DOWN, (tuple(src), tuple(tgt)), got[0], tid, sid, None]
-            tgt.append(got[0])
-            frame = got[1]
-        return [_FULL, (tuple(src), tuple(tgt)), None, tid, sid, None]
-
-    @staticmethod
-    def _chain(chain: tuple[_Edge, ...], t: int) -> tuple[float, ...] | None:
-        """Accumulated parent_T_child along ``chain`` at ``t`` (the walk's arithmetic, fused
-        with TimeCache.get's lerp + slerp), or None to fall back to the general walk."""
-        sqx = sqy = sqz = sx = sy = sz = 0.0
-        sqw = 1.0
-        first = True
-        for stamps, parents, data, ivs, expected, static in chain:
-            if stamps is None:
-                if static.parent != expected:
-                    return None
-                qx, qy, qz, qw, ex, ey, ez = static.sample
-            elif stamps and stamps[0] < t < stamps[-1]:
-                i = _bisect_right(stamps, t) - 1
-                if parents[i] != expected:
-                    return None
-                if parents[i + 1] != expected:  # re-parented in between: no interpolation
-                    qx, qy, qz, qw, ex, ey, ez = data[i]
-                else:
-                    s0 = stamps[i]
-                    r = (t - s0) / (stamps[i + 1] - s0)
-                    u = 1.0 - r
-                    x1, y1, z1, w1, ax, ay, az = data[i]
-                    x2, y2, z2, w2, bx, by, bz = data[i + 1]
-                    iv = ivs[i]
-                    if iv is None:
-                        iv = _slerp_terms(x1, y1, z1, w1, x2, y2, z2, w2)
-                        ivs[i] = iv
-                    theta, d, flip = iv
-                    ex = u * ax + r * bx
-                    ey = u * ay + r * by
-                    ez = u * az + r * bz
-                    if theta == 0.0:
-                        qx, qy, qz, qw = x1, y1, z1, w1
-                    else:
-                        s0f = _sin(u * theta)
-                        s1f = -_sin(r * theta) if flip else _sin(r * theta)
-                        qx = (x1 * s0f + x2 * s1f) * d
-                        qy = (y1 * s0f + y2 * s1f) * d
-                        qz = (z1 * s0f + z2 * s1f) * d
-                        qw = (w1 * s0f + w2 * s1f) * d
-            elif stamps and t == stamps[-1]:
-                if parents[-1] != expected:
-                    return None
-                qx, qy, qz, qw, ex, ey, ez = data[-1]
-            else:
-                return None
-            if first:
-                sqx, sqy, sqz, sqw, sx, sy, sz = qx, qy, qz, qw, ex, ey, ez
-                first = False
-            else:
-                px = qw * sx + qy * sz - qz * sy
-                py = qw * sy + qz * sx - qx * sz
-                pz = qw * sz + qx * sy - qy * sx
-                pw = -qx * sx - qy * sy - qz * sz
-                sx = px * qw - pw * qx - py * qz + pz * qy + ex
-                sy = py * qw - pw * qy - pz * qx + px * qz + ey
-                sz = pz * qw - pw * qz - px * qy + py * qx + ez
-                sqx, sqy, sqz, sqw = (
-                    qw * sqx + qx * sqw + qy * sqz - qz * sqy,
-                    qw * sqy + qy * sqw + qz * sqx - qx * sqz,
-                    qw * sqz + qz * sqw + qx * sqy - qy * sqx,
-                    qw * sqw - qx * sqx - qy * sqy - qz * sqz,
-                )
-        return sqx, sqy, sqz, sqw, sx, sy, sz
-
-    def _walk_fast(self, path: _Path, t: int) -> _Raw | None:
-        """:meth:`_walk` over a cached path, or None (fall back) if the path does not apply."""
-        mode = path[0]
-        chains = path[1]
-        check = path[2]
-        if check is not None and not _edge_evaluates(check, t):
-            return None
-        if mode is _UP:
-            a = self._chain(chains, t)
-            if a is None:
-                return None
-            return (a[0], a[1], a[2], a[3]), (a[4], a[5], a[6])
-        if mode is _DOWN:
-            # the general walk first walks the source to the top (a loop there raises), then
-            # returns when the target walk reaches the source
-            if self._chain(chains[0], t) is None:
-                return None
-            b = self._chain(chains[1], t)
-            if b is None:
-                return None
-            return _inverse_rotate(b[0], b[1], b[2], b[3], b[4], b[5], b[6], 0.0, 0.0, 0.0)
-        a = self._chain(chains[0], t)
-        if a is None:
-            return None
-        b = self._chain(chains[1], t)
-        if b is None:
-            return None
-        if not chains[1]:  # target is the top
-            return (a[0], a[1], a[2], a[3]), (a[4], a[5], a[6])
-        return _inverse_rotate(
-            b[0], b[1], b[2], b[3], b[4], b[5], b[6], a[4], a[5], a[6], (a[0], a[1], a[2], a[3])
-        )
-
-    def _lookup_raw(self, target: str, source: str, t: int) -> tuple[_Raw, int]:
+    def _lookup_raw(self, target: str, source: str, t: int) -> tuple[Sample, int]:
         """(raw result, time used) for lookupTransform (lock held)."""
         if target == source:
             if t == 0:
@@ -914,40 +646,45 @@ class BufferCore:
         with self._lock:
             key = (target_frame, source_frame)
             path = self._paths.get(key)
-            if path is not None:  # known, distinct, valid names with a cached walk
-                memo = path[5]
-                version = self._version
-                if memo is not None and memo[0] == version and memo[1] == t:
-                    # the same question on unchanged data: the last answer, rebuilt
-                    return _stamped(target_frame, source_frame, memo[2:])
-                asked = t
-                if not t:
-                    t = _latest_up(path[1]) if path[0] is _UP else -1
-                    if t < 0:
-                        t = self._latest_common_time(path[3], path[4])
-                raw = self._walk_fast(path, t)
-                if raw is None:  # the path does not apply at t: the general walk decides
-                    del self._paths[key]
-                    q, v = self._walk(path[3], path[4], t)
-                    return _make_stamped_canonical(target_frame, source_frame, t, q, v)
-                result = _result(t, raw)
-                path[5] = (version, asked, *result)
-                return _stamped(target_frame, source_frame, result)
-            ids = self._ids
-            tid = ids.get(target_frame)
-            sid = ids.get(source_frame)
-            if tid and sid and tid != sid and target_frame[0] != "/" and source_frame[0] != "/":
-                if not t:
-                    t = self._latest_common_time(tid, sid)
-                q, v = self._walk(tid, sid, t)
-                used = t
-                # only after a successful walk: a path is cached for working lookups
-                new_path = self._build_path(tid, sid)
-                if new_path is not None:
-                    self._paths[key] = new_path
-            else:
-                (q, v), used = self._lookup_raw(target_frame, source_frame, t)
-        return _make_stamped_canonical(target_frame, source_frame, used, q, v)
+            if path is None:
+                return self._lookup_uncached(key, t)
+            version = self._version
+            memo = path.memo
+            if memo is not None and memo[0] == version and memo[1] == t:
+                # the same question on unchanged data: the last answer, in a new message
+                return stamped(target_frame, source_frame, memo[2])
+            if self._unpruned:
+                self._prune_pending()
+            asked = t
+            if not t:
+                t = latest_up(path.up) if path.mode == UP else -1
+                if t < 0:
+                    t = self._latest_common_time(path.target_id, path.source_id)
+            result = evaluate(path.mode, path.up, path.down, path.check, t)
+            if result is None:  # the path does not apply at t: the reference walk decides
+                del self._paths[key]
+                raw = self._walk(path.target_id, path.source_id, t)
+                return _make_stamped(target_frame, source_frame, t, raw)
+            path.memo = (version, asked, result)
+        return stamped(target_frame, source_frame, result)
+
+    def _lookup_uncached(self, key: tuple[str, str], t: int) -> TransformStamped:
+        """lookupTransform by the reference walk (lock held); caches the pair's path after a
+        successful walk between two known, distinct frames."""
+        target, source = key
+        ids = self._ids
+        tid = ids.get(target)
+        sid = ids.get(source)
+        if tid and sid and tid != sid and target[0] != "/" and source[0] != "/":
+            if not t:
+                t = self._latest_common_time(tid, sid)
+            raw = self._walk(tid, sid, t)
+            path = self._build_path(tid, sid)
+            if path is not None:
+                self._paths[key] = path
+            return _make_stamped(target, source, t, raw)
+        raw, used = self._lookup_raw(target, source, t)
+        return _make_stamped(target, source, used, raw)
 
     def lookup_transform_full_core(
         self,
@@ -965,10 +702,11 @@ class BufferCore:
             self._validate(target_frame, "lookupTransform argument target_frame")
             self._validate(source_frame, "lookupTransform argument source_frame")
             self._validate(fixed_frame, "lookupTransform argument fixed_frame")
-            (q1, v1), _ = self._lookup_raw(fixed_frame, source_frame, st)
-            (q2, v2), used = self._lookup_raw(target_frame, fixed_frame, tt)
-        q, v = _transform_mul(q2, v2, q1, v1)
-        return _make_stamped(target_frame, source_frame, used, q, v)
+            raw1, _ = self._lookup_raw(fixed_frame, source_frame, st)
+            raw2, used = self._lookup_raw(target_frame, fixed_frame, tt)
+        q, v = _transform_mul(raw2[:4], raw2[4:], raw1[:4], raw1[4:])
+        sec, nanosec = divmod(used, _NS)
+        return stamped(target_frame, source_frame, (sec, nanosec, *q, *v))
 
     def can_transform_core(
         self, target_frame: str, source_frame: str, time: Any
@@ -978,6 +716,13 @@ class BufferCore:
         if target_frame == source_frame:
             return True, ""
         with self._lock:
+            if self._unpruned:
+                self._prune_pending()
+            path = self._paths.get((target_frame, source_frame))
+            if path is not None and t and evaluate(
+                path.mode, path.up, path.down, path.check, t
+            ) is not None:  # the can-transform policy: the cached path evaluates at t
+                return True, ""
             tid, msg = self._validate_msg(target_frame, "canTransform argument target_frame")
             if not tid:
                 return False, msg
@@ -1053,7 +798,7 @@ class BufferCore:
             raise TypeError(f"times_ns must be integer nanoseconds, got dtype {times.dtype}")
         times = times.astype(np.int64, copy=False)
         with self._lock:
-            return lookup_transforms_locked(self, target_frame, source_frame, times)
+            return lookup_transforms_locked(LockedView(self), target_frame, source_frame, times)
 
     def get_latest_common_time(self, target_frame: str, source_frame: str) -> Time:
         """The time a ``Time()`` lookup would use; failures raise plain TransformException."""
@@ -1117,84 +862,6 @@ class BufferCore:
     def get_all_frame_names(self) -> list[str]:
         """All registered frame names in id order (tf2 ``getAllFrameNames``)."""
         return self._getFrameStrings()
-
-
-def _inverse_rotate(
-    tqx: float, tqy: float, tqz: float, tqw: float,
-    vx: float, vy: float, vz: float,
-    sx: float, sy: float, sz: float,
-    sq: tuple[float, float, float, float] | None = None,
-) -> _Raw:  # fmt: skip
-    """tf2 finalize: inv = conj(q_t); v = rotate(inv, v_s) + rotate(inv, -v_t); q = inv * q_s."""
-    ix, iy, iz, iw = -tqx, -tqy, -tqz, tqw
-    out = []
-    for ux, uy, uz in ((-vx, -vy, -vz), (sx, sy, sz)):
-        px = iw * ux + iy * uz - iz * uy
-        py = iw * uy + iz * ux - ix * uz
-        pz = iw * uz + ix * uy - iy * ux
-        pw = -ix * ux - iy * uy - iz * uz
-        out.append((
-            px * iw - pw * ix - py * iz + pz * iy,
-            py * iw - pw * iy - pz * ix + px * iz,
-            pz * iw - pw * iz - px * iy + py * ix,
-        ))  # fmt: skip
-    (ax, ay, az), (bx, by, bz) = out
-    if sq is None:
-        return (ix, iy, iz, iw), (ax, ay, az)
-    qx, qy, qz, qw = sq
-    return (
-        (
-            iw * qx + ix * qw + iy * qz - iz * qy,
-            iw * qy + iy * qw + iz * qx - ix * qz,
-            iw * qz + iz * qw + ix * qy - iy * qx,
-            iw * qw - ix * qx - iy * qy - iz * qz,
-        ),
-        (bx + ax, by + ay, bz + az),
-    )
-
-
-def _canonical(q: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
-    """tf2 ``Transform::setRotation`` then ``getRotation`` (normalise, canonical sign)."""
-    x, y, z, w = q
-    d = x * x + y * y + z * z + w * w
-    s = 2.0 / d
-    xs, ys, zs = x * s, y * s, z * s
-    wx, wy, wz = w * xs, w * ys, w * zs
-    xx, xy, xz = x * xs, x * ys, x * zs
-    yy, yz, zz = y * ys, y * zs, z * zs
-    trace = (1.0 - (yy + zz)) + (1.0 - (xx + zz)) + (1.0 - (xx + yy))
-    if trace > 0.0:
-        s = _sqrt(trace + 1.0)
-        qw = s * 0.5
-        s = 0.5 / s
-        return (
-            ((yz + wx) - (yz - wx)) * s,
-            ((xz + wy) - (xz - wy)) * s,
-            ((xy + wz) - (xy - wz)) * s,
-            qw,
-        )
-    # getRotation's other branch, unrolled for the index of the largest diagonal element
-    m00 = 1.0 - (yy + zz)
-    m11 = 1.0 - (xx + zz)
-    m22 = 1.0 - (xx + yy)
-    m01, m10 = xy - wz, xy + wz
-    m02, m20 = xz + wy, xz - wy
-    m12, m21 = yz - wx, yz + wx
-    i = (2 if m11 < m22 else 1) if m00 < m11 else (2 if m00 < m22 else 0)
-    if i == 0:
-        s = _sqrt(m00 - m11 - m22 + 1.0)
-        h = s * 0.5
-        s = 0.5 / s
-        return h, (m10 + m01) * s, (m20 + m02) * s, (m21 - m12) * s
-    if i == 1:
-        s = _sqrt(m11 - m22 - m00 + 1.0)
-        h = s * 0.5
-        s = 0.5 / s
-        return (m01 + m10) * s, h, (m21 + m12) * s, (m02 - m20) * s
-    s = _sqrt(m22 - m00 - m11 + 1.0)
-    h = s * 0.5
-    s = 0.5 / s
-    return (m02 + m20) * s, (m12 + m21) * s, h, (m10 - m01) * s
 
 
 def _transform_mul(

@@ -37,6 +37,9 @@ _sqrt = math.sqrt
 _acos = math.acos
 _sin = math.sin
 
+# Deferred drops are carried out once this many samples are below the window.
+_PRUNE_BATCH = 64
+
 #: ROS 2 Jazzy reports an empty cache with an empty message (rolling added a text later).
 EMPTY_CACHE_MESSAGE = ""
 
@@ -85,12 +88,23 @@ def slerp_terms(
 class TimeCache:
     """Samples of one dynamic frame within ``cache_time_ns`` of its newest stamp."""
 
-    __slots__ = ("_arrays", "_iv", "cache_time_ns", "data", "parents", "stamps")
+    __slots__ = ("_arrays", "_iv", "_pending", "_prune_limit", "cache_time_ns", "data", "parents",
+                 "stamps")
 
     is_static = False
 
-    def __init__(self, cache_time_ns: int = DEFAULT_CACHE_TIME_NS) -> None:
+    def __init__(
+        self, cache_time_ns: int = DEFAULT_CACHE_TIME_NS, pending: set[TimeCache] | None = None
+    ) -> None:
         self.cache_time_ns = int(cache_time_ns)
+        # tf2 drops the samples older than the window on every insert. Dropping the front of
+        # four lists moves every element, so with ``pending`` (the owner's set of caches with
+        # a deferred drop) the drop is done in batches: samples below ``_prune_limit`` are
+        # already gone for tf2 but still in the lists until :meth:`prune`, which every reader
+        # of the lists runs first (this class's methods do; the owner before reading the
+        # lists directly).
+        self._prune_limit: int | None = None
+        self._pending = pending
         self.stamps: list[int] = []
         self.parents: list[int] = []
         self.data: list[Sample] = []
@@ -111,12 +125,16 @@ class TimeCache:
         if stamps:
             latest = stamps[-1]
             limit = latest - self.cache_time_ns
-            if stamps[0] < limit:  # prune strictly older than the window, before inserting
-                k = bisect_left(stamps, limit)
-                del stamps[:k]
-                del self.parents[:k]
-                del self.data[:k]
-                del self._iv[:k]
+            if stamps[0] < limit:  # drop strictly older than the window, before inserting
+                pending = self._pending
+                if pending is None:
+                    self._prune_limit = limit
+                    self.prune()
+                else:
+                    self._prune_limit = limit
+                    pending.add(self)
+                    if len(stamps) > _PRUNE_BATCH and stamps[_PRUNE_BATCH] < limit:
+                        self.prune()
             if stamp < limit:
                 return False
             if stamp > latest:
@@ -145,8 +163,23 @@ class TimeCache:
         self._arrays = None
         return True
 
+    def prune(self) -> None:
+        """Carry out the deferred drop of the samples older than the window (see __init__)."""
+        limit = self._prune_limit
+        if limit is None:
+            return
+        self._prune_limit = None
+        k = bisect_left(self.stamps, limit)
+        if k:
+            del self.stamps[:k]
+            del self.parents[:k]
+            del self.data[:k]
+            del self._iv[:k]
+            self._arrays = None
+
     def clear(self) -> None:
         """Drop every sample (tf2 ``clearList``)."""
+        self._prune_limit = None
         self.stamps.clear()
         self.parents.clear()
         self.data.clear()
@@ -160,6 +193,8 @@ class TimeCache:
         Raises an :class:`ExtrapolationException` subclass with tf2's text (without the
         ``, when looking up ...`` suffix, which the walk adds).
         """
+        if self._prune_limit is not None:
+            self.prune()
         stamps = self.stamps
         if stamps and stamps[0] < t < stamps[-1]:  # the common case: strictly inside
             pass
@@ -225,9 +260,11 @@ class TimeCache:
 
     def oldest_stamp(self) -> int:
         """Oldest stamp in ns, 0 if empty."""
+        self.prune()
         return self.stamps[0] if self.stamps else 0
 
     def __len__(self) -> int:
+        self.prune()
         return len(self.stamps)
 
     def latest_time_and_parent(self) -> tuple[int, int]:
@@ -238,6 +275,7 @@ class TimeCache:
 
     def arrays(self) -> Any:
         """Cached numpy copies: stamps, parents, samples (7, n), and per-interval slerp terms."""
+        self.prune()
         arrs = self._arrays
         if arrs is None:
             import numpy as np

@@ -12,7 +12,10 @@ with large numeric arrays packed:
   of ``int8 uint8 int16 uint16 int32 uint32 int64 uint64 float32 float64``); the page turns
   it back into the matching JavaScript TypedArray (``BigInt64Array`` for 64-bit integers);
 * shorter arrays (a covariance, a few points) stay JSON lists;
-* non-finite floats become ``null`` (JSON has no inf/NaN).
+* non-finite floats become ``null`` (JSON has no inf/NaN);
+* a ``sensor_msgs/PointCloud2`` is sent as :class:`posekit.viewer.cloud_feed.CompactCloud`
+  (its finite points as float32 x, y, z, intensity and rgb bytes, at most
+  :data:`posekit.viewer.cloud_feed.MAX_CLOUD_POINTS`), not as its raw ``data``.
 
 :class:`MessageQueue` holds the newest messages of one topic for the displays (a sequence
 number per message, so each client gets each message at most once).
@@ -28,7 +31,9 @@ from typing import Any
 
 import numpy as np
 
+from posekit.msgs.sensor_msgs import PointCloud2
 from posekit.msgs.yaml_io import message_to_ordered
+from posekit.viewer.cloud_feed import compact_point_cloud
 
 __all__ = ["MAX_QUEUE", "PACK_MIN", "MessageQueue", "message_to_json"]
 
@@ -54,6 +59,8 @@ def _packed(array: np.ndarray) -> dict[str, Any] | None:
 def message_to_json(value: Any) -> Any:
     """``value`` (a message, or any field of one) as JSON-ready data (see the module
     docstring)."""
+    if isinstance(value, PointCloud2):
+        value = compact_point_cloud(value)
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         return {f.name: message_to_json(getattr(value, f.name))
                 for f in dataclasses.fields(value) if not f.name.startswith("_")}

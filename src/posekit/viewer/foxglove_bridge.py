@@ -33,9 +33,13 @@ name and relays the frames both ways unchanged. The front answers only requests 
 
 Capabilities: ``time`` (the server's clock: ``/clock`` when the system publishes it, else
 ``clock_ns``, else the wall clock; so Foxglove's timeline runs on simulated time in a
-simulated run) and ``clientPublish`` with message encoding ``cdr``: a client advertises a
-topic with a ROS 2 type (e.g. ``geometry_msgs/msg/PoseStamped`` on ``goal_pose``) and the
-bridge publishes what it sends on the transport (at most 32 client channels at a time).
+simulated run) and ``clientPublish`` with message encoding ``cdr`` or ``json``: a client
+advertises a topic with a ROS 2 type (e.g. ``geometry_msgs/msg/PoseStamped`` on
+``goal_pose``) and the bridge publishes what it sends on the transport (at most 32 client
+channels at a time). A ``json`` message is an object of the message's fields (nested
+messages as objects, ``header.stamp`` as ``{sec, nanosec}``); fields it leaves out keep
+their defaults, and a field the type does not have or a value that does not fit is refused
+with one logged line (:func:`message_from_json`).
 
 ``/tf_static`` is latched: the bridge keeps the newest transform per child frame and
 re-sends them as one TFMessage whenever a client subscribes to ``/tf_static`` (the SDK logs
@@ -47,6 +51,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import json
 import threading
 import time
 from collections.abc import Callable
@@ -69,7 +74,8 @@ from posekit.time import stamp_to_ns
 from posekit.viewer._loop_thread import LoopThread
 from posekit.viewer.errors import ViewerError
 
-__all__ = ["DEFAULT_PORT", "FOXGLOVE_SUBPROTOCOL", "FOXGLOVE_SUBPROTOCOLS", "FoxgloveBridge"]
+__all__ = ["DEFAULT_PORT", "FOXGLOVE_SUBPROTOCOL", "FOXGLOVE_SUBPROTOCOLS", "FoxgloveBridge",
+           "message_from_json"]
 
 #: Default TCP port (the browser viewer uses 8765).
 DEFAULT_PORT = 8766
@@ -83,6 +89,8 @@ _CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
 _CLOCK_SILENT_S = 1.0
 _TIME_PERIOD_S = 0.1
 _MAX_CLIENT_CHANNELS = 32
+#: Message encodings a client may publish in.
+_CLIENT_ENCODINGS = ("cdr", "json")
 _PUBLISH_QOS = QoSProfile(depth=10)
 _STATIC_TOPIC = "/tf_static"
 _NODE_NAME = "posekit_foxglove_bridge"
@@ -149,7 +157,7 @@ class FoxgloveBridge:
         self._sim_clock_ns: int | None = None  # newest /clock (ns)
         self._sim_clock_seen = 0.0  # monotonic s of the newest /clock
         self._warn = RateLimitedLog(self.logger.warning)
-        self._publishers: dict[tuple[int, int], tuple[PublisherEndpoint, type]] = {}
+        self._publishers: dict[tuple[int, int], tuple[PublisherEndpoint, type, str]] = {}
         self._front: _SubprotocolFront | None = None
         self._lock = threading.Lock()
         self._channels: dict[str, Any] = {}
@@ -207,7 +215,7 @@ class FoxgloveBridge:
                 host="127.0.0.1",
                 port=0,
                 capabilities=[capability.Time, capability.ClientPublish],
-                supported_encodings=["cdr"],
+                supported_encodings=["cdr", "json"],
                 server_listener=_Listener(),
                 context=self._context,
             )
@@ -254,7 +262,7 @@ class FoxgloveBridge:
             self._thread.join(timeout=5.0)
         self._observer.close()
         with self._lock:
-            endpoints = [p for p, _ in self._publishers.values()]
+            endpoints = [p for p, _, _ in self._publishers.values()]
             channels = list(self._channels.values())
             self._channels.clear()
             self._publishers.clear()
@@ -336,9 +344,10 @@ class FoxgloveBridge:
 
         topic = "/" + str(channel.topic).lstrip("/")
         where = f"client channel '{topic}'"
-        if channel.encoding != "cdr":
+        encoding = str(channel.encoding)
+        if encoding not in _CLIENT_ENCODINGS:
             self._warn("foxglove bridge: refused a " + where,
-                       f"encoding {channel.encoding!r} (only cdr is supported)")
+                       f"encoding {encoding!r} (cdr or json)")
             return
         try:
             _, msg_class = serializable_type(str(channel.schema_name or ""))
@@ -364,7 +373,7 @@ class FoxgloveBridge:
             self._warn("foxglove bridge: refused a " + where, str(exc))
             return
         with self._lock:
-            self._publishers[(client_id, int(channel.id))] = (publisher, msg_class)
+            self._publishers[(client_id, int(channel.id))] = (publisher, msg_class, encoding)
         self.logger.info(f"foxglove bridge: a client publishes {channel.schema_name} on {topic}")
 
     def _client_unadvertise(self, client_id: int, channel_id: int) -> None:
@@ -381,9 +390,13 @@ class FoxgloveBridge:
             entry = self._publishers.get((client_id, channel_id))
         if entry is None:
             return
-        publisher, msg_class = entry
+        publisher, msg_class, encoding = entry
         try:
-            publisher.publish(from_cdr(bytes(data), msg_class))
+            if encoding == "json":
+                msg = message_from_json(bytes(data), msg_class)
+            else:
+                msg = from_cdr(bytes(data), msg_class)
+            publisher.publish(msg)
         except Exception as exc:  # a malformed message from a client: one line, keep going
             self._warn("foxglove bridge: dropped a client message",
                        f"{type(exc).__name__}: {exc}")
@@ -454,6 +467,25 @@ class FoxgloveBridge:
         if channel is None or not transforms or self._closed:
             return
         channel.log(to_cdr(TFMessage(transforms=transforms)), log_time=self.now_ns())
+
+
+def message_from_json(data: bytes, msg_class: type) -> Any:
+    """A message of ``msg_class`` from a client's ``json`` payload (UTF-8 JSON object of the
+    message's fields; those left out keep their defaults).
+
+    Raises:
+        ValueError: not UTF-8 JSON (``UnicodeDecodeError`` and ``json.JSONDecodeError`` are
+            ValueErrors).
+        posekit.msgs.yaml_io.MessageFieldError: a field the type does not have, or a value
+            that does not fit it (the text names the field).
+    """
+    from posekit.msgs.registry import message_type_name
+    from posekit.msgs.yaml_io import default_message, set_message_fields
+
+    values = json.loads(data.decode("utf-8"))
+    msg = default_message(message_type_name(msg_class))
+    set_message_fields(msg, values)
+    return msg
 
 
 def _channel_class(type_name: str) -> type:

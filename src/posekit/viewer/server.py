@@ -28,13 +28,16 @@ WebSocket protocol (server -> client, JSON text unless noted):
   first, at most the display's ``queue`` of them (newest only by default), each at most
   once, at up to ``tf_rate`` Hz;
 * binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
-  seq, stamp, width, height, encoding}``, then the JPEG bytes. Only for topics the client
-  watches, newest only, at up to ``image_rate`` Hz (default 15).
+  seq, stamp, width, height, encoding, frame_id}``, then the JPEG bytes. Only for topics the
+  client watches, newest only, at up to ``image_rate`` Hz (default 15).
 
 Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "topics":
 [...]}``, ``{"op": "pause", "paused": BOOL}``, ``{"op": "goal", "frame": NAME, "x": M, "y": M,
 "yaw": RAD}`` (publishes a ``geometry_msgs/PoseStamped`` on ``/goal_pose``, answered by
-``{"type": "goal_sent", ...}``: :meth:`ViewerServer.publish_goal`),
+``{"type": "goal_sent", ...}``: :meth:`ViewerServer.publish_goal`), ``{"op":
+"initial_pose", "frame", "x", "y", "yaw"}`` (publishes a
+``geometry_msgs/PoseWithCovarianceStamped`` on ``/initialpose``, answered by
+``initial_pose_sent``: :meth:`ViewerServer.publish_initial_pose`),
 ``{"op": "display_subscribe", "topic": NAME, "type": "pkg/msg/Name", "queue": N}`` (send
 this client the topic's messages; ``queue``: messages kept between two sends, 1..1000,
 default 1; answered by ``{"type": "display_subscribed", "topic", "msg_type", "queue"}``
@@ -105,6 +108,10 @@ _RESTART_DELAY_S = 0.5
 _MAX_GOAL_M = 10_000.0
 _WORLD_RETRY_S = 2.0
 _MAX_DISPLAYS = 64
+#: RViz2's "2D Pose Estimate" topic and the variances it sends (x, y: (0.5 m)², yaw:
+#: (pi/12 rad)²).
+INITIAL_POSE_TOPIC = "/initialpose"
+INITIAL_POSE_VARIANCES = (0.25, 0.25, (math.pi / 12.0) ** 2)
 _TYPE_NAME = re.compile(r"[A-Za-z][\w]*/msg/[A-Za-z][\w]*")
 
 
@@ -293,9 +300,9 @@ class ViewerServer:
         self._image_tasks: set[asyncio.Task[None]] = set()
         self._counters = {"tf": 0, "odom": 0, "graph": 0, "images_encoded": 0, "clients": 0,
                           "producer_errors": 0, "producer_restarts": 0, "forbidden": 0,
-                          "goals": 0}
-        self._goal_lock = threading.Lock()
-        self._goal_pub: PublisherEndpoint | None = None
+                          "goals": 0, "initial_poses": 0}
+        self._tool_lock = threading.Lock()
+        self._tool_pubs: dict[str, PublisherEndpoint] = {}
         self._producers: set[asyncio.Task[None]] = set()
         self._warn = RateLimitedLog(tap.logger.warning)
 
@@ -434,11 +441,11 @@ class ViewerServer:
             self._runner_thread.stop()
         self._thread = None
         self._encoder.shutdown(wait=False, cancel_futures=True)
-        with self._goal_lock:
-            goal_pub, self._goal_pub = self._goal_pub, None
-        if goal_pub is not None:
+        with self._tool_lock:
+            publishers, self._tool_pubs = list(self._tool_pubs.values()), {}
+        for publisher in publishers:
             with contextlib.suppress(Exception):  # a closing transport: nothing to undo
-                goal_pub.destroy()
+                publisher.destroy()
         if self.close_tap:
             self.tap.close()
 
@@ -605,6 +612,10 @@ class ViewerServer:
                     if stale[6:] not in client.watched:
                         del client.slots[stale]
                 client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
+            elif op == "initial_pose":
+                pose = self.publish_initial_pose(request.get("frame"), request.get("x"),
+                                                 request.get("y"), request.get("yaw"))
+                client.put("initial_pose_sent", _dumps({"type": "initial_pose_sent", **pose}))
             elif op == "display_subscribe":
                 self._display_subscribe(client, request)
             elif op == "display_unsubscribe":
@@ -623,7 +634,7 @@ class ViewerServer:
                 client.put("goal_sent", _dumps({"type": "goal_sent", **goal}))
             else:
                 raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause, goal, "
-                                 "display_subscribe, display_unsubscribe)")
+                                 "initial_pose, display_subscribe, display_unsubscribe)")
         except (ValueError, TypeError) as exc:
             client.put("error", _dumps({"type": "error", "message": f"bad request: {exc}"}))
 
@@ -688,49 +699,91 @@ class ViewerServer:
                     result.setdefault(c, {})[topic] = [t for _, t in new]
         return result
 
-    # -- goals -------------------------------------------------------------------------------
-    def publish_goal(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
-        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose`` (RViz2's "2D Goal Pose"):
-        position ``(x, y, 0)`` m and heading ``yaw`` rad about z in ``frame``, stamped with
-        the tap's "now". The publisher is created on first use (the viewer adds no topic
-        until a goal is sent). Returns what was published.
+    # -- goals and pose estimates ------------------------------------------------------------
+    def _tool_pose(self, frame: Any, x: Any, y: Any, yaw: Any) -> tuple[str, float, float, float]:
+        """A pose from the page's tools, checked: ``(frame, x, y, yaw)``.
 
         Raises:
             ValueError: a non-string or over-long frame, non-numeric or non-finite values,
                 or a position beyond 10 km.
         """
-        from posekit.msgs.geometry_msgs import PoseStamped
-
         if not isinstance(frame, str) or not frame.strip("/") or len(frame) > _MAX_NAME:
             raise ValueError("'frame' must be a non-empty frame name")
         values = []
         for name, v in (("x", x), ("y", y), ("yaw", yaw)):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ValueError(f"goal '{name}' must be a finite number, got {v!r}")
+                raise ValueError(f"pose '{name}' must be a finite number, got {v!r}")
             values.append(float(v))
-        gx, gy, gyaw = values
-        if max(abs(gx), abs(gy)) > _MAX_GOAL_M:
-            raise ValueError(f"goal position beyond {_MAX_GOAL_M:g} m")
+        px, py, pyaw = values
+        if max(abs(px), abs(py)) > _MAX_GOAL_M:
+            raise ValueError(f"position beyond {_MAX_GOAL_M:g} m")
+        return frame.lstrip("/"), px, py, pyaw
+
+    def _publish_tool(self, topic: str, msg: Any) -> None:
+        """Publish ``msg`` on ``topic``; the publisher is created on first use (the viewer
+        adds no topic until a tool is used) and kept until :meth:`stop`."""
+        with self._tool_lock:
+            publisher = self._tool_pubs.get(topic)
+            created = publisher is None
+            if publisher is None:
+                publisher = self._tool_pubs[topic] = self.tap.transport.advertise(EndpointInfo(
+                    topic, type(msg), QoSProfile(depth=10), "posekit_viewer", "/",
+                    self.tap.logger))
+        if created:
+            self.tap.refresh()  # the displays subscribe now that the topic has a publisher
+        publisher.publish(msg)
+
+    def _stamp(self, header: Any, frame: str) -> None:
+        header.frame_id = frame
+        header.stamp.sec, header.stamp.nanosec = divmod(self.tap.now_ns(), 1_000_000_000)
+
+    def publish_goal(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
+        """Publish a ``geometry_msgs/PoseStamped`` on ``/goal_pose`` (RViz2's "2D Goal Pose"):
+        position ``(x, y, 0)`` m and heading ``yaw`` rad about z in ``frame``, stamped with
+        the tap's "now". Returns what was published.
+
+        Raises:
+            ValueError: see :meth:`_tool_pose`.
+        """
+        from posekit.msgs.geometry_msgs import PoseStamped
+
+        frame_id, gx, gy, gyaw = self._tool_pose(frame, x, y, yaw)
         msg = PoseStamped()
-        msg.header.frame_id = frame.lstrip("/")
-        msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(self.tap.now_ns(), 1_000_000_000)
+        self._stamp(msg.header, frame_id)
         msg.pose.position.x, msg.pose.position.y = gx, gy
         msg.pose.orientation.z, msg.pose.orientation.w = math.sin(gyaw / 2), math.cos(gyaw / 2)
-        with self._goal_lock:
-            created = self._goal_pub is None
-            if self._goal_pub is None:
-                self._goal_pub = self.tap.transport.advertise(EndpointInfo(
-                    GOAL_TOPIC, PoseStamped, QoSProfile(depth=10), "posekit_viewer", "/",
-                    self.tap.logger))
-            publisher = self._goal_pub
-        if created:
-            self.tap.refresh()  # the goal display subscribes now that goal_pose has a publisher
-        publisher.publish(msg)
+        self._publish_tool(GOAL_TOPIC, msg)
         self._counters["goals"] += 1
         self.tap.logger.info(
             f"viewer: goal sent on {GOAL_TOPIC}: x={gx:.2f}, y={gy:.2f}, yaw={gyaw:.2f} "
-            f"in {msg.header.frame_id}")
-        return {"frame": msg.header.frame_id, "x": gx, "y": gy, "yaw": gyaw}
+            f"in {frame_id}")
+        return {"frame": frame_id, "x": gx, "y": gy, "yaw": gyaw}
+
+    def publish_initial_pose(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
+        """Publish a ``geometry_msgs/PoseWithCovarianceStamped`` on ``/initialpose`` (RViz2's
+        "2D Pose Estimate"): position ``(x, y, 0)`` m, heading ``yaw`` rad in ``frame``,
+        stamped with the tap's "now", with RViz2's covariance (:data:`INITIAL_POSE_VARIANCES`
+        on x, y and yaw, zero elsewhere). Returns what was published.
+
+        Raises:
+            ValueError: see :meth:`_tool_pose`.
+        """
+        from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+
+        frame_id, px, py, pyaw = self._tool_pose(frame, x, y, yaw)
+        msg = PoseWithCovarianceStamped()
+        self._stamp(msg.header, frame_id)
+        msg.pose.pose.position.x, msg.pose.pose.position.y = px, py
+        msg.pose.pose.orientation.z = math.sin(pyaw / 2)
+        msg.pose.pose.orientation.w = math.cos(pyaw / 2)
+        vx, vy, vyaw = INITIAL_POSE_VARIANCES
+        msg.pose.covariance[0], msg.pose.covariance[7], msg.pose.covariance[35] = vx, vy, vyaw
+        self._publish_tool(INITIAL_POSE_TOPIC, msg)
+        self._counters["initial_poses"] += 1
+        self.tap.logger.info(
+            f"viewer: pose estimate sent on {INITIAL_POSE_TOPIC}: x={px:.2f}, y={py:.2f}, "
+            f"yaw={pyaw:.2f} in {frame_id}")
+        return {"frame": frame_id, "x": px, "y": py, "yaw": pyaw}
 
     # -- producers ---------------------------------------------------------------------------
     def _tf_message(self, fixed: str) -> str:
@@ -851,6 +904,7 @@ class ViewerServer:
                 "width": int(msg.width),
                 "height": int(msg.height),
                 "encoding": str(msg.encoding),
+                "frame_id": str(msg.header.frame_id),
             }
         ).encode()
         payload = struct.pack(">I", len(header)) + header + jpeg

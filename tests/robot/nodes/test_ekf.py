@@ -104,3 +104,55 @@ def test_parameters_and_refusals(ctx) -> None:
         EkfNode("e2", context=ctx, parameter_overrides={**SIM, "two_d_mode": False})
     with pytest.raises(ValueError, match="initial_state"):
         EkfNode("e3", context=ctx, parameter_overrides={**SIM, "initial_state": [0.0] * 3})
+
+
+def test_set_pose_resets_the_filter_as_robot_localization_does(ctx, executor) -> None:
+    """A PoseWithCovarianceStamped on set_pose (what the scenarios remap to /initialpose):
+    the filter continues from that pose (the circle's closed form from the new pose and
+    heading), with the message's pose covariance; a pose in another frame is refused."""
+    from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+
+    v, w = 0.4, 0.5
+    ekf = EkfNode(context=ctx, parameter_overrides=SIM)
+    sensors = _Sensors(ctx, v, w)
+    pub = sensors.create_publisher(PoseWithCovarianceStamped, "set_pose", 10)
+    executor.add_node(ekf)
+    executor.add_node(sensors)
+    executor.run_until(3.0)
+    x0, y0, yaw0, t_set = 2.0, -1.0, 1.0, 3.0
+
+    def pose_msg(frame: str) -> PoseWithCovarianceStamped:
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = frame
+        msg.header.stamp = stamp_from_ns(int(t_set * 1e9))
+        msg.pose.pose.position.x, msg.pose.pose.position.y = x0, y0
+        msg.pose.pose.orientation = yaw_quaternion(yaw0)
+        msg.pose.covariance[0] = msg.pose.covariance[7] = 0.25
+        msg.pose.covariance[35] = (math.pi / 12) ** 2
+        return msg
+
+    before = ekf.filter.pose
+    pub.publish(pose_msg("map"))  # refused: not the world frame
+    executor.run_until(3.04)
+    assert math.dist(ekf.filter.pose[:2], (x0, y0)) > 0.5
+    assert before != (x0, y0, yaw0)
+    pub.publish(pose_msg("odom"))
+    executor.run_until(3.06)
+    cov = ekf.filter.covariance
+    # The message's variances, grown by the process noise over the few ms since its stamp.
+    assert cov[0, 0] == pytest.approx(0.25, abs=0.01)
+    assert cov[2, 2] == pytest.approx((math.pi / 12) ** 2, abs=0.01)
+    executor.run_until(6.0)
+    tau = 6.0 - t_set
+    p = sensors.filtered[-1].pose.pose
+    # The IMU yaw restarts from yaw0 with its next reading; the first twist after the reset
+    # meets zero velocities (a lag of about one 50 ms sample): a few centimetres.
+    assert p.position.x == pytest.approx(x0 + v / w * (math.sin(yaw0 + w * tau)
+                                                       - math.sin(yaw0)), abs=0.04)
+    assert p.position.y == pytest.approx(y0 - v / w * (math.cos(yaw0 + w * tau)
+                                                       - math.cos(yaw0)), abs=0.04)
+    q = p.orientation
+    yaw = yaw_from_quaternion_xyzw(q.x, q.y, q.z, q.w)
+    # The first IMU reading after the reset (0.04-0.08 s after the stamp, the robot turning
+    # at w = 0.5 rad/s) is the new zero of the relative yaw: up to 0.04 rad behind.
+    assert -0.045 < math.remainder(yaw - (yaw0 + w * tau), 2 * math.pi) <= 0.0

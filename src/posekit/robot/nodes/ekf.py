@@ -8,6 +8,13 @@ pose in ``world_frame``, twist in ``base_link_frame``) and, with ``publish_tf``,
 ``odom -> base_link``. Nothing is published before the first measurement arrives (as
 robot_localization waits for its first measurement).
 
+``set_pose`` (geometry_msgs/PoseWithCovarianceStamped, robot_localization's topic) resets the
+filter to the message's pose and covariance (:meth:`~posekit.robot.ekf.Ekf2D.set_pose`); the
+scenarios remap it to ``/initialpose``, where RViz2's (and the viewer's) "2D Pose Estimate"
+publishes, as robot_localization is commonly launched. The pose must be in ``world_frame``
+(or have an empty frame): a pose in another frame is refused with one logged warning
+(robot_localization would transform it through TF).
+
 Parameters (robot_localization names): ``frequency`` (20.0), ``two_d_mode`` (true; only 2D
 is implemented), ``world_frame`` (odom), ``odom_frame`` (odom), ``base_link_frame``
 (base_link), ``publish_tf`` (true), ``odom0`` (``odometry/wheels``), ``imu0``
@@ -20,14 +27,19 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
+from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
 from posekit.msgs.nav_msgs import Odometry
 from posekit.msgs.sensor_msgs import Imu
 from posekit.robot.ekf import Ekf2D
+from posekit.robot.kinematics import yaw_from_quaternion_xyzw
 from posekit.robot.nodes._util import period_ns
 from posekit.robot.params import DEFAULT_EKF, EkfParams
 from posekit.runtime.node import Node
 from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import TransformBroadcaster
+from posekit.time import stamp_to_seconds
 
 __all__ = ["EkfNode"]
 
@@ -67,6 +79,8 @@ class EkfNode(Node):
         self._tf = TransformBroadcaster(self) if self._publish_tf else None
         self.create_subscription(Odometry, odom_topic, self._on_odom, 10)
         self.create_subscription(Imu, imu_topic, self._on_imu, 10)
+        self._world_frame = world_frame
+        self.create_subscription(PoseWithCovarianceStamped, "set_pose", self._on_set_pose, 10)
         self._now_ns = self.get_clock().now_ns
         self.create_timer(period_ns(frequency, "frequency") / 1e9, self._on_tick)
 
@@ -77,6 +91,28 @@ class EkfNode(Node):
     def _on_imu(self, msg: Imu) -> None:
         self.filter.add_imu_msg(msg)
         self._have_measurement = True
+
+    def _on_set_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        frame = msg.header.frame_id.lstrip("/")
+        if frame and frame != self._world_frame:
+            self.get_logger().warning(
+                f"set_pose refused: the pose is in '{frame}', not the world frame "
+                f"'{self._world_frame}'", throttle_duration_sec=5.0)
+            return
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        cov6 = np.asarray(msg.pose.covariance, dtype=np.float64).reshape(6, 6)
+        idx = np.array([0, 1, 5])  # x, y, rotation about Z
+        try:
+            self.filter.set_pose(
+                stamp_to_seconds(msg.header.stamp), float(p.x), float(p.y),
+                yaw_from_quaternion_xyzw(float(q.x), float(q.y), float(q.z), float(q.w)),
+                cov6[np.ix_(idx, idx)])
+        except ValueError as exc:
+            self.get_logger().warning(f"set_pose refused: {exc}", throttle_duration_sec=5.0)
+            return
+        self._have_measurement = True
+        self.get_logger().info(
+            f"set_pose: x={float(p.x):.2f}, y={float(p.y):.2f} in {self._world_frame}")
 
     def _on_tick(self) -> None:
         if not self._have_measurement:

@@ -156,6 +156,8 @@ export function createDisplayManager(modules, host) {
       type: entry.type,
       fixedFrame: host.fixedFrame,
       now: host.now,
+      // The graph's topics as the topic list shows them: [{name, type, rate, ...}].
+      topics: () => (host.topics ? host.topics() : []),
       requestRender: host.requestRender,
       // The page's own drawings a display may drive (the TF display: host.builtin.tf).
       builtin: host.builtin || {},

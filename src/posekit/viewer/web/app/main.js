@@ -59,6 +59,7 @@ const visibility = () => ({
   truth: $("show-truth").checked,
   world: $("show-world").checked,
   goal: $("show-goal").checked,
+  detections: $("show-detections").checked,
 });
 
 // ------------------------------------------------------------------------------ scene
@@ -113,6 +114,7 @@ async function createScene() {
   scene.setVisibility(visibility());
   scene.setTfOptions(tfOptions);
   debug.labels = () => scene.labelState();
+  debug.detections = () => (scene.detections ? scene.detections() : {});
 }
 
 // Render loop capped at state.fps (30 by default) so a laptop stays cool.
@@ -161,6 +163,7 @@ function connect() {
       case "odom": onOdom(msg); break;
       case "graph": onGraph(msg); break;
       case "goal_sent": debug.goalSent = msg; break;
+      case "initial_pose_sent": debug.initialPoseSent = msg; break;
       case "display": if (!state.paused && displays) displays.onMessages(msg.topic, msg.messages); break;
       case "error": console.warn("viewer server:", msg.message); break;
       default: break;
@@ -250,10 +253,38 @@ function onGraph(msg) {
   if (scene) scene.setGoal(msg.goal);
   fillTree(msg.tree);
   fillTopics(msg.topics);
+  state.topics = msg.topics;
+  addCameras(msg.topics);
   state.imageTopics = msg.images;
   fillCameraTopics(msg.images);
   updateWatch(false);
 }
+
+// ------------------------------------------------------------------------------ cameras
+// "Cameras": a Camera display (camera.js: frustum and image) for every camera_info topic as
+// it appears; a camera whose display the user removed is not added again. Unticked, the
+// Camera displays are hidden.
+const CAMERA_INFO = "sensor_msgs/msg/CameraInfo";
+let camerasHandled = new Set();
+
+function addCameras(topics) {
+  if (!displays || !$("show-cameras").checked) return;
+  for (const t of topics) {
+    if (t.type !== CAMERA_INFO || camerasHandled.has(t.name)) continue;
+    camerasHandled.add(t.name);
+    const exists = displays.state().displays.some((d) => d.display === "Camera" && d.topic === t.name);
+    if (!exists) {
+      try { displays.add("Camera", t.name, t.type); } catch (err) { console.warn("viewer: no Camera display", err); }
+    }
+  }
+}
+
+$("show-cameras").addEventListener("change", () => {
+  if (!displays) return;
+  const on = $("show-cameras").checked;
+  for (const d of displays.state().displays) if (d.display === "Camera") displays.setEnabled(d.id, on);
+  if (on && state.topics) addCameras(state.topics);
+});
 
 // ------------------------------------------------------------------------------ controls
 function fillFixedFrames(frames) {
@@ -291,42 +322,52 @@ for (const input of document.querySelectorAll(".toggles input")) {
   });
 }
 
-// 2D Goal Pose (RViz2's tool): press on the ground for the position, drag for the heading,
-// release to publish geometry_msgs/PoseStamped on goal_pose in the Fixed Frame (the server
-// publishes it). One goal per activation, as in RViz2.
-const goalTool = { active: false, from: null, yaw: 0 };
+// RViz2's pose tools: press on the ground for the position, drag for the heading, release
+// to publish in the Fixed Frame (the server publishes). One pose per activation, as in RViz2.
+// * 2D Goal Pose: geometry_msgs/PoseStamped on goal_pose;
+// * 2D Pose Estimate: geometry_msgs/PoseWithCovarianceStamped on initialpose (RViz2's
+//   covariance: 0.25 m² in x and y, (pi/12)² rad² in yaw).
+const TOOLS = {
+  goal: { button: "goal-tool", op: "goal", debugKey: "goalTool" },
+  pose: { button: "pose-tool", op: "initial_pose", debugKey: "poseTool" },
+};
+const poseTool = { kind: null, from: null, yaw: 0 };
 
-function setGoalTool(active) {
-  goalTool.active = active;
-  goalTool.from = null;
-  debug.goalTool = active;
-  $("goal-tool").setAttribute("aria-pressed", String(active));
-  $("view").classList.toggle("goal-tool", active);
-  if (scene) { scene.setControlsEnabled(!active); scene.setDraft(null, 0); }
+function setTool(kind) {
+  poseTool.kind = kind;
+  poseTool.from = null;
+  for (const [k, t] of Object.entries(TOOLS)) {
+    debug[t.debugKey] = k === kind;
+    $(t.button).setAttribute("aria-pressed", String(k === kind));
+  }
+  $("view").classList.toggle("goal-tool", Boolean(kind));
+  if (scene) { scene.setControlsEnabled(!kind); scene.setDraft(null, 0); }
   state.dirty = true;
 }
 
-$("goal-tool").addEventListener("click", () => setGoalTool(!goalTool.active));
+for (const kind of Object.keys(TOOLS)) {
+  $(TOOLS[kind].button).addEventListener("click", () => setTool(poseTool.kind === kind ? null : kind));
+}
 
 function goalPointer(kind, ev) {
-  if (!goalTool.active || !scene || ev.button > 0) return;
+  if (!poseTool.kind || !scene || ev.button > 0) return;
   const p = scene.pickGround(ev.clientX, ev.clientY);
   if (kind === "down") {
     if (!p) return;
-    goalTool.from = p;
-    goalTool.yaw = 0;
-  } else if (goalTool.from && p) {
-    const dx = p.x - goalTool.from.x, dy = p.y - goalTool.from.y;
-    if (Math.hypot(dx, dy) > 1e-3) goalTool.yaw = Math.atan2(dy, dx);
+    poseTool.from = p;
+    poseTool.yaw = 0;
+  } else if (poseTool.from && p) {
+    const dx = p.x - poseTool.from.x, dy = p.y - poseTool.from.y;
+    if (Math.hypot(dx, dy) > 1e-3) poseTool.yaw = Math.atan2(dy, dx);
   }
-  if (!goalTool.from) return;
+  if (!poseTool.from) return;
   ev.preventDefault();
   if (kind === "up") {
-    const { from, yaw } = goalTool;
-    send({ op: "goal", frame: state.fixedFrame, x: from.x, y: from.y, yaw });
-    setGoalTool(false);
+    const { from, yaw } = poseTool;
+    send({ op: TOOLS[poseTool.kind].op, frame: state.fixedFrame, x: from.x, y: from.y, yaw });
+    setTool(null);
   } else {
-    scene.setDraft(goalTool.from, goalTool.yaw);
+    scene.setDraft(poseTool.from, poseTool.yaw, poseTool.kind);
   }
   state.dirty = true;
 }
@@ -348,6 +389,7 @@ function viewConfig() {
     displays: Object.fromEntries(toggleIds().map((id) => [id.replace(/^show-/, ""), $(id).checked])),
     tf: { hidden: [...tfOptions.hidden].sort(), no_name: [...tfOptions.noName].sort(), marker_scale: tfOptions.scale },
     topic_displays: displays ? displays.toConfig() : [],
+    cameras_handled: [...camerasHandled].sort(),
     panels: {
       camera_topic: $("camera-topic").value || null,
       open: Object.fromEntries([...document.querySelectorAll("#panels details")].map((d) => [d.id, d.open])),
@@ -389,6 +431,8 @@ function applyConfig(cfg) {
     if (displays) problems.push(...displays.fromConfig(cfg.topic_displays));
     else problems.push("topic_displays");
   }
+  if (names(cfg.cameras_handled)) camerasHandled = new Set(cfg.cameras_handled);
+  else if (cfg.cameras_handled !== undefined) problems.push("cameras_handled");
   const panels = cfg.panels || {};
   for (const [id, open] of Object.entries(panels.open || {})) {
     const d = $(id);
@@ -646,6 +690,7 @@ displays = createDisplayManager(await loadDisplayModules(), {
   requestRender: () => { state.dirty = true; },
   fixedFrame: () => state.fixedFrame,
   now: () => (state.lastTf ? state.lastTf.now : null),
+  topics: () => state.topics || [],
   panels: $("panels"),
   list: $("display-list"),
   watchImages: () => updateWatch(false),

@@ -164,6 +164,55 @@ export async function createScene3D(container) {
   draft.visible = false;
   scene.add(draft);
 
+  // Detected ArUco markers: the detector's aruco_marker_<id> frames (fresh, not stale) get a
+  // bright square of the marker's size (from the world, else 0.2 m) on the marker's face
+  // (the frame's x-y plane) and a halo, drawn apart from the TF axes.
+  const DETECTION_COLOR = 0x00ff66;
+  const detectionRoot = new THREE.Group();
+  scene.add(detectionRoot);
+  const detections = new Map();                 // frame -> Group
+  let markerSizes = new Map();                  // marker id -> size (m)
+  function detectionObject(size) {
+    const g = new THREE.Group();
+    g.matrixAutoUpdate = false;
+    const fill = new THREE.Mesh(new THREE.PlaneGeometry(size * 1.25, size * 1.25),
+      new THREE.MeshBasicMaterial({ color: DETECTION_COLOR, transparent: true, opacity: 0.3, side: THREE.DoubleSide, depthWrite: false }));
+    fill.position.z = 0.004;
+    g.add(fill);
+    const bar = Math.max(0.01, size * 0.08), half = size * 0.625;
+    const mat = new THREE.MeshBasicMaterial({ color: DETECTION_COLOR });
+    for (const [x, y, w, h] of [[0, half, 2 * half + bar, bar], [0, -half, 2 * half + bar, bar], [half, 0, bar, 2 * half], [-half, 0, bar, 2 * half]]) {
+      const edge = new THREE.Mesh(new THREE.BoxGeometry(w, h, bar / 2), mat);
+      edge.position.set(x, y, 0.004);
+      g.add(edge);
+    }
+    g.userData.size = size;
+    return g;
+  }
+  function placeDetections(msg, staleSeconds) {
+    const seen = new Set();
+    for (const f of msg.frames) {
+      const [name, , x, y, z, qx, qy, qz, qw, age, isStatic, ok] = f;
+      const m = /(?:^|\/)aruco_marker_(\d+)$/.exec(name);
+      if (!m || !ok || (!isStatic && age > staleSeconds)) continue;
+      seen.add(name);
+      let g = detections.get(name);
+      const size = markerSizes.get(Number(m[1])) || 0.2;
+      if (!g || g.userData.size !== size) {
+        if (g) g.removeFromParent();
+        g = detectionObject(size);
+        detections.set(name, g);
+        detectionRoot.add(g);
+      }
+      poseToMatrix(x, y, z, qx, qy, qz, qw, g.matrix);
+      g.matrixWorldNeedsUpdate = true;
+    }
+    for (const [name, g] of detections) {
+      if (!seen.has(name)) { g.removeFromParent(); detections.delete(name); }
+    }
+    detectionRoot.visible = vis.detections !== false;
+  }
+
   // What the displays added from the topic list draw (app/display_manager.js).
   const displayRoot = new THREE.Group();
   scene.add(displayRoot);
@@ -261,6 +310,7 @@ export async function createScene3D(container) {
     placeWorld();
     placeOdometry();
     placeGoal();
+    placeDetections(msg, staleSeconds);
   }
 
   function placeGoal() {
@@ -298,7 +348,8 @@ export async function createScene3D(container) {
     return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height };
   }
 
-  function setDraft(from, yaw) {
+  function setDraft(from, yaw, kind = "goal") {
+    draft.setColor(kind === "pose" ? 0x40a0ff : 0x40ff40);
     draft.visible = Boolean(from);
     if (from) {
       draft.position.set(from.x, from.y, 0.02);
@@ -317,6 +368,7 @@ export async function createScene3D(container) {
     worldGroup.clear();
     if (!world) return;
     worldFrame = world.frame || "odom";
+    markerSizes = new Map(world.markers.map((mk) => [mk.id, mk.size]));
     const boxMat = new THREE.MeshStandardMaterial({ color: 0xf4f4f0, roughness: 0.8 });
     const edgeMat = new THREE.LineBasicMaterial({ color: 0x999999 });
     for (const b of world.boxes) {
@@ -411,6 +463,7 @@ export async function createScene3D(container) {
   function setVisibility(v) {
     vis = v;
     grid.visible = v.grid !== false;
+    detectionRoot.visible = v.detections !== false;
     placeGoal();
     links.visible = v.tf !== false;
     for (const [name, obj] of frameObjects) {
@@ -463,6 +516,11 @@ export async function createScene3D(container) {
       controlsMoved = true;
       return true;
     },
+    // The highlighted detections: frame -> marker size (m).
+    detections: () => Object.fromEntries([...detections].map(([n, g]) => [n, {
+      size: g.userData.size, visible: detectionRoot.visible,
+      position: new THREE.Vector3().setFromMatrixPosition(g.matrix).toArray().map((v) => Math.round(v * 1000) / 1000),
+      normal: new THREE.Vector3(0, 0, 1).transformDirection(g.matrix).toArray().map((v) => Math.round(v * 1000) / 1000) }])),
     labelState: () => ({ hidden: labelsHidden,
       shown: [...document.querySelectorAll("#tf-labels .tf-label:not([hidden])")].map((e) => e.dataset.frame),
       frames: [...frameObjects].filter(([, o]) => o.group.visible).map(([n]) => n) }),
