@@ -5,6 +5,8 @@ posekit is faster). Single items use the public API end to end (construction inc
 the operation starts from a quaternion); batches use arrays of 1e5 and 1e6 rotations.
 
 Run:  .venv/bin/python benchmarks/geometry.py            (add --quick for a short smoke run)
+      .venv/bin/python benchmarks/geometry.py --quat-matrix   (batch quat->matrix alone: CPU
+      time, rounds alternating posekit / scipy, best of 7; for a loaded machine)
 On machines that set OPENBLAS_CORETYPE/OPENBLAS_L2_SIZE, unset both for this command only.
 """
 
@@ -96,10 +98,37 @@ def batch_cases(n: int) -> list[Case]:
     ]
 
 
+def quat_matrix_cpu() -> None:
+    """Batch ``from_quat(q).as_matrix()`` in CPU time of this process, posekit and scipy
+    rounds alternating, best of 7 (stable where other jobs share the machine)."""
+    import time
+
+    def cpu_ms(fn: Callable[[], object], number: int) -> float:
+        start = time.process_time_ns()
+        for _ in range(number):
+            fn()
+        return (time.process_time_ns() - start) / number / 1e6
+
+    print("batch quat->matrix, construction included (CPU ms, best of 7 alternating rounds)")
+    for n, number in ((100_000, 20), (1_000_000, 3)):
+        q = SciRot.random(n, rng=2).as_quat()
+        ours = ref = float("inf")
+        for _ in range(7):
+            ours = min(ours, cpu_ms(lambda q=q: Rotation.from_quat(q).as_matrix(), number))
+            ref = min(ref, cpu_ms(lambda q=q: SciRot.from_quat(q).as_matrix(), number))
+        print(f"{n:>9,d} rows: posekit {ours:8.2f} ms  scipy {ref:8.2f} ms  "
+              f"scipy/posekit {ref / ours:5.2f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--quick", action="store_true", help="short run (smaller batches)")
+    parser.add_argument("--quat-matrix", action="store_true",
+                        help="only batch quat->matrix against scipy, in CPU time")
     args = parser.parse_args()
+    if args.quat_matrix:
+        quat_matrix_cpu()
+        return
     min_total = 0.05 if args.quick else 0.3
     sizes = [10_000] if args.quick else [100_000, 1_000_000]
 

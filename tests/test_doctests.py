@@ -3,8 +3,9 @@
 Each module below is run through :mod:`doctest`; a module must keep at least the examples it
 has (so they cannot vanish silently) and every one must print what its docstring says.
 Oracle: the expected values in the docstrings, each derived there in closed form (half-angle
-quaternions, the Hamilton product, ``t_a_c = t_a_b + R_a_b t_b_c``, linear interpolation and
-slerp), not produced by running posekit.
+quaternions, also through tf2's setRPY / getRPY, the Hamilton product,
+``t_a_c = t_a_b + R_a_b t_b_c``, linear interpolation and slerp), not produced by running
+posekit.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ MODULES = {
     "posekit.geometry.transform": 7,
     "posekit.geometry.scalar": 13,
     "posekit.tf2.buffer": 17,
+    "posekit.tf2._linear_math": 3,
 }
 
 

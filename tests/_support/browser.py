@@ -53,6 +53,17 @@ def debug(page: Any, key: str) -> Any:
     return page.evaluate(f"window.posekitViewer && window.posekitViewer.{key}")
 
 
+def drag_tool(page: Any, tool: str, start: dict[str, float], end: dict[str, float]) -> None:
+    """Switch a pose tool on (its button ``tool``, e.g. ``#goal-tool``) and press at ``start``,
+    drag to ``end`` and release (client coordinates, as ``posekitViewer.project`` gives)."""
+    page.click(tool)
+    assert page.get_attribute(tool, "aria-pressed") == "true", f"{tool} did not switch on"
+    page.mouse.move(start["x"], start["y"])
+    page.mouse.down()
+    page.mouse.move(end["x"], end["y"], steps=5)
+    page.mouse.up()
+
+
 # -- the page's displays (docs/viewer.md, "Writing a display")
 def displays(page: Any) -> dict[str, Any]:
     """``window.posekitViewer.displays()``: every display, the subscriptions, counts."""

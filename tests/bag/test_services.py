@@ -279,3 +279,34 @@ def test_metadata_only_events_cannot_be_replayed(tmp_path: Path, logs: list) -> 
         context.try_shutdown()
     assert server.requests == []
     assert any(re.search("metadata only on service side", r.message) for r in logs)
+
+
+@pytest.mark.parametrize(("server_state", "client_state"), [
+    (ServiceIntrospectionState.OFF, ServiceIntrospectionState.CONTENTS),
+    (ServiceIntrospectionState.METADATA, ServiceIntrospectionState.OFF),
+])
+def test_verbose_info_counts_requests_and_responses_as_jazzy(
+    tmp_path: Path, server_state: ServiceIntrospectionState,
+    client_state: ServiceIntrospectionState,
+) -> None:
+    """Jazzy's ``ros2 bag info --verbose`` (Info::read_service_info, format_service_info):
+    distinct (client_gid, sequence_number) pairs of request and of response events, in
+    ``Service: <name> | Type: <type> | Request Count: R | Response Count: S | Serialization
+    Format: cdr`` after ``Service information: ``."""
+    from posekit.bag.info import service_counts
+    from posekit.cli.bag_cmd import info
+
+    bag = record_calls(tmp_path, server_state, client_state, calls=3, services=["/toggle"])
+    assert service_counts(bag) == {EVENT_TOPIC: (3, 3)}
+    text = format_info(bag_info(bag), verbose=True, service_counts=service_counts(bag))
+    assert ("Service information: Service: /toggle | Type: std_srvs/srv/SetBool | "
+            "Request Count: 3 | Response Count: 3 | Serialization Format: cdr") in text
+    assert "Service:           1" in text.splitlines()
+    import io
+
+    out = io.StringIO()
+    assert info([str(bag), "-v", "-t"], out=out) == 0
+    printed = out.getvalue()
+    assert printed.startswith("Warning! You have set both the '-t' and '-v' parameters. "
+                              "The '-t' parameter will be ignored.\n")
+    assert "Request Count: 3 | Response Count: 3" in printed

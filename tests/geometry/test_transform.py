@@ -146,3 +146,15 @@ def test_errors():
         Transform(None, [1, 2])
     with pytest.raises(TypeError):
         Transform("not a rotation")  # type: ignore[arg-type]
+
+
+def test_from_xyz_rpy_is_urdf_origin() -> None:
+    """Oracle: scipy's extrinsic 'xyz' Euler angles (URDF/SDF fixed-axis rpy)."""
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        xyz, rpy = rng.uniform(-3, 3, 3), rng.uniform(-3, 3, 3)
+        m = Transform.from_xyz_rpy(xyz, rpy).as_matrix()
+        np.testing.assert_allclose(m[:3, :3], SciRot.from_euler("xyz", rpy).as_matrix(),
+                                   atol=1e-12)
+        np.testing.assert_array_equal(m[:3, 3], xyz)
+        np.testing.assert_array_equal(m[3], (0.0, 0.0, 0.0, 1.0))

@@ -1,14 +1,25 @@
-"""Transport selection (node option, init option, POSEKIT_TRANSPORT) and the registry."""
+"""Transport selection (node option, init option, POSEKIT_TRANSPORT), the registry, and the
+contract's declared optional capabilities.
+
+Oracle for the capabilities: the module docstring of :mod:`posekit.runtime.transport` (what a
+transport that cannot tell returns) and the nodes and publishers created in the test."""
 
 from __future__ import annotations
 
 import pytest
 
+from posekit.msgs.geometry_msgs import Twist
 from posekit.runtime.bus import InProcessBus
 from posekit.runtime.context import Context
 from posekit.runtime.node import Node
+from posekit.runtime.qos import QoSProfile
 from posekit.runtime.transport import (
     ENV_TRANSPORT,
+    EndpointInfo,
+    MessageSink,
+    PublisherEndpoint,
+    SubscriptionEndpoint,
+    Transport,
     UnknownTransportError,
     register_transport,
     selected_transport_name,
@@ -61,3 +72,61 @@ def test_unknown_transport_is_a_clear_error(ctx, monkeypatch) -> None:
     monkeypatch.setenv(ENV_TRANSPORT, "carrier_pigeon")
     with pytest.raises(UnknownTransportError, match=r"carrier_pigeon.*known:.*inprocess"):
         Node("a", context=ctx)
+
+
+class _TopicsOnly(Transport):
+    """The least a transport implements: the abstract methods only."""
+
+    name = "topics_only"
+
+    def advertise(self, info: EndpointInfo) -> PublisherEndpoint:
+        raise NotImplementedError
+
+    def subscribe(self, info: EndpointInfo, sink: MessageSink) -> SubscriptionEndpoint:
+        raise NotImplementedError
+
+    def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return []
+
+    def count_publishers(self, topic: str) -> int:
+        return 0
+
+    def count_subscribers(self, topic: str) -> int:
+        return 0
+
+
+def test_optional_capabilities_have_declared_defaults() -> None:
+    t = _TopicsOnly()
+    assert t.crosses_processes is False
+    assert t.supports_services is False
+    assert t.publisher_qos_profiles("/x") is None
+    assert t.get_node_names() == []
+    assert t.get_publishers_info_by_topic("/x") == []
+    assert t.get_subscriptions_info_by_topic("/x") == []
+    assert t.graph_entities() == []
+    assert t.sync_graph(0.0) == 0
+    assert t.graph_description() == "the topics_only graph"
+    assert t.own_topic("/clock") is None
+
+
+def test_in_process_bus_answers_the_graph_questions(ctx) -> None:
+    a = Node("talker", namespace="/robot", context=ctx)
+    Node("talker", namespace="/robot", context=ctx)  # a duplicate name stays listed twice
+    a.create_publisher(Twist, "cmd_vel", QoSProfile(depth=3))
+    bus = a.transport
+    assert bus.get_node_names() == ["/robot/talker", "/robot/talker"]
+    assert [p.depth for p in bus.publisher_qos_profiles("/robot/cmd_vel") or []] == [3]
+    assert bus.sync_graph(1.0) == 0  # nothing to wait for in one process
+
+
+def test_endpoint_type_name_for_ros_and_plain_classes(ctx) -> None:
+    node = Node("n", context=ctx)
+
+    class Plain:
+        pass
+
+    def info(msg_type: type) -> EndpointInfo:
+        return EndpointInfo("/t", msg_type, QoSProfile(depth=1), "n", "/", node.get_logger())
+
+    assert info(Twist).type_name == "geometry_msgs/msg/Twist"
+    assert info(Plain).type_name == f"{__name__}.{Plain.__qualname__}"

@@ -173,3 +173,34 @@ def test_memo_is_forgotten_on_every_change() -> None:
         pass
     else:
         raise AssertionError("lookup of a forgotten frame must fail")
+
+
+class _EagerDrop(_GeneralOnly):
+    """Reference for the batched drop: old samples leave at every insert, as in tf2."""
+
+    def set_transform(self, transform: Any, authority: str) -> bool:
+        ok = super().set_transform(transform, authority)
+        with self._lock:
+            self._prune_pending()
+        return ok
+
+
+def test_cached_paths_never_see_samples_older_than_the_window() -> None:
+    """The window's old samples are dropped in batches; lookups through cached paths (which
+    read the cache lists directly) answer and fail exactly as with a drop at every insert."""
+    fast, reference = BufferCore(1 * S), _EagerDrop(1 * S)
+    for k in range(300):
+        for core in (fast, reference):
+            for parent, child in (("a", "b"), ("b", "c")):
+                q = (0.0, 0.0, math.sin(0.01 * k), math.cos(0.01 * k))
+                core.set_transform(_msg(parent, child, 5 * S + k * S // 100, q, (k, 1.0, 0.0)),
+                                   "t")
+        if k % 7 == 0 and k > 2:
+            cache = reference._caches[reference._ids["c"]]
+            assert cache is not None
+            oldest = cache.oldest_stamp()
+            for t in (oldest - 1, oldest, oldest + S // 300, 0):
+                for target, source in (("a", "c"), ("c", "a")):
+                    want = _outcome(reference, target, source, t)
+                    assert _outcome(fast, target, source, t) == want
+    assert ("a", "c") in fast._paths  # answered by the cached path throughout

@@ -203,3 +203,33 @@ def test_static_cache_any_time_overwrite_and_survives_clear() -> None:
 )  # fmt: skip
 def test_display_time(ns: int, text: str) -> None:
     assert display_time(ns) == text
+
+
+def test_batched_drop_is_invisible() -> None:
+    """A cache owned by a buffer drops old samples in batches; every reader sees exactly the
+    samples of a cache that drops them on each insert (tf2's rule, ``pending=None``), at every
+    step: contents, oldest stamp, length, answers and error texts near the window's edge."""
+    pending: set[TimeCache] = set()
+    batched, eager = TimeCache(S, pending), TimeCache(S)
+    for k in range(400):  # 10 ms apart: the 1 s window holds ~100, so ~3 batches are dropped
+        stamp = 5 * S + k * S // 100
+        assert batched.insert(stamp, 1, tx(k)) == eager.insert(stamp, 1, tx(k))  # type: ignore[arg-type]
+        if k % 37 == 0:
+            assert batched.oldest_stamp() == eager.oldest_stamp()
+            assert len(batched) == len(eager)
+        if k % 53 == 0:
+            for t in (eager.oldest_stamp() - 1, eager.oldest_stamp(), stamp - S // 200):
+                try:
+                    want: object = eager.get(t)
+                except ExtrapolationException as exc:
+                    want = (type(exc), str(exc))
+                try:
+                    got: object = batched.get(t)
+                except ExtrapolationException as exc:
+                    got = (type(exc), str(exc))
+                assert got == want
+    assert batched in pending or batched.stamps == eager.stamps
+    batched.prune()
+    assert (batched.stamps, batched.parents, batched.data) == (
+        eager.stamps, eager.parents, eager.data)
+    assert len(eager) < 110  # the reference really dropped most of the 400

@@ -290,6 +290,44 @@ def test_fuzzed_samples_are_dropped_or_decoded(pair: tuple[ZenohSession, ZenohSe
     publisher.undeclare()
 
 
+def test_delete_samples_are_ignored_without_a_word(
+    pair: tuple[ZenohSession, ZenohSession],
+) -> None:
+    """A DELETE on the data key (rmw_zenoh never sends one; any peer may) is neither a
+    message nor a drop, with or without an attachment and under another type hash; the
+    messages around it arrive in order."""
+    a, b = pair
+    warnings: list[str] = []
+    received: list[tuple[String, Attachment]] = []
+    topic = "/deletes"
+    sub = a.create_subscription(a.create_node("n"), topic, String, WireQoS(depth=100),
+                                lambda m, att: received.append((m, att)),
+                                warn=warnings.append)
+    key = data_key(0, topic, "std_msgs/msg/String")
+    other_hash_key = key.rpartition("/")[0] + "/RIHS01_" + "1" * 64
+    gid = bytes(range(16))
+    publisher = b.session.declare_publisher(key, reliability=zenoh.Reliability.RELIABLE)
+
+    def put(n: int) -> None:
+        publisher.put(to_cdr(String(data=str(n))), attachment=encode_attachment(n, 0, gid))
+
+    assert wait_for(lambda: bool(received) or (put(1) and False), 5)  # reachable
+    start = len(received)
+    put(2)
+    publisher.delete()
+    publisher.delete(attachment=encode_attachment(3, 0, gid))
+    b.session.delete(other_hash_key)
+    put(4)
+    # samples of one session arrive in order: once 4 is here, the deletes were handled
+    assert wait_for(lambda: len(received) - start >= 2, 5)
+    assert [m.data for m, _ in received[start:]] == ["2", "4"]
+    assert [att.sequence_number for _, att in received[start:]] == [2, 4]
+    assert sub.dropped.total() == 0
+    assert sub.lost[gid] == 1  # sequence number 3 was never a message
+    assert warnings == []
+    publisher.undeclare()
+
+
 def test_legacy_attachment_option(options: SessionOptions) -> None:
     legacy = SessionOptions(router_endpoint=options.router_endpoint, legacy_attachment=True)
     a = open_session(options)

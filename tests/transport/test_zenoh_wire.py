@@ -191,6 +191,28 @@ def test_gid_and_compact_attachment_match_spec() -> None:
     assert decode_attachment(att + b"trailing") == Attachment(1, 1700000000123456789, gid)
 
 
+def test_compact_attachment_same_from_every_input_type() -> None:
+    """The exact 33-byte ``bytes`` form (decoded on a shortcut) gives what the general
+    decoder gives for the same bytes as a bytearray or memoryview, as a named tuple with
+    ``bytes`` fields; 33 bytes that begin with the legacy label stay a legacy error."""
+    gid = bytes(range(100, 116))
+    att = encode_attachment(2**40 + 7, -123, gid)
+    fast = decode_attachment(att)
+    assert type(fast) is Attachment
+    assert type(fast.gid) is bytes
+    assert (fast.sequence_number, fast.source_timestamp, fast.gid, fast.legacy) == (
+        2**40 + 7, -123, gid, False)
+    for other in (bytearray(att), memoryview(att)):
+        slow = decode_attachment(other)  # type: ignore[arg-type]
+        assert slow == fast
+        assert type(slow.gid) is bytes
+    legacy_label = encode_attachment_legacy(1, 2, gid)[:16]
+    mimic = legacy_label + b"\x10" + gid
+    assert len(mimic) == 33
+    with pytest.raises(WireFormatError, match="legacy"):
+        decode_attachment(mimic)
+
+
 def test_legacy_attachment_matches_zenoh_ext() -> None:
     gid = bytes(range(16))
     att = encode_attachment_legacy(42, -5, gid)

@@ -20,7 +20,7 @@ pytestmark = pytest.mark.slow  # real processes, sessions or a browser
 
 cv2 = pytest.importorskip("cv2")
 
-from _support.browser import canvas_pixels, debug, drawn_fraction, wait_for  # noqa: E402
+from _support.browser import canvas_pixels, debug, drag_tool, drawn_fraction, wait_for  # noqa: E402
 
 ROBOT_FRAMES = {"odom", "base_link", "body_link", "imu_link", "fl_wheel_link", "rr_wheel_link",
                 "oak_rgb_camera_optical_frame"}
@@ -316,12 +316,7 @@ def test_goal_tool_publishes_a_goal_the_p_controller_drives_to(page: Any, viewer
         end = page.evaluate(f"window.posekitViewer.project({gx + 0.5}, {gy})")
         assert 0 < start["x"] < 1280, start  # on screen
         assert 0 < start["y"] < 800, start
-        page.click("#goal-tool")
-        assert debug(page, "goalTool") is True
-        page.mouse.move(start["x"], start["y"])
-        page.mouse.down()
-        page.mouse.move(end["x"], end["y"], steps=5)
-        page.mouse.up()
+        drag_tool(page, "#goal-tool", start, end)
         sent = wait_for(lambda: debug(page, "goalSent"), what="the goal_sent answer")
         assert debug(page, "goalTool") is False  # one goal per activation, as in RViz2
         assert (sent["x"], sent["y"]) == pytest.approx((gx, gy), abs=0.05)
@@ -537,6 +532,14 @@ def _camera_frustum_and_detections(page: Any, server: Any) -> None:
         return None
 
     cam = wait_for(camera, timeout=20.0, what="the Camera display with an image")
+    # Drawn: hiding the display (its box in the Displays panel) changes a good share of the
+    # canvas (the far plane with the image faces this view).
+    box = f"#display-list details[data-topic='{info_topic}'] .display-enabled"
+    shown = canvas_pixels(page, "#scene")
+    page.uncheck(box)
+    wait_for(lambda: (np.abs(canvas_pixels(page, "#scene").astype(int) - shown.astype(int))
+                      .max(axis=2) > 30).mean() > 0.02, what="the camera frustum hidden")
+    page.check(box)
     assert cam["image_topic"] == "/oak/rgb/color"
     assert cam["image_size"] == [1280, 720]
     assert cam["image_shown"] is True

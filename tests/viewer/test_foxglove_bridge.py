@@ -525,3 +525,29 @@ def test_a_topic_whose_publishers_leave_is_unadvertised(system: System) -> None:
             assert "/odometry/wheels" not in system.bridge.topics()
 
     asyncio.run(go())
+
+
+def test_a_latched_topic_reaches_clients_that_subscribe_later(system: System) -> None:
+    """/robot_description is published once, transient local, before any client connects
+    (as robot_state_publisher does); each client that subscribes later still receives it."""
+    from posekit.msgs.std_msgs import String
+    from posekit.runtime.qos import DurabilityPolicy, QoSProfile
+
+    latched = system.node.create_publisher(
+        String, "/robot_description",
+        QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    latched.publish(String(data="<robot name='rosbot'/>"))
+    system.bridge.refresh()  # observed (and the latched sample taken) with no client yet
+
+    async def go() -> None:
+        async with aiohttp.ClientSession() as session:
+            for sub_id in (21, 22):  # two clients, one after the other
+                async with session.ws_connect(system.url,
+                                              protocols=(FOXGLOVE_SUBPROTOCOL,)) as ws:
+                    channels = await _advertised(ws, {"/robot_description"})
+                    await _subscribe(ws, channels["/robot_description"]["id"], sub_id)
+                    _, payload = await _message(ws, sub_id)
+                    msg = ROS.deserialize_cdr(payload, "std_msgs/msg/String")
+                    assert msg.data == "<robot name='rosbot'/>"
+
+    asyncio.run(go())

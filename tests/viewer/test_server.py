@@ -232,6 +232,24 @@ def test_options_are_validated() -> None:
     ctx.shutdown()
 
 
+def _listen(system: System, msg_type: type, topic: str) -> tuple[list[Any], Any]:
+    """A subscription of the system's node to ``topic``: the received messages, and a call
+    that spins (at most 5 s) until one arrived."""
+    from posekit.runtime.executors import SingleThreadedExecutor
+
+    got: list[Any] = []
+    system.node.create_subscription(msg_type, topic, got.append, 10)
+    executor = SingleThreadedExecutor(context=system.ctx)
+    executor.add_node(system.node)
+
+    def received() -> None:
+        deadline = time.monotonic() + 5.0
+        while not got and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+
+    return got, received
+
+
 def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: System) -> None:
     """``op: goal`` publishes geometry_msgs/PoseStamped on /goal_pose (received by a plain
     subscriber; the quaternion checked against the closed form (0, 0, sin(yaw/2),
@@ -240,12 +258,7 @@ def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: S
     import math
 
     from posekit.msgs.geometry_msgs import PoseStamped
-    from posekit.runtime.executors import SingleThreadedExecutor
-
-    got: list[Any] = []
-    system.node.create_subscription(PoseStamped, "goal_pose", got.append, 10)
-    executor = SingleThreadedExecutor(context=system.ctx)
-    executor.add_node(system.node)
+    got, received = _listen(system, PoseStamped, "goal_pose")
 
     async def scenario() -> None:
         async with aiohttp.ClientSession() as session, session.ws_connect(system.ws_url) as ws:
@@ -269,9 +282,7 @@ def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: S
             assert graph["goal"]["pose"][:3] == pytest.approx([1.25, -2.0, 0.0])
 
     asyncio.run(scenario())
-    deadline = time.monotonic() + 5.0
-    while not got and time.monotonic() < deadline:
-        executor.spin_once(timeout_sec=0.05)
+    received()
     assert len(got) == 1, "exactly the one valid goal is published"
     msg = got[0]
     assert msg.header.frame_id == "odom"
@@ -279,3 +290,38 @@ def test_goal_requests_publish_a_pose_stamped_and_bad_ones_are_refused(system: S
     q = msg.pose.orientation
     assert (q.x, q.y, q.z, q.w) == pytest.approx((0.0, 0.0, math.sin(1.0), math.cos(1.0)))
     assert system.server.stats["goals"] == 1
+
+
+def test_initial_pose_requests_publish_rviz2s_pose_estimate(system: System) -> None:
+    """``op: initial_pose`` publishes geometry_msgs/PoseWithCovarianceStamped on /initialpose
+    with RViz2's covariance (0.25 m² on x and y, (pi/12)² rad² on yaw, zero elsewhere); a bad
+    one gets an error and publishes nothing."""
+    import math
+
+    from posekit.msgs.geometry_msgs import PoseWithCovarianceStamped
+    got, received = _listen(system, PoseWithCovarianceStamped, "initialpose")
+
+    async def scenario() -> None:
+        async with aiohttp.ClientSession() as session, session.ws_connect(system.ws_url) as ws:
+            await receive_until(ws, is_type("hello"))
+            good = {"op": "initial_pose", "frame": "odom", "x": -0.5, "y": 3.0, "yaw": -1.0}
+            await ws.send_json({**good, "yaw": None})
+            err = await receive_until(ws, is_type("error"))
+            assert "yaw" in err["message"]
+            await ws.send_json(good)
+            sent = await receive_until(ws, is_type("initial_pose_sent"))
+            assert (sent["frame"], sent["x"], sent["y"], sent["yaw"]) == ("odom", -0.5, 3.0, -1.0)
+
+    asyncio.run(scenario())
+    received()
+    assert len(got) == 1, "exactly the one valid pose is published"
+    msg = got[0]
+    assert msg.header.frame_id == "odom"
+    p, q = msg.pose.pose.position, msg.pose.pose.orientation
+    assert (p.x, p.y, p.z) == (-0.5, 3.0, 0.0)
+    assert (q.x, q.y, q.z, q.w) == pytest.approx((0.0, 0.0, math.sin(-0.5), math.cos(-0.5)))
+    expected = np.zeros(36)
+    expected[0] = expected[7] = 0.25
+    expected[35] = (math.pi / 12) ** 2
+    assert np.array_equal(msg.pose.covariance, expected)
+    assert system.server.stats["initial_poses"] == 1

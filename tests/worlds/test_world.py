@@ -14,10 +14,10 @@ from scipy.spatial.transform import Rotation
 
 from posekit.worlds import (
     ARUCO_BOX,
+    BoxSpec,
     WorldError,
     load_world,
     marker_poses,
-    pose_matrix,
     world_names,
 )
 
@@ -85,12 +85,12 @@ def test_camera_world() -> None:
     assert np.allclose(R.apply([0, 0, 1]), (0, 0, -1), atol=1e-4)
 
 
-def test_pose_matrix_against_scipy() -> None:
+def test_box_pose_against_scipy() -> None:
     rng = np.random.default_rng(0)
     for _ in range(20):
         pose = rng.uniform(-3, 3, 6)
         ref = Rotation.from_euler("xyz", pose[3:]).as_matrix()  # extrinsic x-y-z = SDF rpy
-        m = pose_matrix(pose)
+        m = BoxSpec("b", "aruco_box", tuple(pose)).T_world_box
         assert np.allclose(m[:3, :3], ref, atol=1e-12)
         assert np.allclose(m[:3, 3], pose[:3])
 

@@ -8,7 +8,11 @@ time with the epoch seconds, message count, one line per topic, then Jazzy's ser
 ``<service>/_service_event`` of type ``pkg/srv/Name_Event``, which are left out of the topic
 lines and of the message count, as rosbag2 does). Times are printed to the nanosecond (ROS 2
 releases before Jazzy printed milliseconds without zero padding).
-``verbose=True`` adds the metadata version, compression and each topic's offered QoS.
+``verbose=True`` adds the metadata version, compression and each topic's offered QoS, and,
+given :func:`service_counts`, lists each service with its request and response counts instead
+of its event count, as Jazzy's ``ros2 bag info --verbose`` does (rosbag2 counts the distinct
+``(client_gid, sequence_number)`` pairs of the REQUEST_SENT/REQUEST_RECEIVED events, and of
+the RESPONSE_SENT/RESPONSE_RECEIVED ones, read from each event's ``ServiceEventInfo``).
 """
 
 from __future__ import annotations
@@ -31,6 +35,7 @@ __all__ = [
     "format_info",
     "is_service_event_topic",
     "is_service_event_type",
+    "service_counts",
 ]
 
 _INDENT = 19  # width of the longest label, "Topic information: "
@@ -184,8 +189,48 @@ def _qos_text(q: QoSProfile) -> str:
     )
 
 
-def format_info(info: BagInfo, *, verbose: bool = False) -> str:
-    """The text ``posekit bag info`` prints (see the module docstring)."""
+def service_counts(path: str | Path) -> dict[str, tuple[int, int]]:
+    """``{service event topic: (requests, responses)}`` of the bag at ``path``, counted as
+    rosbag2 Jazzy's ``Info::read_service_info``: distinct ``(client_gid, sequence_number)``
+    pairs per kind. Only each event's leading ``service_msgs/msg/ServiceEventInfo`` is read,
+    so services of any type are counted (types posekit does not know included).
+
+    Raises:
+        BagFormatError: a service event too short to hold its ServiceEventInfo.
+    """
+    from posekit.bag.reader import read_messages
+
+    events = [t.name for t in bag_info(path).topics if is_service_event_topic(t.name, t.msgtype)]
+    seen: dict[str, tuple[set[tuple[bytes, int]], set[tuple[bytes, int]]]] = {
+        topic: (set(), set()) for topic in events}
+    if not events:
+        return {}
+    for message in read_messages(path, events):
+        event_type, gid, sequence = _event_info(message.data, message.topic)
+        requests, responses = seen[message.topic]
+        if event_type in (0, 1):  # REQUEST_SENT, REQUEST_RECEIVED
+            requests.add((gid, sequence))
+        elif event_type in (2, 3):  # RESPONSE_SENT, RESPONSE_RECEIVED
+            responses.add((gid, sequence))
+    return {topic: (len(req), len(resp)) for topic, (req, resp) in seen.items()}
+
+
+def _event_info(data: bytes, topic: str) -> tuple[int, bytes, int]:
+    """``(event_type, client_gid, sequence_number)`` of a CDR service event: its first field
+    is a ServiceEventInfo (uint8, Time{int32, uint32}, uint8[16], int64 at offset 32)."""
+    import struct
+
+    if len(data) < 44 or data[0] != 0 or data[1] not in (0, 1):
+        raise BagFormatError(f"a message on {topic!r} is not a CDR service event")
+    order = "<" if data[1] == 1 else ">"
+    (sequence,) = struct.unpack_from(order + "q", data, 4 + 32)
+    return data[4], bytes(data[4 + 12:4 + 28]), int(sequence)
+
+
+def format_info(info: BagInfo, *, verbose: bool = False,
+                service_counts: dict[str, tuple[int, int]] | None = None) -> str:
+    """The text ``posekit bag info`` prints (see the module docstring); ``service_counts``
+    (from :func:`service_counts`) makes the service lines Jazzy's verbose ones."""
     pad = " " * _INDENT
     lines = [""]
     files = info.files or [""]
@@ -224,10 +269,13 @@ def format_info(info: BagInfo, *, verbose: bool = False) -> str:
     lines.append(f"{'Topic information:':<{_INDENT}}{topic_lines[0]}")
     lines.extend(pad + t for t in topic_lines[1:])
     lines.append(f"{'Service:':<{_INDENT}}{len(services)}")
+    counts = service_counts or {}
     service_lines = [
         f"Service: {t.name.removesuffix(SERVICE_EVENT_SUFFIX)} | "
-        f"Type: {t.msgtype.removesuffix('_Event')} | Event Count: {t.message_count} | "
-        f"Serialization Format: {t.serialization_format}"
+        f"Type: {t.msgtype.removesuffix('_Event')} | "
+        + (f"Request Count: {counts[t.name][0]} | Response Count: {counts[t.name][1]} | "
+           if t.name in counts else f"Event Count: {t.message_count} | ")
+        + f"Serialization Format: {t.serialization_format}"
         for t in services
     ]
     lines.append("Service information: " + (service_lines[0] if service_lines else ""))

@@ -81,54 +81,37 @@ def wait_for_topic_type(
 
 
 def publishers_info(session: Any, topic: str) -> list[Any]:
-    """The transport's endpoint records of the publishers on ``topic`` (empty if unsupported)."""
-    fn = getattr(session.node.transport, "get_publishers_info_by_topic", None)
-    return list(fn(topic)) if fn is not None else []
+    """The transport's endpoint records of the publishers on ``topic`` (empty if it cannot
+    tell)."""
+    return list(session.node.transport.get_publishers_info_by_topic(topic))
 
 
 def subscriptions_info(session: Any, topic: str) -> list[Any]:
     """The transport's endpoint records of the subscriptions on ``topic``."""
-    fn = getattr(session.node.transport, "get_subscriptions_info_by_topic", None)
-    return list(fn(topic)) if fn is not None else []
+    return list(session.node.transport.get_subscriptions_info_by_topic(topic))
 
 
 def graph_entities(session: Any) -> list[Any]:
-    """Every entity (:class:`~posekit.transport.zenoh_wire.TokenInfo`) the transport's graph
-    knows, or an empty list on a transport without one (the in-process bus)."""
-    graph = getattr(session.node.transport, "graph", None)
-    if graph is None:
-        return []
-    entities: list[Any] = graph.entities()
-    return entities
+    """Every entity (node or endpoint record) the transport's graph knows; empty on a
+    transport that cannot tell (the in-process bus)."""
+    return list(session.node.transport.graph_entities())
 
 
 def node_names(session: Any) -> list[str]:
     """Fully qualified node names on the session's transport (duplicates kept), sorted."""
-    transport = session.node.transport
-    graph = getattr(transport, "graph", None)
-    if graph is not None:
-        from posekit.transport.zenoh_wire import EntityKind
-
-        return sorted(t.node_fqn for t in graph.entities() if t.kind is EntityKind.NODE)
-    getter = getattr(transport, "get_node_names", None)
-    return sorted(getter()) if getter is not None else []
+    return sorted(session.node.transport.get_node_names())
 
 
 def empty_graph_hint(session: Any) -> str:
     """A one-line hint when no node but the tool's own is visible on a network transport,
     else ``""`` (an in-process context has no one else to find)."""
-    if getattr(session.node.transport, "graph", None) is None:
+    transport = session.node.transport
+    if not transport.crosses_processes:
         return ""
     own = session.node.get_fully_qualified_name()
     if any(name != own for name in node_names(session)):
         return ""
-    transport = session.node.transport
-    where = f"the {getattr(transport, 'name', 'selected')} graph"
-    zenoh = getattr(transport, "session", None)
-    if zenoh is not None and hasattr(zenoh, "domain_id"):
-        endpoint = getattr(getattr(zenoh, "options", None), "router_endpoint", "?")
-        hosted = " (hosted by this tool: no router was running)" if zenoh.hosts_router else ""
-        where = f"zenoh domain {zenoh.domain_id} via router {endpoint}{hosted}"
+    where = transport.graph_description()
     return (f"hint: no other node is visible on {where}; check that a launch or node is "
             "running (posekit launch NAME, not --isolated) with the same ROS_DOMAIN_ID, "
             "POSEKIT_ZENOH_ROUTER and POSEKIT_TRANSPORT")

@@ -87,9 +87,9 @@ class ToolSession:
     def sync_graph(self, timeout: float = 5.0) -> None:
         """Complete the transport's graph snapshot (a liveliness query on Zenoh; elsewhere
         just the callbacks ready now)."""
-        sync = getattr(self.node.transport, "sync_graph", None)
-        if sync is not None:
-            sync(timeout)
+        transport = self.node.transport
+        if transport.crosses_processes:
+            transport.sync_graph(timeout)
         else:
             self.spin_for(0.0)
 

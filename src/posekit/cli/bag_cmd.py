@@ -535,16 +535,18 @@ def info(argv: Sequence[str], *, out: TextIO | None = None) -> int:
     parser.add_argument("-t", "--topic-name", action="store_true",
                         help="only display topic names")
     parser.add_argument("-v", "--verbose", action="store_true",
-                        help="also metadata version, compression and offered QoS")
+                        help="display request/response information for services (and the "
+                             "metadata version, compression and offered QoS)")
     ns = _parse(parser, argv)
     if isinstance(ns, int):
         return ns
     from posekit.bag import BagError, bag_info, format_info
-    from posekit.bag.info import is_service_event_topic
+    from posekit.bag.info import is_service_event_topic, service_counts
 
     out = out or sys.stdout
     try:
         summary = bag_info(ns.bag)
+        counts = service_counts(ns.bag) if ns.verbose else None
     except BagError as exc:
         sys.stderr.write(f"posekit bag info: {exc}\n")
         return 1
@@ -555,7 +557,7 @@ def info(argv: Sequence[str], *, out: TextIO | None = None) -> int:
         out.write("".join(f"{t.name}\n" for t in summary.topics
                           if not is_service_event_topic(t.name, t.msgtype)))
         return 0
-    out.write(format_info(summary, verbose=ns.verbose))
+    out.write(format_info(summary, verbose=ns.verbose, service_counts=counts))
     return 0
 
 

@@ -134,6 +134,24 @@ class Transform:
         return cls(rotation, np.zeros((len(rotation), 3)))
 
     @classmethod
+    def from_xyz_rpy(cls, xyz: npt.ArrayLike, rpy: npt.ArrayLike) -> Transform:
+        """``T_parent_child`` of a URDF ``<origin xyz=... rpy=...>`` or an SDF ``<pose>``.
+
+        ``xyz`` is the translation (m); ``rpy`` the fixed-axis roll, pitch, yaw (rad,
+        ``R = Rz(yaw) Ry(pitch) Rx(roll)``, :meth:`Rotation.from_rpy`). ``.as_matrix()``
+        gives the 4x4 homogeneous matrix.
+
+        Examples:
+            >>> import math
+            >>> from posekit.geometry import Transform
+            >>> T = Transform.from_xyz_rpy((1.0, 2.0, 3.0), (0.0, 0.0, math.pi / 2))
+            >>> T.apply((1.0, 0.0, 0.0)).round(12).tolist()
+            [1.0, 3.0, 3.0]
+        """
+        roll, pitch, yaw = (float(v) for v in np.asarray(rpy, dtype=np.float64).reshape(3))
+        return cls(Rotation.from_rpy(roll, pitch, yaw), xyz)
+
+    @classmethod
     def from_matrix(cls, matrix: npt.ArrayLike, *, atol: float = 1e-6) -> Transform:
         """From homogeneous matrix(ces) ``(4, 4)`` or ``(N, 4, 4)`` ``[[R, t], [0, 0, 0, 1]]``.
 

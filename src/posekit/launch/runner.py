@@ -99,9 +99,7 @@ def start(
         ctx.init(args=[], transport=transport)
     owns_clock = sim_time and own_clock
     if owns_clock:
-        own_topic = getattr(ctx.transport(), "own_topic", None)
-        if own_topic is not None:
-            own_topic(CLOCK_TOPIC)
+        ctx.transport().own_topic(CLOCK_TOPIC)
     executor: Executor
     if owns_clock:
         executor = SimulatedTimeExecutor(

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Transform
 from posekit.geometry.scalar import quat_from_rpy
 from posekit.msgs.geometry_msgs import Quaternion, TransformStamped, Vector3
 from posekit.robot.params import DEFAULT_DRIVE, WHEEL_JOINT_NAMES
@@ -207,7 +207,7 @@ def T_base_frame(frame: str) -> Transform:
         if frame not in by_child:
             raise KeyError(f"{frame!r} is not a fixed frame of the ROSbot")
         parent, xyz, rpy = by_child[frame]
-        T = Transform(Rotation.from_rpy(*rpy), xyz) * T
+        T = Transform.from_xyz_rpy(xyz, rpy) * T
         frame = parent
     return T
 

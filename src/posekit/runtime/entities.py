@@ -37,15 +37,12 @@ class Publisher:
         self._endpoint = endpoint
         # Hot path: bind once.
         self.publish: Callable[[Any], None] = endpoint.publish
-        transfer = getattr(endpoint, "publish_transfer", None)
         #: ``publish_transfer(msg)``: publish a message the caller gives up and never reads
         #: or changes again (rclcpp's ``publish(std::unique_ptr<Msg>)``). The in-process bus
         #: then skips its publish snapshot and hands this object to the (last) subscriber;
-        #: other transports treat it as ``publish``. Not in rclpy: a posekit extension for
-        #: nodes that build a fresh message per publish.
-        self.publish_transfer: Callable[[Any], None] = (
-            transfer if callable(transfer) else endpoint.publish
-        )
+        #: other transports treat it as ``publish`` (the contract's default). Not in rclpy: a
+        #: posekit extension for nodes that build a fresh message per publish.
+        self.publish_transfer: Callable[[Any], None] = endpoint.publish_transfer
 
     @property
     def topic_name(self) -> str:
@@ -275,10 +272,11 @@ class Timer:
         """Nanoseconds since the last call (or the start)."""
         return self.clock.now_ns() - self.last_call_ns
 
-    def mark_called(self) -> None:
-        """An executor took this timer's call now: the next call moves one period on (to
-        the first one after now, skipping missed periods)."""
-        now = self.clock.now_ns()
+    def mark_called(self, now_ns: int | None = None) -> None:
+        """An executor took this timer's call now (``now_ns``: the clock's time, if the
+        executor just read it): the next call moves one period on (to the first one after
+        now, skipping missed periods)."""
+        now = self.clock.now_ns() if now_ns is None else now_ns
         self.last_call_ns = now
         nxt = self.next_call_ns + self._period_ns
         if nxt <= now and self._period_ns > 0:

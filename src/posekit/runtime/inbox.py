@@ -83,8 +83,8 @@ class Inbox:
     reports (default: ignore them).
     """
 
-    __slots__ = ("_entries", "_on_entities_changed", "_on_timers_changed", "_signal",
-                 "_waiting", "always_wake", "take")
+    __slots__ = ("_append", "_entries", "_on_entities_changed", "_on_timers_changed",
+                 "_signal", "_waiting", "always_wake", "take")
 
     def __init__(
         self,
@@ -94,6 +94,7 @@ class Inbox:
         on_entities_changed: Callable[[], None] = _ignore_change,
     ) -> None:
         self._entries: deque[tuple[int, Any]] = deque()
+        self._append = self._entries.append  # bound once: put() is the hot path
         self._signal = WakeSignal()
         self.always_wake = always_wake
         # True only while a thread may block in wait(): put() then signals (see wait()).
@@ -107,7 +108,7 @@ class Inbox:
     # -- entities' side -------------------------------------------------------------------
     def put(self, seq: int, entity: Any) -> None:
         """``entity`` queued an item with arrival number ``seq``: hand it to the executor."""
-        self._entries.append((seq, entity))
+        self._append((seq, entity))
         if self._waiting:
             self._signal.set()
 

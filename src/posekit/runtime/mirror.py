@@ -293,12 +293,26 @@ class MirroredTransport(Transport):
 
     def get_node_names(self) -> list[str]:
         """Fully qualified node names on the network graph."""
-        getter = getattr(self.network, "get_node_names", None)
-        return list(getter()) if getter is not None else []
+        return self.network.get_node_names()
+
+    def get_publishers_info_by_topic(self, topic: str) -> list[Any]:
+        return self.network.get_publishers_info_by_topic(topic)
+
+    def get_subscriptions_info_by_topic(self, topic: str) -> list[Any]:
+        return self.network.get_subscriptions_info_by_topic(topic)
+
+    def graph_entities(self) -> list[Any]:
+        return self.network.graph_entities()
+
+    def sync_graph(self, timeout: float = 2.0) -> int:
+        return self.network.sync_graph(timeout)
+
+    def graph_description(self) -> str:
+        return self.network.graph_description()
 
     def __getattr__(self, name: str) -> Any:
-        # Transport-specific graph tools (``graph``, ``sync_graph``, endpoint info) of the
-        # network transport, for command-line tools running in this process.
+        # Transport-specific tools of the network transport beyond the contract (e.g. the
+        # Zenoh ``graph`` and ``session``), for command-line tools running in this process.
         if name.startswith("_") or name in ("local", "network"):
             raise AttributeError(name)
         return getattr(self.network, name)

@@ -43,6 +43,7 @@ from posekit.runtime.qos import QoSProfile
 from posekit.runtime.task import Future
 from posekit.runtime.time_source import TimeSource
 from posekit.runtime.timer_schedule import TimerSchedule
+from posekit.runtime.transport import Transport
 from posekit.time import ClockType, Duration, Time
 
 __all__ = [
@@ -59,12 +60,11 @@ class ClockConflictError(RuntimeError):
     """Another ``/clock`` publisher is on the graph: a second simulation clock is refused."""
 
 
-def _clock_publisher_names(transport: Any) -> list[str]:
-    infos = getattr(transport, "get_publishers_info_by_topic", None)
-    return sorted(i.node_fqn for i in infos("/clock")) if callable(infos) else []
+def _clock_publisher_names(transport: Transport) -> list[str]:
+    return sorted(i.node_fqn for i in transport.get_publishers_info_by_topic("/clock"))
 
 
-def graph_clock_publishers(transport: Any, *, settle_s: float = 0.3) -> list[str]:
+def graph_clock_publishers(transport: Transport, *, settle_s: float = 0.3) -> list[str]:
     """The publishers of ``/clock`` on ``transport``'s graph (node names where the graph
     says, else ``"N publisher(s)"``); empty when there is none.
 
@@ -72,12 +72,12 @@ def graph_clock_publishers(transport: Any, *, settle_s: float = 0.3) -> list[str
     ``settle_s`` wall seconds until a publisher shows up: one query right after a session
     opened can come back before the network answered."""
     deadline = time.monotonic() + settle_s
-    sync = getattr(transport, "sync_graph", None)
+    networked = transport.crosses_processes  # its graph completes over time
     while True:
-        if callable(sync):
-            sync(max(0.05, deadline - time.monotonic()))
+        if networked:
+            transport.sync_graph(max(0.05, deadline - time.monotonic()))
         count = int(transport.count_publishers("/clock"))
-        if count > 0 or not callable(sync) or time.monotonic() >= deadline:
+        if count > 0 or not networked or time.monotonic() >= deadline:
             break
         time.sleep(0.05)
     if count <= 0:
@@ -367,12 +367,13 @@ class SimulatedTimeExecutor(Executor):
         """Run every callback ready at the current sim time (the order of the module
         docstring: tasks, due timers, then messages in arrival order)."""
         count = 0
-        ok = self._context.ok
+        context = self._context
         tasks = self._tasks
         claim_timer = self._schedule.claim_due
         call = self._call
         inbox = self.inbox
-        while ok() and not self._is_shutdown:
+        # context._ok: Context.ok() without a call per callback (the stepped hot path).
+        while context._ok and not self._is_shutdown:
             if tasks:
                 tasks.popleft().step()
                 count += 1

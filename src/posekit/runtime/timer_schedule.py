@@ -92,13 +92,15 @@ class TimerSchedule:
         heapq.heapify(heap)
         self._heap, self._scanned = heap, zero + other
 
-    def _heap_top(self) -> Timer | None:
-        """The heap's timer due first, after re-keying or dropping entries that moved."""
+    def _heap_top(self) -> tuple[Timer, int] | None:
+        """The heap's timer due first and its clock's time, after re-keying or dropping
+        entries that moved."""
         heap = self._heap
         while heap:
             due, seq, timer = heap[0]
-            if timer.next_call_ns == due and timer.clock.now_ns() >= timer.last_call_ns:
-                return timer  # the common case: a valid entry, no backward jump
+            now = timer.clock.now_ns()
+            if timer.next_call_ns == due and now >= timer.last_call_ns:
+                return timer, now  # the common case: a valid entry, no backward jump
             if timer.is_canceled() or timer.destroyed:
                 heapq.heappop(heap)
             elif not self._driven(timer):  # e.g. use_sim_time switched off: reclassify
@@ -115,9 +117,19 @@ class TimerSchedule:
         stepping thread)."""
         if self._dirty:
             self._rebuild()
-        top = self._heap_top()
+        heap = self._heap
+        found: tuple[Timer, int] | None = None
+        if heap:  # _heap_top's common case inline (the stepped executor's hot path)
+            due, _, timer = heap[0]
+            now = timer.clock.now_ns()
+            if timer.next_call_ns == due and now >= timer.last_call_ns:
+                found = (timer, now)
+            else:
+                found = self._heap_top()
+        top: Timer | None = None
         best: Timer | None = None
-        if top is not None and top.next_call_ns <= top.clock.now_ns():
+        if found is not None and found[0].next_call_ns <= found[1]:
+            top = found[0]
             if top.callback_group.can_execute():
                 best = top
             else:  # its group is busy (a re-entrant spin): scan every timer instead
@@ -131,7 +143,7 @@ class TimerSchedule:
                 best = extra
         if best is None or not best.callback_group.beginning_execution():
             return None
-        best.mark_called()
+        best.mark_called(found[1] if best is top and found is not None else None)
         if best is top and not self._dirty:
             heapq.heapreplace(self._heap, (best.next_call_ns, best.seq, best))
         return best
@@ -142,8 +154,8 @@ class TimerSchedule:
         there is no such timer."""
         if self._dirty:
             self._rebuild()
-        top = self._heap_top()
-        best = None if top is None else max(top.next_call_ns, now_ns)
+        found = self._heap_top()
+        best = None if found is None else max(found[0].next_call_ns, now_ns)
         for timer in self._scanned:
             if timer.is_canceled() or timer.destroyed:
                 continue

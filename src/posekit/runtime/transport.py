@@ -24,11 +24,20 @@ Contract for implementations:
   and their ``subscription_count`` / ``publisher_count`` count remote matches only. The
   in-process bus ignores it (everything on it is local). This is what
   :class:`posekit.runtime.mirror.MirroredTransport` builds on.
-* ``publisher_qos_profiles(topic)`` (optional) lists the QoS each publisher on a topic
-  offers, None when the transport cannot tell.
 * ``crosses_processes`` says whether the endpoints are visible to other processes (a network
   transport). A :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` publishes
-  ``/clock`` exactly when one of its nodes sits on such a transport.
+  ``/clock`` exactly when one of its nodes sits on such a transport. Such a transport learns
+  the graph from the network, so its view completes over time: ``sync_graph(timeout)`` waits
+  for it (the base class returns at once: a process-local graph is always complete).
+* Optional graph capabilities are declared on the base class with defaults that say "this
+  transport cannot tell", so callers call them instead of probing for them:
+  ``publisher_qos_profiles(topic)`` (None), ``get_node_names()``,
+  ``get_publishers_info_by_topic(topic)`` / ``get_subscriptions_info_by_topic(topic)``
+  (endpoint records with ``node_fqn``, ``ros_type`` and ``qos``, as rclpy's node methods of
+  those names) and ``graph_entities()`` (every node and endpoint record, with ``kind``) all
+  return ``[]``; ``graph_description()`` names the graph for a user ("the zenoh graph");
+  ``own_topic(topic)`` does nothing (a mirrored transport keeps that topic from being taken
+  from other processes).
 * ``subscribe_with_source(info, sink)`` is ``subscribe`` whose sink also gets an opaque id of
   the sending publisher (bytes, e.g. rmw_zenoh's GID) or None when the transport cannot tell;
   nodes following ``/clock`` use it to ignore a second clock source. The default passes None.
@@ -60,6 +69,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from posekit.msgs.errors import UnknownMessageTypeError
+from posekit.msgs.registry import message_type_name
 from posekit.runtime.logging import RcutilsLogger
 from posekit.runtime.qos import QoSProfile
 
@@ -108,14 +119,6 @@ class UnknownTransportError(ValueError):
     """No transport is registered under the requested name."""
 
 
-def message_type_name(msg_type: type) -> str:
-    """``geometry_msgs/msg/Twist`` for posekit/rosbags classes, else the qualified class name."""
-    name = getattr(msg_type, "__msgtype__", None)
-    if isinstance(name, str):
-        return name
-    return f"{msg_type.__module__}.{msg_type.__qualname__}"
-
-
 @dataclass(frozen=True, slots=True)
 class EndpointInfo:
     """Who creates an endpoint, on which (fully qualified) topic, with what type and QoS."""
@@ -131,8 +134,13 @@ class EndpointInfo:
 
     @property
     def type_name(self) -> str:
-        """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``."""
-        return message_type_name(self.msg_type)
+        """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``
+        (:func:`posekit.msgs.message_type_name`); a class that is no ROS message (the
+        in-process bus carries any class) is named by its qualified Python name."""
+        try:
+            return message_type_name(self.msg_type)
+        except UnknownMessageTypeError:
+            return f"{self.msg_type.__module__}.{self.msg_type.__qualname__}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -297,6 +305,41 @@ class Transport(ABC):
     ) -> list[tuple[str, list[str]]]:
         """The services a node has clients for."""
         return []
+
+    # -- optional graph capabilities (defaults: the transport cannot tell) ----------------
+    def get_node_names(self) -> list[str]:
+        """Fully qualified names of the nodes on the graph (duplicates kept), sorted;
+        default: none known."""
+        return []
+
+    def get_publishers_info_by_topic(self, topic: str) -> list[Any]:
+        """Records of the publishers on ``topic`` (``node_fqn``, ``ros_type``, ``qos``...);
+        default: none known."""
+        return []
+
+    def get_subscriptions_info_by_topic(self, topic: str) -> list[Any]:
+        """Records of the subscriptions on ``topic``; default: none known."""
+        return []
+
+    def graph_entities(self) -> list[Any]:
+        """Every node and endpoint on the graph as records with ``kind``
+        (:class:`~posekit.transport.zenoh_wire.EntityKind`), ``node_fqn``, ``topic`` and
+        ``ros_type`` (duplicates kept); default: none known."""
+        return []
+
+    def sync_graph(self, timeout: float = 2.0) -> int:
+        """Complete this transport's view of the graph, waiting at most ``timeout`` s (a
+        network transport asks its peers); returns a graph generation. Default: returns 0
+        at once (a process-local graph is always complete)."""
+        return 0
+
+    def graph_description(self) -> str:
+        """Where this transport's graph is, for a user-facing line ("the zenoh graph")."""
+        return f"the {self.name} graph"
+
+    def own_topic(self, topic: str) -> None:  # noqa: B027 - optional
+        """Keep ``topic`` from being taken from other processes (a mirrored transport: see
+        :class:`~posekit.runtime.mirror.MirroredTransport`); default: nothing to keep."""
 
     def declare_node(self, name: str, namespace: str = "/") -> Any:  # noqa: B027 - optional
         """Announce a node on the graph (called by ``Node.__init__``); default: nothing."""

@@ -140,7 +140,14 @@ def slerp(q1: Quat, q2: Quat, t: float) -> Quat:
 
 
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
-    """tf2 ``Quaternion::setRPY`` (radians): R = Rz(yaw) Ry(pitch) Rx(roll), fixed axes."""
+    """tf2 ``Quaternion::setRPY`` (radians): R = Rz(yaw) Ry(pitch) Rx(roll), fixed axes.
+
+    A yaw of pi/2 is the half-angle quaternion (0, 0, sin(pi/4), cos(pi/4)):
+
+        >>> import math
+        >>> [round(c, 6) for c in quat_from_rpy(0.0, 0.0, math.pi / 2)]
+        [0.0, 0.0, 0.707107, 0.707107]
+    """
     hr, hp, hy = roll * 0.5, pitch * 0.5, yaw * 0.5
     cr, sr = math.cos(hr), math.sin(hr)
     cp, sp = math.cos(hp), math.sin(hp)
@@ -168,5 +175,12 @@ def matrix_get_rpy(m: Mat3) -> tuple[float, float, float]:
 
 def rpy_from_quat(q: Quat) -> tuple[float, float, float]:
     """tf2 ``Matrix3x3(q).getRPY()``: (roll, pitch, yaw) in radians of a quaternion (x, y, z, w),
-    through tf2's matrix (any norm is normalised by ``setRotation``)."""
+    through tf2's matrix (any norm is normalised by ``setRotation``).
+
+    (0, 0, 1, 1) has norm sqrt(2); setRotation normalises it to (0, 0, sin(pi/4), cos(pi/4)),
+    a yaw of pi/2 (the pitch prints as -0.0 because tf2 computes it as -asin(0)):
+
+        >>> [round(a, 6) for a in rpy_from_quat((0.0, 0.0, 1.0, 1.0))]
+        [0.0, -0.0, 1.570796]
+    """
     return matrix_get_rpy(matrix_from_quat(q))

@@ -10,6 +10,11 @@ coordinates expressed in ``source`` into ``target``, and its translation is the 
 
 The method names follow tf2_py's ``BufferCore`` so code written for ROS 2 runs unchanged;
 :class:`posekit.tf2.Buffer` adds tf2_ros's waiting API on top.
+
+:meth:`BufferCore._walk` is tf2's walk written to be read, and the reference for every
+result and error. Lookups between two known frames go through a cached path
+(:mod:`posekit.tf2.path`): its evaluation policies answer the common case and hand
+everything else back to the reference walk.
 """
 
 from __future__ import annotations
@@ -55,8 +60,6 @@ __all__ = ["MAX_GRAPH_DEPTH", "BufferCore", "time_to_ns"]
 MAX_GRAPH_DEPTH = 1000
 
 _logger = logging.getLogger("posekit.tf2")
-_sqrt = math.sqrt
-_sin = math.sin
 _NS = 1_000_000_000
 _INF = math.inf
 

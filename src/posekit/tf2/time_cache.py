@@ -228,7 +228,8 @@ class TimeCache:
         # below 2**53 ns (104 days), which is what tf2 computes
         r = (t - s0) / (stamps[i + 1] - s0)
         u = 1.0 - r
-        # tf2 slerp (see _linear_math.slerp), inlined: this is the hot path of every lookup
+        # posekit.tf2.path.interpolate (tf2 slerp + lerp) inlined, with the per-interval slerp
+        # terms memoised; tests/tf2/test_kernels.py checks it bit for bit against the reference
         x1, y1, z1, w1, ax, ay, az = a
         x2, y2, z2, w2, bx, by, bz = b
         iv = self._iv[i]

@@ -453,8 +453,19 @@ class ZenohTransport(Transport):
         return len(self._graph.subscriptions(topic))
 
     def get_node_names(self) -> list[str]:
-        """Fully qualified names of every node on the graph (this and other processes)."""
-        return self._graph.node_names()
+        """Fully qualified names of every node on the graph (this and other processes),
+        duplicates kept (``ros2 node list`` warns about them), sorted."""
+        return sorted(t.node_fqn for t in self._graph.entities() if t.kind is EntityKind.NODE)
+
+    def graph_entities(self) -> list[TokenInfo]:
+        """Every entity announced on the graph (nodes and endpoints, duplicates kept)."""
+        return self._graph.entities()
+
+    def graph_description(self) -> str:
+        """The Zenoh domain and router this transport's graph lives on."""
+        s = self.session
+        hosted = " (hosted by this tool: no router was running)" if s.hosts_router else ""
+        return f"zenoh domain {s.domain_id} via router {s.options.router_endpoint}{hosted}"
 
     @property
     def graph(self) -> ZenohGraph:

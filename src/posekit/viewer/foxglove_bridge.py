@@ -41,8 +41,11 @@ messages as objects, ``header.stamp`` as ``{sec, nanosec}``); fields it leaves o
 their defaults, and a field the type does not have or a value that does not fit is refused
 with one logged line (:func:`message_from_json`).
 
-``/tf_static`` is latched: the bridge keeps the newest transform per child frame and
-re-sends them as one TFMessage whenever a client subscribes to ``/tf_static`` (the SDK logs
+Latched topics are re-sent to late subscribers: ``/tf_static`` keeps the newest transform per
+child frame and re-sends them as one TFMessage whenever a client subscribes to it; any other
+topic observed transient local (every publisher latches: ``/robot_description``) keeps its
+last messages (as many as its publishers keep, at most :data:`MAX_LATCHED`) and re-sends them
+to a client that subscribes (the SDK logs
 to every subscriber of a channel, so earlier subscribers get the same static transforms
 again, which is harmless).
 """
@@ -54,6 +57,7 @@ import contextlib
 import json
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any
 
@@ -61,7 +65,7 @@ from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.logging import RcutilsLogger, get_logger
 from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped
-from posekit.runtime.qos import QoSProfile
+from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
     EndpointInfo,
@@ -93,6 +97,8 @@ _MAX_CLIENT_CHANNELS = 32
 _CLIENT_ENCODINGS = ("cdr", "json")
 _PUBLISH_QOS = QoSProfile(depth=10)
 _STATIC_TOPIC = "/tf_static"
+#: Messages kept per latched (transient-local) topic for clients that subscribe later.
+MAX_LATCHED = 100
 _NODE_NAME = "posekit_foxglove_bridge"
 
 
@@ -167,6 +173,7 @@ class FoxgloveBridge:
             resolve=_channel_class, logger=self.logger,
         )
         self._static: dict[str, Any] = {}  # child frame -> newest static TransformStamped
+        self._latched: dict[str, deque[bytes]] = {}  # transient-local topic -> last payloads
         self._fox: Any = None
         self._context: Any = None
         self._server: Any = None
@@ -197,6 +204,8 @@ class FoxgloveBridge:
             def on_subscribe(self, client: Any, channel: Any) -> None:
                 if channel.topic == _STATIC_TOPIC:
                     bridge._resend_static()
+                else:
+                    bridge._resend_latched(str(channel.topic))
 
             def on_client_advertise(self, client: Any, channel: Any) -> None:
                 bridge._client_advertise(int(client.id), channel)
@@ -419,9 +428,17 @@ class FoxgloveBridge:
         channel = fox.Channel(
             observed.name, schema=schema, message_encoding="cdr", context=self._context
         )
+        latched: deque[bytes] | None = None
+        if (observed.qos.durability == DurabilityPolicy.TRANSIENT_LOCAL
+                and observed.name != _STATIC_TOPIC):
+            keep = sum(p.depth if p.history == HistoryPolicy.KEEP_LAST else MAX_LATCHED
+                       for p in observed.offered)
+            latched = deque(maxlen=max(1, min(keep, MAX_LATCHED)))
         with self._lock:
             self._channels[observed.name] = channel
-        return self._make_sink(observed.name, type_name, channel)
+            if latched is not None:
+                self._latched[observed.name] = latched
+        return self._make_sink(observed.name, type_name, channel, latched)
 
     def _remove_channel(self, topic: str) -> None:
         """Unadvertise the channel of a topic no longer observed."""
@@ -429,10 +446,12 @@ class FoxgloveBridge:
             channel = self._channels.pop(topic, None)
             if topic == _STATIC_TOPIC:
                 self._static.clear()
+            self._latched.pop(topic, None)
         if channel is not None:
             channel.close()
 
-    def _make_sink(self, topic: str, type_name: str, channel: Any) -> Callable[[Any], None]:
+    def _make_sink(self, topic: str, type_name: str, channel: Any,
+                   latched: deque[bytes] | None = None) -> Callable[[Any], None]:
         from posekit.msgs.cdr import to_cdr
 
         is_static = topic == _STATIC_TOPIC and type_name == TFMessage.__msgtype__
@@ -448,7 +467,11 @@ class FoxgloveBridge:
                     with self._lock:
                         for t in msg.transforms:
                             self._static[t.child_frame_id] = t
-                channel.log(to_cdr(msg, type_name), log_time=self.now_ns())
+                data = to_cdr(msg, type_name)
+                if latched is not None:
+                    with self._lock:
+                        latched.append(data)
+                channel.log(data, log_time=self.now_ns())
             except Exception as exc:  # malformed message: log, keep running
                 self.logger.warning(
                     f"foxglove bridge: bad message on {topic}: {type(exc).__name__}: {exc}",
@@ -467,6 +490,16 @@ class FoxgloveBridge:
         if channel is None or not transforms or self._closed:
             return
         channel.log(to_cdr(TFMessage(transforms=transforms)), log_time=self.now_ns())
+
+    def _resend_latched(self, topic: str) -> None:
+        """Log a latched topic's kept messages again (a client just subscribed to it)."""
+        with self._lock:
+            channel = self._channels.get(topic)
+            payloads = list(self._latched.get(topic, ()))
+        if channel is None or self._closed:
+            return
+        for data in payloads:
+            channel.log(data, log_time=self.now_ns())
 
 
 def message_from_json(data: bytes, msg_class: type) -> Any:

@@ -289,7 +289,7 @@ class ViewerServer:
         self.config = (load_view_config(config) if isinstance(config, (str, Path))
                        else None if config is None else dict(config))
         if discover_world is None:
-            discover_world = bool(getattr(tap.transport, "crosses_processes", False))
+            discover_world = tap.transport.crosses_processes
         self.discover_world = world is None and discover_world
         self._clients: set[_Client] = set()
         self._runner_thread: LoopThread | None = None
@@ -719,9 +719,11 @@ class ViewerServer:
             raise ValueError(f"position beyond {_MAX_GOAL_M:g} m")
         return frame.lstrip("/"), px, py, pyaw
 
-    def _publish_tool(self, topic: str, msg: Any) -> None:
-        """Publish ``msg`` on ``topic``; the publisher is created on first use (the viewer
-        adds no topic until a tool is used) and kept until :meth:`stop`."""
+    def _publish_tool(self, topic: str, msg: Any, what: str,
+                      pose: tuple[str, float, float, float]) -> dict[str, Any]:
+        """Publish ``msg`` (the tool's ``pose``: frame, x, y, yaw) on ``topic``, count and log
+        it; returns the pose as the page is answered. The publisher is created on first use
+        (the viewer adds no topic until a tool is used) and kept until :meth:`stop`."""
         with self._tool_lock:
             publisher = self._tool_pubs.get(topic)
             created = publisher is None
@@ -732,6 +734,11 @@ class ViewerServer:
         if created:
             self.tap.refresh()  # the displays subscribe now that the topic has a publisher
         publisher.publish(msg)
+        self._counters["goals" if topic == GOAL_TOPIC else "initial_poses"] += 1
+        frame_id, x, y, yaw = pose
+        self.tap.logger.info(f"viewer: {what} sent on {topic}: x={x:.2f}, y={y:.2f}, "
+                             f"yaw={yaw:.2f} in {frame_id}")
+        return {"frame": frame_id, "x": x, "y": y, "yaw": yaw}
 
     def _stamp(self, header: Any, frame: str) -> None:
         header.frame_id = frame
@@ -752,12 +759,7 @@ class ViewerServer:
         self._stamp(msg.header, frame_id)
         msg.pose.position.x, msg.pose.position.y = gx, gy
         msg.pose.orientation.z, msg.pose.orientation.w = math.sin(gyaw / 2), math.cos(gyaw / 2)
-        self._publish_tool(GOAL_TOPIC, msg)
-        self._counters["goals"] += 1
-        self.tap.logger.info(
-            f"viewer: goal sent on {GOAL_TOPIC}: x={gx:.2f}, y={gy:.2f}, yaw={gyaw:.2f} "
-            f"in {frame_id}")
-        return {"frame": frame_id, "x": gx, "y": gy, "yaw": gyaw}
+        return self._publish_tool(GOAL_TOPIC, msg, "goal", (frame_id, gx, gy, gyaw))
 
     def publish_initial_pose(self, frame: Any, x: Any, y: Any, yaw: Any) -> dict[str, Any]:
         """Publish a ``geometry_msgs/PoseWithCovarianceStamped`` on ``/initialpose`` (RViz2's
@@ -778,12 +780,8 @@ class ViewerServer:
         msg.pose.pose.orientation.w = math.cos(pyaw / 2)
         vx, vy, vyaw = INITIAL_POSE_VARIANCES
         msg.pose.covariance[0], msg.pose.covariance[7], msg.pose.covariance[35] = vx, vy, vyaw
-        self._publish_tool(INITIAL_POSE_TOPIC, msg)
-        self._counters["initial_poses"] += 1
-        self.tap.logger.info(
-            f"viewer: pose estimate sent on {INITIAL_POSE_TOPIC}: x={px:.2f}, y={py:.2f}, "
-            f"yaw={pyaw:.2f} in {frame_id}")
-        return {"frame": frame_id, "x": px, "y": py, "yaw": pyaw}
+        return self._publish_tool(INITIAL_POSE_TOPIC, msg, "pose estimate",
+                                  (frame_id, px, py, pyaw))
 
     # -- producers ---------------------------------------------------------------------------
     def _tf_message(self, fixed: str) -> str:

@@ -37,7 +37,6 @@ from posekit.worlds.world import (
     box_half_extents,
     load_world,
     marker_poses,
-    pose_matrix,
     world_names,
 )
 
@@ -64,6 +63,5 @@ __all__ = [
     "load_world",
     "marker_corners_local",
     "marker_poses",
-    "pose_matrix",
     "world_names",
 ]

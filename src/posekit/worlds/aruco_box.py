@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Transform
 from posekit.worlds.errors import WorldError
 
 __all__ = [
@@ -83,8 +83,9 @@ ARUCO_BOX_FACES: tuple[BoxFace, ...] = tuple(
 
 def box_pose_matrix(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0.0,
                     yaw: float = 0.0) -> F64Array:
-    """``T_world_box`` from an SDF ``<pose>`` (metres; rpy radians, fixed-axis x-y-z)."""
-    return Transform(Rotation.from_rpy(roll, pitch, yaw), (x, y, z)).as_matrix()
+    """``T_world_box`` (4x4) from an SDF ``<pose>`` (metres; rpy radians, fixed-axis x-y-z):
+    :meth:`posekit.geometry.Transform.from_xyz_rpy` as a matrix, by keyword."""
+    return Transform.from_xyz_rpy((x, y, z), (roll, pitch, yaw)).as_matrix()
 
 
 @dataclass(frozen=True)

@@ -52,7 +52,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Transform
 from posekit.geometry.scalar import quat_from_rpy
 from posekit.worlds.aruco_box import ARUCO_BOX, ArucoBoxModel
 from posekit.worlds.errors import WorldError
@@ -73,7 +73,6 @@ __all__ = [
     "box_half_extents",
     "load_world",
     "marker_poses",
-    "pose_matrix",
     "world_names",
 ]
 
@@ -92,10 +91,8 @@ _FloatArray = npt.NDArray[np.float64]
 _POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
-def pose_matrix(pose: Sequence[float]) -> _FloatArray:
-    """4x4 homogeneous matrix of ``(x, y, z, roll, pitch, yaw)`` (SDF fixed-axis rpy)."""
-    x, y, z, roll, pitch, yaw = (float(v) for v in pose)
-    return Transform(Rotation.from_rpy(roll, pitch, yaw), (x, y, z)).as_matrix()
+def _pose_matrix(pose: Sequence[float]) -> _FloatArray:
+    return Transform.from_xyz_rpy(pose[:3], pose[3:]).as_matrix()
 
 
 _MODELS: dict[str, ArucoBoxModel] = {ARUCO_BOX.name: ARUCO_BOX}
@@ -114,7 +111,7 @@ class BoxSpec:
     @property
     def T_world_box(self) -> _FloatArray:
         """4x4 pose of the box (centre) in the world frame."""
-        return pose_matrix(self.pose)
+        return _pose_matrix(self.pose)
 
     def to_dict(self) -> dict[str, Any]:
         """As the plain mapping the loader accepts."""
@@ -181,7 +178,7 @@ class CameraSpec:
     @property
     def T_world_camera(self) -> _FloatArray:
         """4x4 pose of the camera model frame in the world."""
-        return pose_matrix(self.pose)
+        return _pose_matrix(self.pose)
 
     @property
     def K(self) -> _FloatArray:

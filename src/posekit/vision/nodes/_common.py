@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Rotation, Transform
+from posekit.geometry import Transform
 from posekit.msgs.builtin_interfaces import Time as TimeMsg
 from posekit.msgs.errors import ImageConversionError
 from posekit.msgs.geometry_msgs import TransformStamped
@@ -27,7 +27,6 @@ __all__ = [
     "decode_for_detection",
     "parse_marker_sizes",
     "pose_from_chain",
-    "rpy_pose_matrix",
     "transform_msg",
 ]
 
@@ -132,16 +131,6 @@ def transform_msg(parent: str, child: str, stamp: Any, translation: Iterable[flo
     return t
 
 
-def rpy_pose_matrix(xyz: Sequence[float], rpy: Sequence[float]) -> F64Array:
-    """4x4 ``T_parent_child`` of a URDF/SDF joint: ``xyz`` m, fixed-axis ``rpy`` rad."""
-    return _rpy_transform(xyz, rpy).as_matrix()
-
-
-def _rpy_transform(xyz: Sequence[float], rpy: Sequence[float]) -> Transform:
-    roll, pitch, yaw = (float(v) for v in rpy)
-    return Transform(Rotation.from_rpy(roll, pitch, yaw), [float(v) for v in xyz])
-
-
 def pose_from_chain(
     joints: Iterable[tuple[str, str, Sequence[float], Sequence[float]]], root: str, frame: str
 ) -> F64Array:
@@ -159,6 +148,6 @@ def pose_from_chain(
             raise KeyError(f"frame {frame!r} is not below {root!r} in the robot description")
         seen.add(current)
         parent, xyz, rpy = parent_of[current]
-        T = _rpy_transform(xyz, rpy) * T
+        T = Transform.from_xyz_rpy(xyz, rpy) * T
         current = parent
     return T.as_matrix()

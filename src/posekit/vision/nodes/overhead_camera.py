@@ -25,12 +25,13 @@ from typing import Any
 
 import numpy as np
 
+from posekit.geometry import Transform
 from posekit.runtime.parameters import declare_value
 from posekit.tf2_ros import StaticTransformBroadcaster
 from posekit.time import stamp_from_ns
 from posekit.vision.camera import T_CAMERA_FRAME_OPTICAL, PinholeCamera
 from posekit.vision.nodes._camera import F64Array, SimulatedCamera
-from posekit.vision.nodes._common import rpy_pose_matrix, transform_msg
+from posekit.vision.nodes._common import transform_msg
 
 __all__ = ["OverheadCameraNode"]
 
@@ -54,7 +55,7 @@ class OverheadCameraNode(SimulatedCamera):
         header_frame = frame  # a world without an optical frame: the body frame
         for s in self._statics:
             if s.parent == frame and s.child.endswith("optical_frame"):
-                T_camera_optical = rpy_pose_matrix(s.xyz, s.rpy)
+                T_camera_optical = Transform.from_xyz_rpy(s.xyz, s.rpy).as_matrix()
                 header_frame = s.child
         #: Pose of the optical frame in the world (odom), metres.
         self.T_world_optical: F64Array = spec.T_world_camera @ T_camera_optical

@@ -166,7 +166,8 @@ export async function createScene3D(container) {
 
   // Detected ArUco markers: the detector's aruco_marker_<id> frames (fresh, not stale) get a
   // bright square of the marker's size (from the world, else 0.2 m) on the marker's face
-  // (the frame's x-y plane) and a halo, drawn apart from the TF axes.
+  // (the frame's x-y plane) and a halo, drawn apart from the TF axes and over everything
+  // (no depth test): an estimate a few millimetres behind the box face stays visible.
   const DETECTION_COLOR = 0x00ff66;
   const detectionRoot = new THREE.Group();
   scene.add(detectionRoot);
@@ -176,14 +177,16 @@ export async function createScene3D(container) {
     const g = new THREE.Group();
     g.matrixAutoUpdate = false;
     const fill = new THREE.Mesh(new THREE.PlaneGeometry(size * 1.25, size * 1.25),
-      new THREE.MeshBasicMaterial({ color: DETECTION_COLOR, transparent: true, opacity: 0.3, side: THREE.DoubleSide, depthWrite: false }));
+      new THREE.MeshBasicMaterial({ color: DETECTION_COLOR, transparent: true, opacity: 0.3, side: THREE.DoubleSide, depthWrite: false, depthTest: false }));
+    fill.renderOrder = 10;
     fill.position.z = 0.004;
     g.add(fill);
     const bar = Math.max(0.01, size * 0.08), half = size * 0.625;
-    const mat = new THREE.MeshBasicMaterial({ color: DETECTION_COLOR });
+    const mat = new THREE.MeshBasicMaterial({ color: DETECTION_COLOR, depthTest: false });
     for (const [x, y, w, h] of [[0, half, 2 * half + bar, bar], [0, -half, 2 * half + bar, bar], [half, 0, bar, 2 * half], [-half, 0, bar, 2 * half]]) {
       const edge = new THREE.Mesh(new THREE.BoxGeometry(w, h, bar / 2), mat);
       edge.position.set(x, y, 0.004);
+      edge.renderOrder = 11;
       g.add(edge);
     }
     g.userData.size = size;
