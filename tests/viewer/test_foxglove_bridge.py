@@ -13,7 +13,7 @@ import json
 import socket
 import struct
 import sys
-from collections.abc import Iterator
+from collections.abc import AsyncIterator, Iterator
 from typing import Any
 
 import pytest
@@ -147,7 +147,7 @@ async def _subscribe(ws: Any, channel_id: int, sub_id: int) -> None:
 @pytest.mark.parametrize("subprotocol", ["foxglove.sdk.v1", "foxglove.websocket.v1"])
 def test_plain_client_gets_channels_and_cdr_messages(system: System, subprotocol: str) -> None:
     async def go() -> None:
-        async with aiohttp.ClientSession() as session, session.ws_connect(
+        async with aiohttp.ClientSession() as session, _connect(session,
             system.url, protocols=(subprotocol,)
         ) as ws:
             assert ws.protocol == subprotocol
@@ -179,7 +179,7 @@ def test_plain_client_gets_channels_and_cdr_messages(system: System, subprotocol
             assert odom.twist.twist.linear.x == pytest.approx(0.25)
 
             # A second, later client also gets the latched static transform.
-            async with session.ws_connect(system.url, protocols=(subprotocol,)) as ws2:
+            async with _connect(session, system.url, protocols=(subprotocol,)) as ws2:
                 channels2 = await _advertised(ws2, WANTED)
                 await _subscribe(ws2, channels2["/tf_static"]["id"], 7)
                 _, payload = await _message(ws2, 7)
@@ -192,7 +192,7 @@ def test_plain_client_gets_channels_and_cdr_messages(system: System, subprotocol
 
 def test_new_topics_are_advertised_after_start(system: System) -> None:
     async def go() -> None:
-        async with aiohttp.ClientSession() as session, session.ws_connect(
+        async with aiohttp.ClientSession() as session, _connect(session,
             system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
         ) as ws:
             await _advertised(ws, WANTED)
@@ -273,7 +273,7 @@ def test_cli_bridge_serves_the_p_controller_scenario_on_sim_time() -> None:
         url = f"ws://127.0.0.1:{bridge.port}"
 
         async def go() -> None:
-            async with aiohttp.ClientSession() as session, session.ws_connect(
+            async with aiohttp.ClientSession() as session, _connect(session,
                 url, protocols=(FOXGLOVE_SUBPROTOCOL,)
             ) as ws:
                 channels = await _advertised(ws, graph)
@@ -291,6 +291,20 @@ def test_cli_bridge_serves_the_p_controller_scenario_on_sim_time() -> None:
         if bridge is not None:
             bridge.stop()
         run.shutdown()
+
+
+@contextlib.asynccontextmanager
+async def _connect(session: aiohttp.ClientSession, url: str,
+                   **kwargs: Any) -> AsyncIterator[aiohttp.ClientWebSocketResponse]:
+    """``session.ws_connect(url, **kwargs)``, closed within 2 s at the end: aiohttp's close
+    reads frames until the server's close frame, and the bridge keeps sending ``time``
+    frames, so an unanswered close would otherwise never end."""
+    ws = await session.ws_connect(url, **kwargs)
+    try:
+        yield ws
+    finally:
+        with contextlib.suppress(TimeoutError):
+            await asyncio.wait_for(ws.close(), 2.0)
 
 
 async def _server_info(ws: Any) -> dict[str, Any]:
@@ -324,7 +338,7 @@ def test_time_follows_clock_and_a_client_publishes_a_goal(system: System,
     sim_ns = 42 * 1_000_000_000 + 5  # far from the wall clock: only /clock can say it
 
     async def go() -> None:
-        async with aiohttp.ClientSession() as session, session.ws_connect(
+        async with aiohttp.ClientSession() as session, _connect(session,
             system.url, protocols=(subprotocol,)
         ) as ws:
             info = await _server_info(ws)
@@ -391,7 +405,7 @@ def test_a_client_publishes_in_json(system: System, subprotocol: str) -> None:
     bad = {"pose": {"pose": {"position": {"x": 1.0, "q": 3}}}}
 
     async def go() -> None:
-        async with aiohttp.ClientSession() as session, session.ws_connect(
+        async with aiohttp.ClientSession() as session, _connect(session,
             system.url, protocols=(subprotocol,)
         ) as ws:
             info = await _server_info(ws)
@@ -445,7 +459,7 @@ def test_other_subprotocols_and_foreign_hosts_are_refused(system: System) -> Non
                                          headers={"Origin": "https://evil.example"})
             assert foreign.value.status == 403
             own = f"http://127.0.0.1:{system.bridge.port}"  # a page of this server: accepted
-            async with session.ws_connect(system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
+            async with _connect(session, system.url, protocols=(FOXGLOVE_SUBPROTOCOL,),
                                           headers={"Origin": own}) as ws:
                 assert ws.protocol == FOXGLOVE_SUBPROTOCOL
 
@@ -476,7 +490,7 @@ def test_laser_scan_and_point_cloud_decode_from_the_advertised_schema(system: Sy
     cloud = create_cloud(Header(frame_id="oak_rgb_camera_optical_frame"), xyz)
 
     async def go() -> None:
-        async with aiohttp.ClientSession() as session, session.ws_connect(
+        async with aiohttp.ClientSession() as session, _connect(session,
             system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
         ) as ws:
             channels = await _advertised(ws, {"/scan", "/points"})
@@ -509,7 +523,7 @@ def test_laser_scan_and_point_cloud_decode_from_the_advertised_schema(system: Sy
 
 def test_a_topic_whose_publishers_leave_is_unadvertised(system: System) -> None:
     async def go() -> None:
-        async with aiohttp.ClientSession() as session, session.ws_connect(
+        async with aiohttp.ClientSession() as session, _connect(session,
             system.url, protocols=(FOXGLOVE_SUBPROTOCOL,)
         ) as ws:
             pub = system.node.create_publisher(Odometry, "/odometry/wheels", 10)
@@ -542,7 +556,7 @@ def test_a_latched_topic_reaches_clients_that_subscribe_later(system: System) ->
     async def go() -> None:
         async with aiohttp.ClientSession() as session:
             for sub_id in (21, 22):  # two clients, one after the other
-                async with session.ws_connect(system.url,
+                async with _connect(session, system.url,
                                               protocols=(FOXGLOVE_SUBPROTOCOL,)) as ws:
                     channels = await _advertised(ws, {"/robot_description"})
                     await _subscribe(ws, channels["/robot_description"]["id"], sub_id)
