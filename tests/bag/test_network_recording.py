@@ -17,9 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from _support.dds import dds_domain
-from _support.ports import free_port
-from _support.world import use_zenoh_endpoint
+from _support.network import network_contexts
 from posekit.bag import Recorder, bag_info, read_messages
 from posekit.msgs.std_msgs import Float64, String
 from posekit.runtime.context import Context
@@ -38,20 +36,8 @@ pytestmark = pytest.mark.slow  # real Zenoh sessions and DDS participants
 @pytest.fixture(params=["zenoh", "dds"])
 def network(request: pytest.FixtureRequest,
             monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
-    if request.param == "zenoh":
-        pytest.importorskip("zenoh")
-        use_zenoh_endpoint(monkeypatch, f"tcp/127.0.0.1:{free_port()}")
-    else:
-        pytest.importorskip("cyclonedds")
-        dds_domain(monkeypatch)
-    talker, recorder = Context(), Context()
-    talker.init(transport=request.param)
-    recorder.init(transport=request.param)
-    try:
-        yield talker, recorder
-    finally:
-        recorder.shutdown()
-        talker.shutdown()
+    with network_contexts(request.param, monkeypatch) as contexts:
+        yield contexts
 
 
 def test_best_effort_and_latched_topics_of_another_context(

@@ -17,10 +17,8 @@ from typing import Any
 
 import pytest
 
-from _support.dds import dds_domain
-from _support.ports import free_port
+from _support.network import network_contexts
 from _support.waiting import wait_for
-from _support.world import use_zenoh_endpoint
 from posekit.msgs.std_msgs import Float64, String
 from posekit.runtime.context import Context
 from posekit.runtime.node import Node
@@ -212,20 +210,8 @@ def network(request: pytest.FixtureRequest,
             monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
     """Two contexts on the network transport ``request.param``: a publisher and an observer
     (as two processes would be)."""
-    if request.param == "zenoh":
-        pytest.importorskip("zenoh")
-        use_zenoh_endpoint(monkeypatch, f"tcp/127.0.0.1:{free_port()}")
-    else:
-        pytest.importorskip("cyclonedds")
-        dds_domain(monkeypatch)
-    talker, watcher = Context(), Context()
-    talker.init(transport=request.param)
-    watcher.init(transport=request.param)
-    try:
-        yield talker, watcher
-    finally:
-        watcher.shutdown()
-        talker.shutdown()
+    with network_contexts(request.param, monkeypatch) as contexts:
+        yield contexts
 
 
 @pytest.mark.slow
