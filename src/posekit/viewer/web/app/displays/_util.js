@@ -84,3 +84,37 @@ export function makePoseShape(THREE, o) {
     headLength: o.head_length, headRadius: o.head_radius,
   }, material(THREE, o.color, o.alpha));
 }
+
+// An arrow of total length L in RViz2's proportions (shaft 77 %, radii L/20 and L/10).
+export function makeArrowOfLength(THREE, L, mat) {
+  return makeArrow(THREE, { shaftLength: 0.77 * L, shaftRadius: L / 20, headLength: 0.23 * L, headRadius: L / 10 }, mat);
+}
+
+// A copy of `shape` at every pose (in the group's frame), added to `group`.
+export function addAtPoses(THREE, group, shape, poses) {
+  for (const p of poses) {
+    const s = shape.clone();
+    s.matrixAutoUpdate = false;
+    poseMatrix(THREE, p, s.matrix);
+    group.add(s);
+  }
+}
+
+// The display object of a display drawing the newest message of poses (PoseArray, Path):
+// `draw(msg, options)` redraws `group` (placed in the message's header frame); the status
+// and `info` count `msg.poses`.
+export function newestPosesDisplay(ctx, group, options, draw) {
+  let o = options, last = null;
+  const redraw = () => { disposeTree(group); if (last) draw(last, o); };
+  return {
+    update(msg) {
+      last = msg;
+      const placed = ctx.attach(group, msg.header.frame_id);
+      ctx.setStatus(placed ? "ok" : "warn", placed ? `${msg.poses.length} poses` : `no transform from [${msg.header.frame_id}]`);
+      redraw();
+    },
+    setOptions(next) { o = next; redraw(); },
+    dispose() { disposeTree(group); },
+    info: () => (last ? { frame: last.header.frame_id, poses: last.poses.length } : null),
+  };
+}

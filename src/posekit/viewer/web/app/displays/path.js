@@ -1,6 +1,6 @@
 // Path (RViz2's Path display): the poses of a nav_msgs/Path joined by a line in the path's
 // header frame, optionally an arrow or axes at every pose.
-import { disposeTree, makeArrow, makeAxes, material, poseFinite, poseMatrix } from "./_util.js";
+import { addAtPoses, makeArrowOfLength, makeAxes, material, newestPosesDisplay, poseFinite } from "./_util.js";
 
 export default {
   name: "Path",
@@ -16,11 +16,8 @@ export default {
     const { THREE } = ctx;
     const frameGroup = new THREE.Group();
     ctx.root.add(frameGroup);
-    let o = options, last = null;
-    const draw = () => {
-      disposeTree(frameGroup);
-      if (!last) return;
-      const poses = last.poses.map((p) => p.pose).filter(poseFinite);
+    return newestPosesDisplay(ctx, frameGroup, options, (msg, o) => {
+      const poses = msg.poses.map((p) => p.pose).filter(poseFinite);
       const pts = poses.map((p) => new THREE.Vector3(p.position.x, p.position.y, p.position.z));
       if (pts.length >= 2) {
         if (o.line_width > 0) {
@@ -36,25 +33,9 @@ export default {
       if (o.pose_style !== "None") {
         const shape = o.pose_style === "Axes"
           ? makeAxes(THREE, o.pose_size, o.pose_size / 20)
-          : makeArrow(THREE, { shaftLength: 0.77 * o.pose_size, shaftRadius: o.pose_size / 20, headLength: 0.23 * o.pose_size, headRadius: o.pose_size / 10 }, material(THREE, o.color, o.alpha));
-        for (const p of poses) {
-          const s = shape.clone();
-          s.matrixAutoUpdate = false;
-          poseMatrix(THREE, p, s.matrix);
-          frameGroup.add(s);
-        }
+          : makeArrowOfLength(THREE, o.pose_size, material(THREE, o.color, o.alpha));
+        addAtPoses(THREE, frameGroup, shape, poses);
       }
-    };
-    return {
-      update(msg) {
-        last = msg;
-        const placed = ctx.attach(frameGroup, msg.header.frame_id);
-        ctx.setStatus(placed ? "ok" : "warn", placed ? `${msg.poses.length} poses` : `no transform from [${msg.header.frame_id}]`);
-        draw();
-      },
-      setOptions(next) { o = next; draw(); },
-      dispose() { disposeTree(frameGroup); },
-      info: () => (last ? { frame: last.header.frame_id, poses: last.poses.length } : null),
-    };
+    });
   },
 };

@@ -1,6 +1,6 @@
 // PoseArray (RViz2's PoseArray display): every pose as a flat arrow (lines), a 3D arrow or
 // axes, in the array's header frame.
-import { disposeTree, makeArrow, makeAxes, material, poseFinite, poseMatrix } from "./_util.js";
+import { addAtPoses, makeArrowOfLength, makeAxes, material, newestPosesDisplay, poseFinite, poseMatrix } from "./_util.js";
 
 export default {
   name: "PoseArray",
@@ -17,11 +17,8 @@ export default {
     const { THREE } = ctx;
     const frameGroup = new THREE.Group();
     ctx.root.add(frameGroup);
-    let o = options, last = null;
-    const draw = () => {
-      disposeTree(frameGroup);
-      if (!last) return;
-      const poses = last.poses.filter(poseFinite);
+    return newestPosesDisplay(ctx, frameGroup, options, (msg, o) => {
+      const poses = msg.poses.filter(poseFinite);
       const m = new THREE.Matrix4();
       if (o.shape === "Arrow (Flat)") {
         // Shaft along x and a head of two strokes, as RViz2 draws it, all in one geometry.
@@ -37,28 +34,11 @@ export default {
         const geom = new THREE.BufferGeometry().setFromPoints(pts);
         frameGroup.add(new THREE.LineSegments(geom, new THREE.LineBasicMaterial({ color: o.color, transparent: o.alpha < 1, opacity: o.alpha })));
       } else {
-        const L = o.arrow_length;
         const shape = o.shape === "Axes"
           ? makeAxes(THREE, o.axes_length, o.axes_radius, o.alpha)
-          : makeArrow(THREE, { shaftLength: 0.77 * L, shaftRadius: L / 20, headLength: 0.23 * L, headRadius: L / 10 }, material(THREE, o.color, o.alpha));
-        for (const p of poses) {
-          const s = shape.clone();
-          s.matrixAutoUpdate = false;
-          poseMatrix(THREE, p, s.matrix);
-          frameGroup.add(s);
-        }
+          : makeArrowOfLength(THREE, o.arrow_length, material(THREE, o.color, o.alpha));
+        addAtPoses(THREE, frameGroup, shape, poses);
       }
-    };
-    return {
-      update(msg) {
-        last = msg;
-        const placed = ctx.attach(frameGroup, msg.header.frame_id);
-        ctx.setStatus(placed ? "ok" : "warn", placed ? `${msg.poses.length} poses` : `no transform from [${msg.header.frame_id}]`);
-        draw();
-      },
-      setOptions(next) { o = next; draw(); },
-      dispose() { disposeTree(frameGroup); },
-      info: () => (last ? { frame: last.header.frame_id, poses: last.poses.length } : null),
-    };
+    });
   },
 };
