@@ -64,6 +64,7 @@ __all__ = [
     "DepthCamera",
     "DepthParams",
     "SceneQuads",
+    "clip_near",
     "depth_cloud",
     "depth_image_msg",
     "depth_points",
@@ -204,7 +205,7 @@ class SceneQuads:
         )
 
 
-def _clip_near(poly: F64Array, near: float) -> F64Array:
+def clip_near(poly: F64Array, near: float) -> F64Array:
     """Sutherland-Hodgman clip of a polygon (K x 3, optical frame) to ``z >= near``."""
     out: list[F64Array] = []
     n = len(poly)
@@ -271,7 +272,7 @@ def rasterize(
     # bounding box is skipped after one pass over that box (occlusion cull).
     candidates = np.flatnonzero(visible)
     for q in candidates[np.argsort(z[candidates].min(axis=1), kind="stable")]:
-        poly = P[q] if in_front[q] else _clip_near(P[q], _CLIP_Z)
+        poly = P[q] if in_front[q] else clip_near(P[q], _CLIP_Z)
         if len(poly) < 3:
             continue
         pu = fx * poly[:, 0] / poly[:, 2] + cx

@@ -43,7 +43,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from posekit.robot.depth import SceneQuads, rasterize
+from posekit.robot.depth import SceneQuads, clip_near, rasterize
 from posekit.vision.camera import PinholeCamera
 from posekit.vision.errors import CameraModelError
 from posekit.worlds import ARUCO_BOX, ArucoBoxModel, BoxFace, marker_corners_local
@@ -140,21 +140,6 @@ class VisibleMarker:
     T_optical_marker: F64Array
     in_image: bool
     viewing_angle: float
-
-
-def _clip_near(poly: F64Array, near: float) -> F64Array:
-    """Sutherland-Hodgman clip of a 3-D polygon (N x 3, optical frame) to z >= near."""
-    out: list[F64Array] = []
-    n = len(poly)
-    for i in range(n):
-        a, b = poly[i], poly[(i + 1) % n]
-        a_in, b_in = a[2] >= near, b[2] >= near
-        if a_in:
-            out.append(a)
-        if a_in != b_in:
-            s = (near - a[2]) / (b[2] - a[2])
-            out.append(a + s * (b - a))
-    return np.array(out) if out else np.zeros((0, 3))
 
 
 def _polygon_area(xy: F64Array) -> float:
@@ -339,7 +324,7 @@ class BoxRenderer:
         h = S / 2.0
         corners = np.array([[-h, h, 0.0], [h, h, 0.0], [h, -h, 0.0], [-h, -h, 0.0]]) @ R.T + t
         clipped = bool(np.any(corners[:, 2] < cam.near))
-        poly3 = _clip_near(corners, cam.near) if clipped else corners
+        poly3 = clip_near(corners, cam.near) if clipped else corners
         if len(poly3) < 3:
             return
         inv_z = 1.0 / poly3[:, 2]
