@@ -21,6 +21,7 @@ import pytest
 
 aiohttp = pytest.importorskip("aiohttp")
 
+from _support.websocket import receive_until as receive_text_until  # noqa: E402
 from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.msgs.sensor_msgs import LaserScan  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
@@ -103,19 +104,8 @@ def system() -> Iterator[System]:
 
 
 async def receive_until(ws: Any, predicate: Any, timeout: float = 5.0) -> Any:
-    end = time.monotonic() + timeout
-    while True:
-        remaining = end - time.monotonic()
-        if remaining <= 0:
-            raise AssertionError("timed out waiting for a message")
-        msg = await ws.receive(timeout=remaining)
-        if msg.type != aiohttp.WSMsgType.TEXT:
-            if msg.type == aiohttp.WSMsgType.BINARY:
-                continue
-            raise AssertionError(f"connection ended: {msg.type}")
-        data = json.loads(msg.data)
-        if predicate(data):
-            return data
+    """The first text frame (parsed JSON) for which ``predicate`` holds."""
+    return await receive_text_until(ws, predicate, timeout, binary=False)
 
 
 def is_display(topic: str) -> Any:

@@ -17,6 +17,7 @@ import pytest
 aiohttp = pytest.importorskip("aiohttp")
 cv2 = pytest.importorskip("cv2")
 
+from _support.websocket import receive_until  # noqa: E402
 from posekit.msgs.geometry_msgs import TransformStamped  # noqa: E402
 from posekit.msgs.image import numpy_to_image  # noqa: E402
 from posekit.msgs.sensor_msgs import Image  # noqa: E402
@@ -60,23 +61,6 @@ def system() -> Iterator[System]:
     s = System(tf_rate=50.0, image_rate=30.0)
     yield s
     s.close()
-
-
-async def receive_until(ws: Any, predicate: Any, timeout: float = 5.0) -> Any:
-    end = time.monotonic() + timeout
-    while True:
-        remaining = end - time.monotonic()
-        if remaining <= 0:
-            raise AssertionError("timed out waiting for a message")
-        msg = await ws.receive(timeout=remaining)
-        if msg.type == aiohttp.WSMsgType.TEXT:
-            data = json.loads(msg.data)
-        elif msg.type == aiohttp.WSMsgType.BINARY:
-            data = msg.data
-        else:
-            raise AssertionError(f"connection ended: {msg.type}")
-        if predicate(data):
-            return data
 
 
 def is_type(kind: str) -> Any:
