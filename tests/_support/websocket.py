@@ -19,7 +19,10 @@ async def receive_until(ws: Any, predicate: Any, timeout: float = 5.0, *,
         remaining = end - time.monotonic()
         if remaining <= 0:
             raise AssertionError("timed out waiting for a message")
-        msg = await ws.receive(timeout=remaining)
+        try:
+            msg = await ws.receive(timeout=remaining)
+        except TimeoutError:
+            raise AssertionError("timed out waiting for a message") from None
         if msg.type == aiohttp.WSMsgType.TEXT:
             data = json.loads(msg.data)
         elif msg.type == aiohttp.WSMsgType.BINARY:

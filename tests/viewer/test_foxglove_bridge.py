@@ -23,6 +23,7 @@ pytest.importorskip("foxglove", reason="foxglove-sdk is not installed (pip insta
 
 from rosbags.typesys import Stores, get_typestore  # noqa: E402
 
+from _support.websocket import receive_until  # noqa: E402
 from posekit.msgs.geometry_msgs import TransformStamped  # noqa: E402
 from posekit.msgs.nav_msgs import Odometry  # noqa: E402
 from posekit.runtime.context import Context  # noqa: E402
@@ -94,35 +95,39 @@ def system() -> Iterator[System]:
 
 
 async def _advertised(
-    ws: Any, wanted: set[str], *, first: bool = True
+    ws: Any, wanted: set[str], *, first: bool = True, timeout: float = 5.0
 ) -> dict[str, dict[str, Any]]:
     """Read text frames until every topic of ``wanted`` is advertised; topic -> channel.
-    ``first``: these are a new connection's first frames, which start with serverInfo."""
+    ``first``: these are a new connection's first frames, which start with serverInfo.
+    Every reader here has one deadline for the whole wait (``receive_until``): the bridge
+    sends a ``time`` frame every 50 ms, so a per-frame timeout would never expire."""
     channels: dict[str, dict[str, Any]] = {}
     server_info = False
-    while not wanted <= channels.keys():
-        msg = await asyncio.wait_for(ws.receive(), 5.0)
-        if msg.type == aiohttp.WSMsgType.BINARY:
-            continue  # time (opcode 2) may come at any moment
-        assert msg.type == aiohttp.WSMsgType.TEXT, msg
-        data = json.loads(msg.data)
+
+    def note(data: Any) -> bool:
+        nonlocal server_info
         if data["op"] == "serverInfo":
             server_info = True
         elif data["op"] == "advertise":
             channels.update({c["topic"]: c for c in data["channels"]})
+        return wanted <= channels.keys()
+
+    await receive_until(ws, note, timeout, binary=False)  # time (opcode 2) may come any time
     assert server_info == first
     return channels
 
 
-async def _message(ws: Any, sub_id: int) -> tuple[int, bytes]:
+def _message_of(sub_id: int) -> Any:
+    """Predicate: a messageData frame (opcode 1) of subscription ``sub_id``."""
+    return lambda data: (isinstance(data, bytes) and data[0] == 1
+                         and struct.unpack_from("<I", data, 1)[0] == sub_id)
+
+
+async def _message(ws: Any, sub_id: int, timeout: float = 5.0) -> tuple[int, bytes]:
     """The next messageData frame of subscription ``sub_id``: (log_time ns, payload)."""
-    while True:
-        msg = await asyncio.wait_for(ws.receive(), 5.0)
-        if msg.type != aiohttp.WSMsgType.BINARY or msg.data[0] != 1:
-            continue  # not messageData (e.g. opcode 2: time)
-        sid, log_time = struct.unpack_from("<IQ", msg.data, 1)
-        if sid == sub_id:
-            return log_time, bytes(msg.data[13:])
+    data = await receive_until(ws, _message_of(sub_id), timeout)
+    (log_time,) = struct.unpack_from("<Q", data, 5)
+    return log_time, bytes(data[13:])
 
 
 async def _publish_until_message(ws: Any, sub_id: int, publish: Any) -> bytes:
@@ -130,11 +135,9 @@ async def _publish_until_message(ws: Any, sub_id: int, publish: Any) -> bytes:
     registers a subscription asynchronously); its payload. Bounded: 40 tries, 0.5 s each."""
     for _attempt in range(40):
         publish()
-        try:
-            _, payload = await asyncio.wait_for(_message(ws, sub_id), 0.5)
+        with contextlib.suppress(AssertionError):  # receive_until's timeout
+            _, payload = await _message(ws, sub_id, 0.5)
             return payload
-        except TimeoutError:
-            continue
     raise AssertionError(f"subscription {sub_id} received nothing within 20 s")
 
 
@@ -308,20 +311,14 @@ async def _connect(session: aiohttp.ClientSession, url: str,
 
 
 async def _server_info(ws: Any) -> dict[str, Any]:
-    while True:
-        msg = await asyncio.wait_for(ws.receive(), 5.0)
-        if msg.type == aiohttp.WSMsgType.TEXT and json.loads(msg.data)["op"] == "serverInfo":
-            return dict(json.loads(msg.data))
+    info = await receive_until(ws, lambda data: data["op"] == "serverInfo", binary=False)
+    return dict(info)
 
 
-async def _time_at_least(ws: Any, ns: int) -> int:
-    """The first ``time`` frame (opcode 2, u64 ns) at or after ``ns``."""
-    while True:
-        msg = await asyncio.wait_for(ws.receive(), 5.0)
-        if msg.type == aiohttp.WSMsgType.BINARY and msg.data[0] == 2:
-            (stamp,) = struct.unpack_from("<Q", msg.data, 1)
-            if stamp >= ns:
-                return int(stamp)
+def _time_is(ns: int) -> Any:
+    """Predicate: a ``time`` frame (opcode 2, u64 ns) saying ``ns``."""
+    return lambda data: (isinstance(data, bytes) and data[0] == 2
+                         and struct.unpack_from("<Q", data, 1)[0] == ns)
 
 
 @pytest.mark.parametrize("subprotocol", ["foxglove.sdk.v1", "foxglove.websocket.v1"])
@@ -346,13 +343,13 @@ def test_time_follows_clock_and_a_client_publishes_a_goal(system: System,
             assert "cdr" in info["supportedEncodings"]
             clock = Clock()
             clock.clock.sec, clock.clock.nanosec = divmod(sim_ns, 1_000_000_000)
-            deadline = asyncio.get_running_loop().time() + 5.0
-            stamp = None
-            while stamp is None and asyncio.get_running_loop().time() < deadline:
+            for _attempt in range(20):  # bounded: 20 tries, 0.3 s each
                 clock_pub.publish(clock)  # the bridge subscribes to /clock on its next refresh
-                with contextlib.suppress(TimeoutError, asyncio.TimeoutError):
-                    stamp = await asyncio.wait_for(_exact_time(ws, sim_ns), 0.3)
-            assert stamp == sim_ns
+                with contextlib.suppress(AssertionError):  # receive_until's timeout
+                    await receive_until(ws, _time_is(sim_ns), 0.3)
+                    break
+            else:
+                raise AssertionError("no time frame said the published /clock within 6 s")
 
             # clientPublish: advertise goal_pose, send a PoseStamped serialized by rosbags.
             await ws.send_str(json.dumps({"op": "advertise", "channels": [{
@@ -431,13 +428,6 @@ def test_a_client_publishes_in_json(system: System, subprotocol: str) -> None:
     assert (p.position.x, p.position.y, p.position.z) == (2.5, -1.0, 0.0)
     assert (p.orientation.x, p.orientation.z, p.orientation.w) == (0.0, 0.6, 0.8)
     assert list(msg.pose.covariance) == covariance
-
-
-async def _exact_time(ws: Any, ns: int) -> int:
-    while True:
-        stamp = await _time_at_least(ws, 0)
-        if stamp == ns:
-            return stamp
 
 
 def test_other_subprotocols_and_foreign_hosts_are_refused(system: System) -> None:
@@ -530,12 +520,10 @@ def test_a_topic_whose_publishers_leave_is_unadvertised(system: System) -> None:
             channels = await _advertised(ws, {"/odometry/wheels"})
             system.node.destroy_publisher(pub)
             channel_id = channels["/odometry/wheels"]["id"]
-            while True:  # the background refresh notices within a few periods
-                msg = await asyncio.wait_for(ws.receive(), 5.0)
-                if msg.type == aiohttp.WSMsgType.TEXT:
-                    data = json.loads(msg.data)
-                    if data["op"] == "unadvertise" and channel_id in data["channelIds"]:
-                        break
+            # The background refresh notices within a few periods.
+            await receive_until(ws, lambda data: (data["op"] == "unadvertise"
+                                                  and channel_id in data["channelIds"]),
+                                binary=False)
             assert "/odometry/wheels" not in system.bridge.topics()
 
     asyncio.run(go())
