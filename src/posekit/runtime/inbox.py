@@ -83,8 +83,8 @@ class Inbox:
     reports (default: ignore them).
     """
 
-    __slots__ = ("_append", "_entries", "_on_entities_changed", "_on_timers_changed",
-                 "_signal", "_waiting", "always_wake", "take")
+    __slots__ = ("_entries", "_on_entities_changed", "_on_timers_changed", "_signal",
+                 "always_wake", "append", "take", "waiting")
 
     def __init__(
         self,
@@ -94,11 +94,14 @@ class Inbox:
         on_entities_changed: Callable[[], None] = _ignore_change,
     ) -> None:
         self._entries: deque[tuple[int, Any]] = deque()
-        self._append = self._entries.append  # bound once: put() is the hot path
+        #: ``append((seq, entity))``: :meth:`put` without the wake-up (the deque's own
+        #: ``append``, no Python frame). A hot path may call it and then :meth:`wake` when
+        #: :attr:`waiting` is true, which is exactly what :meth:`put` does.
+        self.append: Callable[[tuple[int, Any]], None] = self._entries.append
         self._signal = WakeSignal()
         self.always_wake = always_wake
-        # True only while a thread may block in wait(): put() then signals (see wait()).
-        self._waiting = always_wake
+        #: True only while a thread may block in :meth:`wait`: a new entry must then wake it.
+        self.waiting = always_wake
         self._on_timers_changed = on_timers_changed
         self._on_entities_changed = on_entities_changed
         #: ``take() -> (seq, entity)``: the oldest entry, removed; raises IndexError when
@@ -108,8 +111,8 @@ class Inbox:
     # -- entities' side -------------------------------------------------------------------
     def put(self, seq: int, entity: Any) -> None:
         """``entity`` queued an item with arrival number ``seq``: hand it to the executor."""
-        self._append((seq, entity))
-        if self._waiting:
+        self.append((seq, entity))
+        if self.waiting:
             self._signal.set()
 
     def wake(self) -> None:
@@ -145,7 +148,7 @@ class Inbox:
         An entry put after that look then finds ``waiting`` set and signals, so no wake-up is
         lost between the look and :meth:`wait`.
         """
-        self._waiting = True
+        self.waiting = True
         self._signal.clear()
 
     def wait(self, timeout: float | None) -> bool:
@@ -154,7 +157,7 @@ class Inbox:
 
     def end_wait(self) -> None:
         """The waiter left: ``put`` stops signalling (unless ``always_wake``)."""
-        self._waiting = self.always_wake
+        self.waiting = self.always_wake
 
 
 class Handoff:
