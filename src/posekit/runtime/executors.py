@@ -376,9 +376,10 @@ class Executor:
         try:
             while self._context.ok() and not self._is_shutdown:
                 if inbox.sources:
-                    # Before announcing the wait: a pulled source's samples queue without
-                    # waking anyone, and its data condition stays raised while samples wait
-                    # in the middleware, so one arriving after this pull ends the wait.
+                    # Before announcing the wait, so a pulled source's samples queue without
+                    # waking anyone. One arriving after this pull still ends the wait: a DDS
+                    # read condition stays raised while samples wait in the reader, and a
+                    # Zenoh hand-over is looked at (sources_pending) after prepare_wait.
                     inbox.pull_sources(self._PULL_BUDGET)
                 # Order matters: announce waiting, then look for work (Inbox.prepare_wait).
                 inbox.prepare_wait()
@@ -387,6 +388,8 @@ class Executor:
                 work = self._take_ready()
                 if work is not None:
                     return work
+                if inbox.sources and inbox.sources_pending():
+                    continue  # handed over between the pull and prepare_wait
                 wait = self._schedule.wall_wait_s()
                 if deadline is not None:
                     remaining = deadline - time.monotonic()

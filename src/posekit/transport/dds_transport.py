@@ -399,6 +399,10 @@ class _Subscription(SubscriptionEndpoint):
         if inbox is not None:
             inbox.remove_source(self)
 
+    def pending(self) -> bool:
+        """False: the data condition keeps the executor's wait set awake while samples wait."""
+        return False
+
     def pull(self, budget: int) -> int:
         """Take up to ``budget`` samples (at most one Cyclone batch) into the sink, here."""
         reader = self.reader

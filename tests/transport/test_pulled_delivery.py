@@ -1,11 +1,13 @@
-"""A SingleThreadedExecutor reading DDS subscriptions itself, as rclpy's executor waits on
-the middleware's wait set: two contexts (two Cyclone participants) in one process.
+"""A SingleThreadedExecutor reading network subscriptions itself (DDS: waiting on the
+middleware's wait set, as rclpy's executor; Zenoh: reading the channel after its receive
+thread handed over the first sample): two contexts (two Cyclone participants, or two Zenoh
+sessions on a loopback router) in one process.
 
-Oracles: the sequence numbers a publisher in the other participant wrote (every message
-arrives, in order, whatever mode the subscription is in), the identity of the thread that
-runs the callbacks (the spinning one) and the names of the live threads (a subscription the
-executor reads has no delivery thread of its own; one in no executor, or in a
-MultiThreadedExecutor, has).
+Oracles: the sequence numbers a publisher in the other context wrote (every message arrives,
+in order, whatever mode the subscription is in and however often it changes), the identity of
+the thread that runs the callbacks (the spinning one), the executor's list of pulled sources
+and, for DDS, the names of the live threads (a subscription the executor reads has no
+delivery thread of its own; one in no executor, or in a MultiThreadedExecutor, has).
 """
 
 from __future__ import annotations
@@ -13,10 +15,12 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
 from _support.dds import dds_context, dds_domain, spin_until
+from _support.ports import free_port
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
 from posekit.runtime.executors import MultiThreadedExecutor, SingleThreadedExecutor
@@ -29,16 +33,47 @@ KEEP_ALL = QoSProfile(depth=1000, history=HistoryPolicy.KEEP_ALL,
                       reliability=ReliabilityPolicy.RELIABLE)
 
 
-@pytest.fixture
-def two(monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
-    dds_domain(monkeypatch)
-    a, b = dds_context(), dds_context()
+class Side:
+    """A context and the transport its nodes use (a name, or a ZenohTransport object)."""
+
+    def __init__(self, context: Context, transport: Any) -> None:
+        self.context, self.transport = context, transport
+
+    def node(self, name: str) -> Node:
+        return Node(name, context=self.context, transport=self.transport)
+
+
+@pytest.fixture(params=["dds", "zenoh"])
+def two(request: pytest.FixtureRequest,
+        monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Side, Side]]:
+    if request.param == "dds":
+        dds_domain(monkeypatch)
+        a, b = Side(dds_context(), "dds"), Side(dds_context(), "dds")
+    else:
+        from posekit.transport.zenoh_session import SessionOptions
+        from posekit.transport.zenoh_transport import ZenohTransport
+
+        for var in ("ZENOH_SESSION_CONFIG_URI", "ZENOH_CONFIG_OVERRIDE", "ROS_DOMAIN_ID"):
+            monkeypatch.delenv(var, raising=False)
+        options = SessionOptions(router_endpoint=f"tcp/127.0.0.1:{free_port()}")
+        sides = []
+        for _ in range(2):
+            context = Context()
+            context.init()
+            sides.append(Side(context, ZenohTransport(options)))
+        a, b = sides
     yield a, b
-    b.try_shutdown()
-    a.try_shutdown()
+    b.context.try_shutdown()
+    a.context.try_shutdown()
+    if not isinstance(b.transport, str):
+        b.transport.close()
+        a.transport.close()
 
 
-def _delivery_threads(topic: str) -> list[str]:
+def _delivery_threads(side: Side, topic: str) -> list[str]:
+    """DDS: the subscription's own delivery threads (a Zenoh one keeps its receive thread)."""
+    if side.transport != "dds":
+        return []
     return [t.name for t in threading.enumerate() if t.name == f"posekit-dds {topic}"]
 
 
@@ -46,10 +81,10 @@ class Counter:
     """A talker in context ``a`` and a listener in context ``b`` on /count (numbers as
     ``std_msgs/String``)."""
 
-    def __init__(self, a: Context, b: Context) -> None:
-        self.talker = Node("talker", context=a, transport="dds")
+    def __init__(self, a: Side, b: Side) -> None:
+        self.talker = a.node("talker")
         self.pub = self.talker.create_publisher(String, "/count", KEEP_ALL)
-        self.listener = Node("listener", context=b, transport="dds")
+        self.listener = b.node("listener")
         self.got: list[int] = []
         self.threads: set[int] = set()
         self.sub = self.listener.create_subscription(String, "/count", self._on, KEEP_ALL)
@@ -73,14 +108,15 @@ class Counter:
         return False
 
 
-def test_the_spinning_thread_takes_every_sample_in_order(two: tuple[Context, Context]) -> None:
+def test_the_spinning_thread_takes_every_sample_in_order(two: tuple[Side, Side]) -> None:
     a, b = two
     c = Counter(a, b)
-    assert _delivery_threads("/count")  # in no executor: the transport delivers
-    executor = SingleThreadedExecutor(context=b)
+    dds = b.transport == "dds"
+    assert _delivery_threads(b, "/count") or not dds  # in no executor: the transport delivers
+    executor = SingleThreadedExecutor(context=b.context)
     executor.add_node(c.listener)
-    assert c.sub.endpoint in executor.inbox.sources
-    assert not _delivery_threads("/count")  # the executor reads the reader itself
+    assert len(executor.inbox.sources) == 1
+    assert not _delivery_threads(b, "/count")  # the executor reads the reader itself
     assert c.matched()
     c.send(500)
     assert spin_until(executor, lambda: len(c.got) >= 500, 20)
@@ -90,7 +126,7 @@ def test_the_spinning_thread_takes_every_sample_in_order(two: tuple[Context, Con
     # Out of the executor: the delivery thread is back and loses nothing meanwhile.
     executor.remove_node(c.listener)
     assert executor.inbox.sources == ()
-    assert _delivery_threads("/count")
+    assert _delivery_threads(b, "/count") or not dds
     c.send(50)
     deadline = time.monotonic() + 10
     while len(c.sub.queue) < 50 and time.monotonic() < deadline:
@@ -100,18 +136,28 @@ def test_the_spinning_thread_takes_every_sample_in_order(two: tuple[Context, Con
     c.send(50)
     assert spin_until(executor, lambda: len(c.got) >= 600, 20)
     assert c.got == list(range(600))
+    # Handed back and forth while samples flow: still every one, in order.
+    for _ in range(10):
+        c.send(20)
+        executor.spin_once(timeout_sec=0.01)
+        executor.remove_node(c.listener)
+        c.send(20)
+        executor.add_node(c.listener)
+    assert spin_until(executor, lambda: len(c.got) >= 1000, 20)
+    assert c.got == list(range(1000))
     executor.shutdown()
-    assert _delivery_threads("/count")  # a shut-down executor hands the reader back
+    assert executor.inbox.sources == ()
+    assert _delivery_threads(b, "/count") or not dds  # a shut-down executor hands it back
 
 
-def test_spin_wakes_for_a_sample_and_for_in_process_work(two: tuple[Context, Context]) -> None:
+def test_spin_wakes_for_a_sample_and_for_in_process_work(two: tuple[Side, Side]) -> None:
     """``spin()`` parked on the wait set wakes for a sample from the other participant, for a
     timer and for a task created from another thread; shutdown ends it."""
     a, b = two
     c = Counter(a, b)
     ticks: list[float] = []
     c.listener.create_timer(0.05, lambda: ticks.append(time.monotonic()))
-    executor = SingleThreadedExecutor(context=b)
+    executor = SingleThreadedExecutor(context=b.context)
     executor.add_node(c.listener)
     assert c.matched()
     spinner = threading.Thread(target=executor.spin, daemon=True)
@@ -138,40 +184,39 @@ def test_spin_wakes_for_a_sample_and_for_in_process_work(two: tuple[Context, Con
     assert not spinner.is_alive()
 
 
-def test_destroying_a_pulled_subscription_and_shutting_down(two: tuple[Context, Context]) -> None:
+def test_destroying_a_pulled_subscription_and_shutting_down(two: tuple[Side, Side]) -> None:
     a, b = two
     c = Counter(a, b)
-    executor = SingleThreadedExecutor(context=b)
+    executor = SingleThreadedExecutor(context=b.context)
     executor.add_node(c.listener)
     assert c.matched()
     c.send(10)
     assert spin_until(executor, lambda: len(c.got) >= 10, 20)
-    endpoint = c.sub.endpoint
     c.listener.destroy_subscription(c.sub)
-    assert endpoint not in executor.inbox.sources
-    assert not _delivery_threads("/count")  # destroyed: no thread comes back
+    assert executor.inbox.sources == ()
+    assert not _delivery_threads(b, "/count")  # destroyed: no thread comes back
     c.send(5)
     executor.spin_once(timeout_sec=0.2)
     assert len(c.got) == 10
     # A context shut down under a spinning executor ends spin() (the wait set goes away).
-    c2 = Node("again", context=b, transport="dds")
+    c2 = b.node("again")
     c2.create_subscription(String, "/count", lambda _m: None, KEEP_ALL)
     executor.add_node(c2)
     spinner = threading.Thread(target=executor.spin, daemon=True)
     spinner.start()
-    b.try_shutdown()
+    b.context.try_shutdown()
     spinner.join(timeout=5)
     assert not spinner.is_alive()
 
 
 def test_a_multithreaded_executor_leaves_delivery_to_the_transport(
-        two: tuple[Context, Context]) -> None:
+        two: tuple[Side, Side]) -> None:
     a, b = two
     c = Counter(a, b)
-    executor = MultiThreadedExecutor(num_threads=2, context=b)
+    executor = MultiThreadedExecutor(num_threads=2, context=b.context)
     executor.add_node(c.listener)
     assert executor.inbox.sources == ()
-    assert _delivery_threads("/count")
+    assert _delivery_threads(b, "/count") or b.transport != "dds"
     assert c.matched()
     c.send(20)
     spinner = threading.Thread(target=executor.spin, daemon=True)
@@ -185,15 +230,19 @@ def test_a_multithreaded_executor_leaves_delivery_to_the_transport(
         executor.shutdown()
         spinner.join(timeout=5)
     # Moving the node to a single-threaded executor hands the reader over.
-    single = SingleThreadedExecutor(context=b)
+    single = SingleThreadedExecutor(context=b.context)
     single.add_node(c.listener)
-    assert c.sub.endpoint in single.inbox.sources
-    assert not _delivery_threads("/count")
+    assert len(single.inbox.sources) == 1
+    assert not _delivery_threads(b, "/count")
     single.shutdown()
 
 
+def _dds_threads(topic: str) -> list[str]:
+    return [t.name for t in threading.enumerate() if t.name == f"posekit-dds {topic}"]
+
+
 def test_an_executor_shutdown_racing_a_context_shutdown(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The executor hands its readers back (starting delivery threads) while the context
+    """DDS: the executor hands its readers back (starting delivery threads) while the context
     deletes them, from two threads at once: neither raises, and no delivery thread is left."""
     dds_domain(monkeypatch)
     for _ in range(8):
@@ -219,6 +268,6 @@ def test_an_executor_shutdown_racing_a_context_shutdown(monkeypatch: pytest.Monk
         assert not racer.is_alive()
         assert errors == []
         end = time.monotonic() + 5
-        while any(_delivery_threads(f"/race{i}") for i in range(4)) and time.monotonic() < end:
+        while any(_dds_threads(f"/race{i}") for i in range(4)) and time.monotonic() < end:
             time.sleep(0.01)
-        assert not any(_delivery_threads(f"/race{i}") for i in range(4))
+        assert not any(_dds_threads(f"/race{i}") for i in range(4))
