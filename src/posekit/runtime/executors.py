@@ -376,11 +376,15 @@ class Executor:
         try:
             while self._context.ok() and not self._is_shutdown:
                 if inbox.sources:
-                    # Before announcing the wait, so a pulled source's samples queue without
-                    # waking anyone. One arriving after this pull still ends the wait: a DDS
-                    # read condition stays raised while samples wait in the reader, and a
-                    # Zenoh hand-over is looked at (sources_pending) after prepare_wait.
-                    inbox.pull_sources(self._PULL_BUDGET)
+                    # Outside the announced wait (end_wait), so the samples this thread
+                    # queues do not signal it. One arriving after this pull still ends the
+                    # wait: a DDS read condition stays raised while samples wait in the
+                    # reader, and a Zenoh hand-over is looked at (sources_pending) below.
+                    inbox.end_wait()
+                    if inbox.pull_sources(self._PULL_BUDGET):
+                        work = self._take_ready()  # found: no need to arm the wait
+                        if work is not None:
+                            return work
                 # Order matters: announce waiting, then look for work (Inbox.prepare_wait).
                 inbox.prepare_wait()
                 if condition is not None and condition():
