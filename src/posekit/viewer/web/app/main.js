@@ -542,6 +542,8 @@ $("tf-show-all").addEventListener("click", () => { tfOptions.hidden.clear(); tfO
 $("tf-hide-all").addEventListener("click", () => { for (const f of knownFrames) tfOptions.hidden.add(f); applyTfOptions(); });
 $("tf-names-none").addEventListener("click", () => { for (const f of knownFrames) tfOptions.noName.add(f); applyTfOptions(); });
 
+// The frame rows are rebuilt only when the tree's shape changes, so a checkbox a user is
+// clicking stays in the page; rates, ages and staleness are updated in place.
 function fillTree(tree) {
   knownFrames = [...new Set([...tree.map((f) => f.name), ...tree.map((f) => f.parent)])].filter(Boolean);
   const body = $("tf-tree").tBodies[0];
@@ -553,33 +555,45 @@ function fillTree(tree) {
     children.get(f.parent).push(f);
   }
   const roots = [...new Set(tree.map((f) => f.parent))].filter((p) => !names.has(p)).sort();
-  const rows = [];
+  const entries = [];  // [frame name, depth, the frame's tree entry (none for a root)]
   const walk = (name, depth) => {
     for (const f of (children.get(name) || []).sort((a, b) => a.name.localeCompare(b.name))) {
-      const tr = document.createElement("tr");
-      tr.dataset.frame = f.name;
-      const stale = !f.static && f.age !== null && f.age > STALE_S;
-      tr.className = `${f.static ? "static" : ""} ${stale ? "stale" : ""}`;
-      tr.append(
-        checkCell(f.name, "show"),
-        checkCell(f.name, "name"),
-        cell(`${"\u00a0".repeat(depth)}${f.name}`),
-        cell(f.parent),
-        cell(f.static ? "static" : f.rate.toFixed(1), "num"),
-        cell(f.static ? "" : f.age.toFixed(2), "num"),
-      );
-      rows.push(tr);
+      entries.push([f.name, depth, f]);
       if (depth < 64) walk(f.name, depth + 1);
     }
   };
   for (const root of roots) {
-    const tr = document.createElement("tr");
-    tr.dataset.frame = root;
-    tr.append(checkCell(root, "show"), checkCell(root, "name"), cell(root), cell(""), cell("", "num"), cell("", "num"));
-    rows.push(tr);
+    entries.push([root, 0, null]);
     walk(root, 1);
   }
-  body.replaceChildren(...rows);
+  const key = entries.map(([name, depth, f]) => `${name} ${depth} ${f ? `${f.parent} ${f.static}` : ""}`).join("\n");
+  if (body.dataset.key !== key) {
+    body.dataset.key = key;
+    body.replaceChildren(...entries.map(([name, depth, f]) => {
+      const tr = document.createElement("tr");
+      tr.dataset.frame = name;
+      tr.append(
+        checkCell(name, "show"),
+        checkCell(name, "name"),
+        cell(`${"\u00a0".repeat(depth)}${name}`),
+        cell(f ? f.parent : ""),
+        cell("", "num"),
+        cell("", "num"),
+      );
+      return tr;
+    }));
+  }
+  entries.forEach(([, , f], i) => {
+    const tr = body.rows[i];
+    if (!tr || !f) return;
+    const stale = !f.static && f.age !== null && f.age > STALE_S;
+    const cls = `${f.static ? "static" : ""} ${stale ? "stale" : ""}`;
+    if (tr.className !== cls) tr.className = cls;
+    const rate = f.static ? "static" : f.rate.toFixed(1);
+    const age = f.static || f.age === null ? "" : f.age.toFixed(2);
+    if (tr.cells[4].textContent !== rate) tr.cells[4].textContent = rate;
+    if (tr.cells[5].textContent !== age) tr.cells[5].textContent = age;
+  });
 }
 
 // The topic rows are rebuilt only when the topics change (their buttons stay put); the
