@@ -142,6 +142,11 @@ class Subscription:
     def _attach(self, endpoint: SubscriptionEndpoint) -> None:
         self._endpoint = endpoint
 
+    @property
+    def endpoint(self) -> SubscriptionEndpoint | None:
+        """The transport's endpoint (None until subscribed); posekit's, not rclpy API."""
+        return self._endpoint
+
     def _enqueue(self, msg: Any, info: MessageInfo | None = None) -> None:
         """Transport sink: queue ``msg`` and tell the node's executor."""
         if self.destroyed:

@@ -97,6 +97,12 @@ class Executor:
 
     #: Every inbox ``put`` wakes a waiting thread (several may wait: multi-threaded).
     _wake_on_every_put = False
+    #: Take samples from subscriptions whose transport allows it on the spinning thread
+    #: (:meth:`SubscriptionEndpoint.pull_into`), instead of having the transport's thread
+    #: queue them: one thread waits, as rclpy's executor on the middleware's wait set.
+    _pulls_samples = False
+    #: Samples taken from one pulled source per look (fairness with timers and tasks).
+    _PULL_BUDGET = 64
 
     def __init__(self, *, context: Context | None = None) -> None:
         self._context = context or get_default_context()
@@ -113,6 +119,8 @@ class Executor:
         )
         #: Number of callbacks that raised (each was logged).
         self.callback_exceptions = 0
+        #: Endpoints whose samples this executor pulls (see ``_pulls_samples``).
+        self._pulled: dict[Any, Any] = {}  # endpoint -> its subscription
         self._context._register_executor(self)
 
     def _make_schedule(self) -> TimerSchedule:
@@ -153,6 +161,7 @@ class Executor:
             )
             self.inbox.extend(pending)
             self._rebuild_timers()
+            self._sync_pulled()
         self.wake()
         return True
 
@@ -163,6 +172,7 @@ class Executor:
                 self._nodes.remove(node)
                 node.handoff.disconnect()
                 self._rebuild_timers()
+                self._sync_pulled()
         self.wake()
 
     def get_nodes(self) -> list[Node]:
@@ -173,7 +183,26 @@ class Executor:
         """Inbox report: a node's timers/subscriptions/servers changed (any thread)."""
         with self._lock:
             self._rebuild_timers()
+            self._sync_pulled()
         self.wake()
+
+    def _sync_pulled(self) -> None:
+        """Pull exactly the live subscriptions of this executor's nodes that allow it.
+
+        Others go back to their transport's own thread. The caller holds the lock.
+        """
+        if not self._pulls_samples and not self._pulled:
+            return
+        wanted = {}
+        if self._pulls_samples and not self._is_shutdown:
+            wanted = {sub.endpoint: sub for node in self._nodes for sub in node.subscriptions
+                      if not sub.destroyed and sub.endpoint is not None}
+        for endpoint in [e for e in self._pulled if e not in wanted]:
+            del self._pulled[endpoint]
+            endpoint.release_pull(self.inbox)
+        for endpoint, sub in wanted.items():
+            if endpoint not in self._pulled and endpoint.pull_into(self.inbox):
+                self._pulled[endpoint] = sub
 
     def _timers_changed(self) -> None:
         """Inbox report: a timer was cancelled, reset or re-periodised (any thread)."""
@@ -346,6 +375,11 @@ class Executor:
                 return work
         try:
             while self._context.ok() and not self._is_shutdown:
+                if inbox.sources:
+                    # Before announcing the wait: a pulled source's samples queue without
+                    # waking anyone, and its data condition stays raised while samples wait
+                    # in the middleware, so one arriving after this pull ends the wait.
+                    inbox.pull_sources(self._PULL_BUDGET)
                 # Order matters: announce waiting, then look for work (Inbox.prepare_wait).
                 inbox.prepare_wait()
                 if condition is not None and condition():
@@ -371,6 +405,8 @@ class Executor:
         """
         end = None if timeout_sec is None or timeout_sec < 0 else time.monotonic() + timeout_sec
         while not future.done() and self._context.ok():
+            if self.inbox.sources:
+                self.inbox.pull_sources(self._PULL_BUDGET)
             work = self._take_ready()
             if work is not None:
                 self._execute(work)
@@ -453,12 +489,20 @@ class Executor:
         self._is_shutdown = True
         for node in list(self._nodes):
             self.remove_node(node)
+        with self._lock:
+            self._sync_pulled()
         self.wake()
         return True
 
 
 class SingleThreadedExecutor(Executor):
-    """Runs callbacks one at a time in the spinning thread."""
+    """Runs callbacks one at a time in the spinning thread.
+
+    Subscriptions on a transport that allows it (DDS) are read by the spinning thread
+    itself, which then waits on the middleware's wait set (see ``_pulls_samples``).
+    """
+
+    _pulls_samples = True
 
 
 class MultiThreadedExecutor(Executor):

@@ -12,6 +12,13 @@
   is in (None and None when in none), and what an executor may use of the node: its
   queued entities and its time source.
 
+* Pulled sources: a network subscription may let the executor take its samples itself
+  (:meth:`Inbox.add_source`), as rclpy's executor takes from the middleware's wait set: the
+  executor then waits on a :class:`Waiter` the transport supplies (a DDS wait set, woken by the
+  middleware's own thread) and calls each source's ``pull(budget)`` on its own thread. One
+  thread wake-up per message instead of two (transport thread, then executor), and no second
+  Python thread contending for the GIL while samples flow.
+
 The payload itself stays in the entity's own queue (bounded by its QoS depth): an inbox
 entry is only a pointer, and it is stale once the entity's first queued entry has a later
 ``seq`` (KEEP_LAST dropped it, or it was delivered), the entity was destroyed, or its node
@@ -23,13 +30,36 @@ from __future__ import annotations
 import threading
 from collections import deque
 from collections.abc import Callable, Iterable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 if TYPE_CHECKING:
     from posekit.runtime.node import Node
     from posekit.runtime.time_source import TimeSource
 
-__all__ = ["Handoff", "Inbox", "WakeSignal"]
+__all__ = ["Handoff", "Inbox", "PulledSource", "Waiter", "WakeSignal"]
+
+
+class Waiter(Protocol):
+    """What an inbox waits on: :class:`WakeSignal`'s set / clear / is_set / wait."""
+
+    def set(self) -> None:
+        """Signal (idempotent, any thread)."""
+
+    def clear(self) -> None:
+        """Unsignal."""
+
+    def is_set(self) -> bool:
+        """Whether signalled."""
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Until signalled (or woken by a source's data) or ``timeout`` seconds passed."""
+
+
+class PulledSource(Protocol):
+    """A subscription endpoint whose samples the executor takes on its own thread."""
+
+    def pull(self, budget: int) -> int:
+        """Hand up to ``budget`` waiting samples to the subscription's sink; how many."""
 
 
 class WakeSignal:
@@ -84,7 +114,7 @@ class Inbox:
     """
 
     __slots__ = ("_entries", "_on_entities_changed", "_on_timers_changed", "_signal",
-                 "always_wake", "append", "take", "waiting")
+                 "_waiter_owner", "always_wake", "append", "sources", "take", "waiting")
 
     def __init__(
         self,
@@ -98,7 +128,11 @@ class Inbox:
         #: ``append``, no Python frame). A hot path may call it and then :meth:`wake` when
         #: :attr:`waiting` is true, which is exactly what :meth:`put` does.
         self.append: Callable[[tuple[int, Any]], None] = self._entries.append
-        self._signal = WakeSignal()
+        self._signal: Waiter = WakeSignal()
+        #: Who supplied the waiter (see :meth:`adopt_waiter`); None for the plain WakeSignal.
+        self._waiter_owner: object | None = None
+        #: Pulled sources (see :meth:`add_source`), replaced whole so readers need no lock.
+        self.sources: tuple[PulledSource, ...] = ()
         self.always_wake = always_wake
         #: True only while a thread may block in :meth:`wait`: a new entry must then wake it.
         self.waiting = always_wake
@@ -154,6 +188,45 @@ class Inbox:
     def wait(self, timeout: float | None) -> bool:
         """Block until :meth:`put` / :meth:`wake` signal or ``timeout`` seconds passed."""
         return self._signal.wait(timeout)
+
+    # -- pulled sources (executors that take samples themselves) ---------------------
+    def adopt_waiter(self, owner: object, make: Callable[[], Waiter]) -> Waiter | None:
+        """The waiter of ``owner`` (a transport) for this inbox, made with ``make()`` if needed.
+
+        None when the inbox already waits on another owner's waiter: its sources stay on
+        their own threads. A new waiter replaces the plain wake-up; it starts signalled and
+        the old one is signalled, so a thread waiting across the swap loses no wake-up.
+        """
+        if self._waiter_owner is owner:
+            return self._signal
+        if self._waiter_owner is not None:
+            return None
+        waiter = make()
+        waiter.set()
+        old, self._signal, self._waiter_owner = self._signal, waiter, owner
+        old.set()
+        return waiter
+
+    def add_source(self, source: PulledSource) -> None:
+        """From now on the executor calls ``source.pull`` (the source's thread stopped)."""
+        if source not in self.sources:
+            self.sources = (*self.sources, source)
+        self.wake()
+
+    def remove_source(self, source: PulledSource) -> None:
+        """``source`` delivers on its own again (or is gone).
+
+        The last one to leave restores the plain wake-up.
+        """
+        self.sources = tuple(s for s in self.sources if s is not source)
+        if not self.sources and self._waiter_owner is not None:
+            old, self._signal, self._waiter_owner = self._signal, WakeSignal(), None
+            self._signal.set()
+            old.set()
+
+    def pull_sources(self, budget: int) -> int:
+        """Let every pulled source hand up to ``budget`` samples over; how many in all."""
+        return sum(source.pull(budget) for source in self.sources)
 
     def end_wait(self) -> None:
         """The waiter left: ``put`` stops signalling (unless ``always_wake``)."""

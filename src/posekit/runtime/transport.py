@@ -16,6 +16,9 @@ Contract for implementations:
   ``sink(msg)`` once per delivered message with an object this subscription owns, possibly
   from another thread and possibly before ``subscribe`` returns (TRANSIENT_LOCAL history).
   Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
+  Optionally an endpoint lets an executor read it on the executor's own thread
+  (``pull_into(inbox)`` / ``release_pull(inbox)``, the DDS transport does): the sink is then
+  called from the executor's ``pull(budget)`` calls instead of a transport thread.
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
 * ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*
@@ -67,12 +70,15 @@ import os
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.registry import message_type_name
 from posekit.runtime.logging import RcutilsLogger
 from posekit.runtime.qos import QoSProfile
+
+if TYPE_CHECKING:
+    from posekit.runtime.inbox import Inbox
 
 __all__ = [
     "ENV_TRANSPORT",
@@ -225,6 +231,25 @@ class SubscriptionEndpoint(ABC):
     @abstractmethod
     def destroy(self) -> None:
         """Leave the graph; the sink is not called afterwards."""
+
+    def pull_into(self, inbox: Inbox) -> bool:
+        """Let the executor of ``inbox`` take this endpoint's samples on its own thread.
+
+        On True the transport stopped delivering from its own thread, registered this
+        endpoint with ``inbox.add_source`` (the executor calls ``pull(budget)``, which hands
+        samples to the sink on the calling thread) and made the inbox wait on a waiter its
+        data wakes (``inbox.adopt_waiter``). The default says no: the transport keeps
+        delivering on its own.
+        """
+        del inbox
+        return False
+
+    def release_pull(self, inbox: Inbox) -> None:
+        """Undo :meth:`pull_into`: deliver from the transport's own thread again.
+
+        Nothing once destroyed. Samples not yet pulled are delivered, not lost.
+        """
+        del inbox
 
     @property
     @abstractmethod

@@ -31,6 +31,7 @@ from __future__ import annotations
 import logging
 import threading
 import time
+import weakref
 from dataclasses import dataclass
 from typing import Any
 
@@ -59,6 +60,7 @@ from cyclonedds.util import duration
 
 from posekit.msgs.cdr import from_cdr, to_cdr
 from posekit.msgs.errors import CdrError
+from posekit.runtime.inbox import Inbox
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
@@ -98,6 +100,7 @@ _ALIVE = int(InstanceState.Alive)
 _MAX_BLOCKING = duration(milliseconds=100)
 _INFINITE = (9223372036, 854775807)
 _TAKE_BATCH = 64
+_WAIT_FOREVER_NS = 2**63 - 1  # Cyclone's DDS_INFINITY
 # Cyclone's dds_qos_policy_id_t, for naming the policy in incompatibility reports.
 _POLICY_NAMES = {
     1: "USER_DATA", 2: "DURABILITY", 3: "PRESENTATION", 4: "DEADLINE", 5: "LATENCY_BUDGET",
@@ -289,6 +292,9 @@ class _Subscription(SubscriptionEndpoint):
         self.received = 0
         self.dropped = 0
         self._warned: set[str] = set()
+        # Who delivers (own thread / an executor / nobody) changes under this lock: an
+        # executor's thread and a context shutdown may switch it at the same time.
+        self._mode_lock = threading.RLock()
 
     def warn_once(self, tag: str, text: str) -> None:
         if tag in self._warned:
@@ -300,32 +306,55 @@ class _Subscription(SubscriptionEndpoint):
             _log.exception("warning callback failed")
 
     def start(self, participant: DomainParticipant, reader: DataReader[Any]) -> None:
-        """Deliver on a thread of our own, woken by Cyclone.
+        """Deliver on a thread of our own, woken by Cyclone (until an executor pulls).
 
         No Cyclone listeners: those run Python on Cyclone's threads, which deadlocks against a
         write holding the GIL.
         """
         self.reader = reader
         self.gid = reader.guid.bytes
+        self._participant = participant
         # data wakes this thread; QoS reports go to the transport's graph thread
         reader.set_status_mask(DDSStatus.RequestedIncompatibleQos)
-        self._waitset = WaitSet(participant)
-        self._stop = GuardCondition(participant)
         self._data = ReadCondition(reader, _ANY)
+        self._thread: threading.Thread | None = None
+        self._generation = 0  # of the delivery thread: a new one per start
+        self._pulled_by: Inbox | None = None
+        self._waiter: _DdsWaiter | None = None
+        self._start_thread()
+
+    def _start_thread(self) -> None:
+        self._generation += 1
+        self._waitset = WaitSet(self._participant)
+        self._stop = GuardCondition(self._participant)
         self._waitset.attach(self._data)
         self._waitset.attach(self._stop)
         self._thread = threading.Thread(
-            target=self._run, name=f"posekit-dds {self.info.topic}", daemon=True)
+            target=self._run, args=(self._generation,), name=f"posekit-dds {self.info.topic}",
+            daemon=True)
         self._thread.start()
 
-    def _run(self) -> None:
+    def _stop_thread(self) -> None:
+        thread, self._thread = self._thread, None
+        if thread is None:
+            return
+        self._generation += 1
+        self._stop.set(True)
+        if thread is not threading.current_thread():
+            thread.join(timeout=2.0)
+        try:
+            self._waitset.detach(self._data)
+        except Exception as exc:  # already gone with its reader
+            _log.debug("detaching %r: %s", self._data, exc)
+
+    def _run(self, generation: int) -> None:
         reader = self.reader
         assert reader is not None
         ref, wait, timeout = reader._ref, self._waitset.wait, duration(seconds=1)
-        while self.alive:
+        while self.alive and self._generation == generation:
             try:
                 wait(timeout)
-                if not self.alive:
+                if not self.alive or self._generation != generation:
                     return
                 self._drain(ref)
             except Exception as exc:  # keep delivering whatever arrives
@@ -334,6 +363,60 @@ class _Subscription(SubscriptionEndpoint):
                 self.warn_once("internal", f"subscription on '{self.info.topic}': "
                                            f"unexpected {type(exc).__name__}: {exc}")
                 time.sleep(0.05)
+
+    # -- an executor taking the samples on its own thread (Executor._pulls_samples) ------
+    def pull_into(self, inbox: Inbox) -> bool:
+        """Stop the delivery thread; ``inbox``'s executor takes the samples (:meth:`pull`).
+
+        The executor then waits on a Cyclone wait set holding this reader's data condition.
+        """
+        with self._mode_lock:
+            if not self.alive or self.reader is None or self._pulled_by is not None:
+                return False
+            waiter = inbox.adopt_waiter(self._owner, self._owner.make_waiter)
+            if not isinstance(waiter, _DdsWaiter):
+                return False  # the inbox waits on another transport's waiter
+            self._stop_thread()
+            waiter.attach(self._data)
+            self._pulled_by, self._waiter = inbox, waiter
+            inbox.add_source(self)
+            return True
+
+    def release_pull(self, inbox: Inbox) -> None:
+        """Back to the delivery thread (which takes what the executor left in the reader)."""
+        with self._mode_lock:
+            if self._pulled_by is not inbox:
+                return
+            self._leave_waiter()
+            if self.alive:
+                self._start_thread()
+
+    def _leave_waiter(self) -> None:
+        inbox, waiter = self._pulled_by, self._waiter
+        self._pulled_by = self._waiter = None
+        if waiter is not None:
+            waiter.detach(self._data)
+        if inbox is not None:
+            inbox.remove_source(self)
+
+    def pull(self, budget: int) -> int:
+        """Take up to ``budget`` samples (at most one Cyclone batch) into the sink, here."""
+        reader = self.reader
+        if not self.alive or reader is None:
+            return 0
+        try:
+            batch = ddspy_take(reader._ref, _ANY, min(budget, _TAKE_BATCH))
+            if isinstance(batch, int) or not batch:
+                return 0
+            deliver = self._deliver
+            for data, sample_info in batch:
+                if sample_info.valid_data:
+                    deliver(data, sample_info)
+            return len(batch)
+        except Exception as exc:  # never into the executor: log and keep going
+            self.warn_once("internal", f"subscription on '{self.info.topic}': "
+                                       f"unexpected {type(exc).__name__}: {exc}")
+            return 0
 
     def _drain(self, ref: int) -> None:
         deliver = self._deliver
@@ -376,13 +459,13 @@ class _Subscription(SubscriptionEndpoint):
         )
 
     def stop(self) -> None:
-        """Stop the delivery thread (the reader itself is deleted by the transport)."""
-        self.alive = False
-        stop = getattr(self, "_stop", None)
-        if stop is not None:
-            stop.set(True)
-            if self._thread is not threading.current_thread():
-                self._thread.join(timeout=2.0)
+        """Stop delivering (the reader itself is deleted by the transport)."""
+        with self._mode_lock:
+            self.alive = False
+            if self.reader is None:  # never started
+                return
+            self._stop_thread()
+            self._leave_waiter()
 
     def destroy(self) -> None:
         if self.alive:
@@ -398,6 +481,65 @@ class _Subscription(SubscriptionEndpoint):
             return len(self.reader.get_matched_publications())
         except Exception:
             return 0
+
+
+class _DdsWaiter:
+    """An executor's wake-up as a Cyclone wait set (:class:`~posekit.runtime.inbox.Waiter`).
+
+    A guard condition is the executor's own signal (``set``/``clear``); pulled readers'
+    data conditions are attached beside it, so Cyclone's receive thread wakes the executor
+    directly. Once the participant is gone (the context shut down) waits return at once.
+    """
+
+    def __init__(self, participant: DomainParticipant) -> None:
+        self._waitset = WaitSet(participant)
+        self._guard = GuardCondition(participant)
+        self._waitset.attach(self._guard)
+        self._closed = False
+
+    def set(self) -> None:
+        try:
+            self._guard.set(True)
+        except Exception:  # deleted with its participant
+            self._closed = True
+
+    def clear(self) -> None:
+        try:
+            self._guard.set(False)
+        except Exception:
+            self._closed = True
+
+    def is_set(self) -> bool:
+        try:
+            return self._closed or self._guard.read()
+        except Exception:
+            self._closed = True
+            return True
+
+    def wait(self, timeout: float | None = None) -> bool:
+        if self._closed:
+            time.sleep(min(0.01, timeout if timeout is not None else 0.01))
+            return True
+        ns = _WAIT_FOREVER_NS if timeout is None else max(0, int(timeout * 1e9))
+        try:
+            return bool(self._waitset.wait(ns) > 0)
+        except Exception:  # the participant was deleted under us
+            self._closed = True
+            return True
+
+    def attach(self, condition: ReadCondition) -> None:
+        self._waitset.attach(condition)
+
+    def detach(self, condition: ReadCondition) -> None:
+        try:
+            self._waitset.detach(condition)
+        except Exception as exc:  # deleted with its reader or participant
+            _log.debug("detaching %r: %s", condition, exc)
+
+    def close(self) -> None:
+        """Wake any waiter for good (the participant is about to be deleted)."""
+        self.set()
+        self._closed = True
 
 
 @dataclass(slots=True)
@@ -469,6 +611,14 @@ class DdsTransport(Transport):
         self._thread = threading.Thread(target=self._graph_loop, name="posekit-dds-graph",
                                         daemon=True)
         self._thread.start()
+        #: Executors' wait sets on this participant (see make_waiter), closed with it.
+        self._waiters: weakref.WeakSet[_DdsWaiter] = weakref.WeakSet()
+
+    def make_waiter(self) -> _DdsWaiter:
+        """A wait set for an executor that pulls this transport's subscriptions."""
+        waiter = _DdsWaiter(self.participant)
+        self._waiters.add(waiter)
+        return waiter
 
     # -- topics and nodes ------------------------------------------------------------
     def _topic(self, dds_topic: str, ros_type: str) -> Topic[Any]:
@@ -808,6 +958,8 @@ class DdsTransport(Transport):
             self._publishers = []
         for sub in subs:
             sub.stop()
+        for waiter in list(self._waiters):
+            waiter.close()
         self._wake.set(True)
         self._thread.join(timeout=2.0)
         _delete(self.participant)
