@@ -23,25 +23,28 @@ from collections.abc import Callable
 import cv2
 import numpy as np
 
+from posekit.geometry import Transform
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.evaluation import accuracy_grid
 from posekit.vision.render import BoxRenderer
-from posekit.worlds import box_pose_matrix
 
-BOX_WORLD = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
-             box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
+BOX_WORLD = [Transform.from_xyz_rpy((2.25, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix(),
+
+             Transform.from_xyz_rpy((2.25, -0.5, 0.25), (0.0, 0.0, -1.57)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, 0.5, 0.25), (0.0, 0.0, 1.57)).as_matrix()]
 
 
 def robot_camera_poses(n: int) -> list[np.ndarray]:
     """Optical-frame poses of the OAK camera along a robot path approaching the boxes while
     turning left and right (base_link -> optical from the spec)."""
-    T_base_optical = box_pose_matrix(-0.0241, 0.0, 0.1875) @ T_CAMERA_FRAME_OPTICAL
+    T_base_camera = Transform.from_xyz_rpy((-0.0241, 0.0, 0.1875), (0.0, 0.0, 0.0)).as_matrix()
+    T_base_optical = T_base_camera @ T_CAMERA_FRAME_OPTICAL
     poses = []
     for k in range(n):
         s = k / max(n - 1, 1)
-        T_world_base = box_pose_matrix(1.2 * s, 0.3 * math.sin(4 * s), 0.0,
-                                       yaw=0.35 * math.sin(6 * s))
+        T_world_base = Transform.from_xyz_rpy((1.2 * s, 0.3 * math.sin(4 * s), 0.0),
+                                              (0.0, 0.0, 0.35 * math.sin(6 * s))).as_matrix()
         poses.append(T_world_base @ T_base_optical)
     return poses
 
@@ -87,16 +90,17 @@ def bench_renderer(n_frames: int, repeats: int) -> None:
     cases.append(("same, supersample=2", "1280x720", oak_ss, oak_poses, BOX_WORLD))
     oak_noise = BoxRenderer(OAK_RGB_CAMERA, noise_sigma=2.0, seed=0)
     cases.append(("same, noise_sigma=2", "1280x720", oak_noise, oak_poses, BOX_WORLD))
-    close = [box_pose_matrix(0.0, 0.0, 0.25)]
+    close = [Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()]
     from posekit.vision.evaluation import look_at
 
     close_poses = [look_at((-0.55 - 0.1 * k / n_frames, 0.2, 0.4), (0.0, 0.0, 0.25))
                    for k in range(n_frames)]
     cases.append(("one box filling the view (0.3 m)", "1280x720", oak, close_poses, close))
     over = BoxRenderer(OVERHEAD_CAMERA)
-    T_over = box_pose_matrix(2.0, 2.0, 2.0, 0.0, 1.5708, 0.0) @ T_CAMERA_FRAME_OPTICAL
+    T_world_camera = Transform.from_xyz_rpy((2.0, 2.0, 2.0), (0.0, 1.5708, 0.0)).as_matrix()
+    T_over = T_world_camera @ T_CAMERA_FRAME_OPTICAL
     cases.append(("aruco_box_camera_world, overhead", "640x480", over, [T_over] * n_frames,
-                  [box_pose_matrix(2.0, 2.0, 0.25)]))
+                  [Transform.from_xyz_rpy((2.0, 2.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()]))
     for name, size, renderer, poses, boxes in cases:
         renderer.render(poses[0], boxes)  # warm caches
         (t,) = per_call_min(

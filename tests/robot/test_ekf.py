@@ -250,3 +250,19 @@ def test_set_pose_replaces_state_covariance_and_queue() -> None:
         ekf.set_pose(3.0, 0.0, 0.0, 0.0, np.eye(2))
     with pytest.raises(ValueError, match="finite"):
         ekf.set_pose(3.0, float("nan"), 0.0, 0.0, np.eye(3))
+
+
+@pytest.mark.parametrize("indices", [(6,), (-1,), (VX, 7)])
+def test_measurement_with_a_non_state_index_is_refused_when_made(indices: tuple[int, ...]) -> None:
+    # The state has six components (X .. VYAW = 0 .. 5); a bad index raises at construction,
+    # before anything is queued: the filter then runs as a twin that never saw it.
+    ekf, twin = Ekf2D(t0=0.0), Ekf2D(t0=0.0)
+    n = len(indices)
+    with pytest.raises(IndexError, match=r"not a state index 0\.\.5"):
+        ekf.enqueue(Measurement(0.1, indices, (1.0,) * n, (0.01,) * n))
+    for f in (ekf, twin):
+        f.enqueue(Measurement(0.15, (VX,), (0.5,), (0.01,)))
+        f.step(0.2)
+    np.testing.assert_array_equal(ekf.state, twin.state)
+    np.testing.assert_array_equal(ekf.covariance, twin.covariance)
+    assert ekf.state[VX] > 0.1  # the good measurement was fused

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -352,6 +352,79 @@ def test_lct_static_edges_contribute_nothing_and_all_static_is_zero() -> None:
     assert stamp_ns(b.lookup_transform_core("a", "c", Time())) == 3 * S
     assert stamp_ns(b.lookup_transform_core("s", "b", Time())) == 0
     assert b.get_latest_common_time("s", "b") == Time()
+
+
+# A random forest of frames f1..f4 under lower-numbered parents: per frame nothing, a static
+# edge, or dynamic samples (seconds, each with its own parent; the newest decides).
+_lct_edge = st.one_of(
+    st.none(),
+    st.tuples(st.just("static"), st.integers(0, 5)),
+    st.lists(st.tuples(st.integers(1, 9), st.integers(0, 5)), min_size=1, max_size=3,
+             unique_by=lambda s: s[0]),
+)
+
+
+@given(st.lists(_lct_edge, min_size=4, max_size=4), st.integers(0, 4), st.integers(0, 4))
+# f2 and f3 meet at f1, whose own edge (1 s) is older than both: it must not count
+@example([[(1, 0)], [(5, 1)], [(6, 1)], None], 3, 2)
+@example([[(1, 0)], [(5, 1)], [(6, 1)], None], 2, 3)
+# f3 is under f2 under f1: each one an ancestor of the other in turn
+@example([[(4, 0)], [(5, 1)], [(3, 2)], None], 1, 3)
+@example([[(4, 0)], [(5, 1)], [(3, 2)], None], 3, 1)
+# static edges only, and a frame with none above it
+@example([("static", 0), ("static", 1), ("static", 1), None], 3, 2)
+@example([None, None, None, [(2, 0)]], 0, 4)
+# two trees
+@example([[(1, 0)], None, [(2, 2)], None], 1, 3)
+def test_lct_is_the_oldest_newest_stamp_below_the_common_ancestor(
+    edges: list[Any], target_i: int, source_i: int
+) -> None:
+    # Oracle: tf2's definition written out on the newest parent of each frame: walk both
+    # frames up to their first common ancestor; the answer is the smallest non-zero newest
+    # stamp of the edges below it (0 if all are static, the frame's own newest stamp for
+    # target == source), and no common ancestor is a plain TransformException.
+    b = BufferCore()
+    newest: dict[str, tuple[str, int]] = {}  # child -> (parent, newest stamp ns; 0 static)
+    for i, edge in enumerate(edges, start=1):
+        child = f"f{i}"
+        if edge is None:
+            continue
+        if edge[0] == "static":
+            parent = f"f{edge[1] % i}"
+            b.set_transform_static(ts(parent, child, 0), "n")
+            newest[child] = (parent, 0)
+            continue
+        for sec, p in sorted(edge):
+            b.set_transform(ts(f"f{p % i}", child, sec), "n")
+        sec, p = max(edge)
+        newest[child] = (f"f{p % i}", sec * S)
+    known = set(newest) | {parent for parent, _ in newest.values()}
+    target, source = f"f{target_i}", f"f{source_i}"
+    if target not in known or source not in known:
+        return
+
+    def up(frame: str) -> list[str]:
+        chain = [frame]
+        while chain[-1] in newest:
+            chain.append(newest[chain[-1]][0])
+        return chain
+
+    if target == source:
+        expected: int | None = newest[target][1] if target in newest else 0
+    else:
+        target_up, source_up = up(target), up(source)
+        common = next((f for f in source_up if f in target_up), None)
+        if common is None:
+            expected = None
+        else:
+            below = (source_up[: source_up.index(common)]
+                     + target_up[: target_up.index(common)])
+            expected = min((newest[f][1] for f in below if newest[f][1]), default=0)
+    if expected is None:
+        with pytest.raises(TransformException):
+            b.get_latest_common_time(target, source)
+    else:
+        assert b.get_latest_common_time(target, source) == Time(nanoseconds=expected)
 
 
 def test_lct_without_overlap_fails_with_backward_text() -> None:

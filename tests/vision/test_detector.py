@@ -10,12 +10,13 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation as SciRotation
 
+from posekit.geometry import Transform
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.detector import ArucoMarkerDetector, draw_detections
 from posekit.vision.errors import CameraModelError, InvalidImageError
 from posekit.vision.evaluation import look_at
 from posekit.vision.render import BoxRenderer
-from posekit.worlds import ARUCO_BOX, box_pose_matrix
+from posekit.worlds import ARUCO_BOX
 
 CAM = OAK_RGB_CAMERA
 OBJ = np.array([[-0.1, 0.1, 0], [0.1, 0.1, 0], [0.1, -0.1, 0], [-0.1, -0.1, 0]])
@@ -56,7 +57,7 @@ def test_accuracy_grid_against_ground_truth(renderer, refine):
     oblique enough for IPPE to be unambiguous (>= 30 deg)."""
     det = ArucoMarkerDetector(CAM.K, CAM.dist_coeffs, marker_size=0.2, refine_subpixel=refine)
     rng = np.random.default_rng(11 + refine)
-    box = box_pose_matrix(0.0, 0.0, 0.25)
+    box = Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
     truth = next(g for g in ARUCO_BOX.ground_truth([box]) if g.marker_id == 4)
     worst_rel = worst_corner = 0.0
     for distance in (0.5, 1.0, 2.0, 3.0):
@@ -107,7 +108,7 @@ def test_both_ippe_solutions_on_exact_projection():
 
 def test_ambiguity_ratio_separates_head_on_from_oblique(renderer):
     det = ArucoMarkerDetector(CAM.K, marker_size=0.2)
-    box = [box_pose_matrix(0.0, 0.0, 0.25)]
+    box = [Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()]
     far_head_on = look_at((-3.25, 0.01, 0.26), (-0.25, 0.0, 0.25))
     close_oblique = look_at((-0.25 - 0.8 * math.cos(1.0), 0.8 * math.sin(1.0), 0.25),
                             (-0.25, 0.0, 0.25))
@@ -120,7 +121,8 @@ def test_ambiguity_ratio_separates_head_on_from_oblique(renderer):
 
 def test_best_pose_equals_raw_opencv_solvepnp(renderer):
     T_wo = look_at((-1.4, 0.6, 0.7), (-0.25, 0.0, 0.25))
-    img = renderer.render(T_wo, [box_pose_matrix(0.0, 0.0, 0.25)])
+    T_world_box = Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    img = renderer.render(T_wo, [T_world_box])
     det = ArucoMarkerDetector(CAM.K, CAM.dist_coeffs, marker_size=0.2)
     ours = det.detect(img)
     raw = cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_5X5_250))
@@ -151,7 +153,8 @@ def test_exact_fronto_parallel_square_is_not_identity():
 
 def test_per_id_marker_sizes_scale_translation(renderer):
     T_wo = look_at((-1.0, -1.0, 1.0), (0.0, 0.0, 0.25))
-    img = renderer.render(T_wo, [box_pose_matrix(0.0, 0.0, 0.25)])
+    T_world_box = Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    img = renderer.render(T_wo, [T_world_box])
     base = {d.marker_id: d for d in ArucoMarkerDetector(CAM.K, marker_size=0.2).detect(img)}
     sized = ArucoMarkerDetector(CAM.K, marker_size=0.2, marker_sizes={4: 0.1})
     assert sized.size_of(4) == 0.1
@@ -166,8 +169,9 @@ def test_per_id_marker_sizes_scale_translation(renderer):
 
 
 def test_robot_sees_markers_2_4_5_in_aruco_box_world():
-    boxes = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
-             box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
+    boxes = [Transform.from_xyz_rpy((2.25, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, -0.5, 0.25), (0.0, 0.0, -1.57)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, 0.5, 0.25), (0.0, 0.0, 1.57)).as_matrix()]
     T_world_optical = np.eye(4)
     T_world_optical[:3, 3] = (-0.0241, 0.0, 0.1875)  # base_link at the origin
                                                      # (docs/specs/rosbot_and_worlds.md)
@@ -182,9 +186,10 @@ def test_robot_sees_markers_2_4_5_in_aruco_box_world():
 
 
 def test_overhead_camera_sees_static_box_within_3cm():
-    T_world_camera = box_pose_matrix(2.0, 2.0, 2.0, 0.0, 1.5708, 0.0)
+    T_world_camera = Transform.from_xyz_rpy((2.0, 2.0, 2.0), (0.0, 1.5708, 0.0)).as_matrix()
     T_world_optical = T_world_camera @ T_CAMERA_FRAME_OPTICAL
-    img = BoxRenderer(OVERHEAD_CAMERA).render(T_world_optical, [box_pose_matrix(2.0, 2.0, 0.25)])
+    T_world_box = Transform.from_xyz_rpy((2.0, 2.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    img = BoxRenderer(OVERHEAD_CAMERA).render(T_world_optical, [T_world_box])
     info = OVERHEAD_CAMERA.camera_info(frame_id="overhead_camera_optical_frame")
     dets = ArucoMarkerDetector.from_camera_info(info, marker_size=0.2).detect(img)
     assert [d.marker_id for d in dets] == [3]
@@ -248,7 +253,8 @@ def test_subpixel_option_sets_opencv_refinement():
 
 def test_debug_image_draws_outlines_and_axes(renderer):
     T_wo = look_at((-1.2, 0.5, 0.6), (-0.25, 0.0, 0.25))
-    img = renderer.render(T_wo, [box_pose_matrix(0.0, 0.0, 0.25)])
+    T_world_box = Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    img = renderer.render(T_wo, [T_world_box])
     before = img.copy()
     det = ArucoMarkerDetector(CAM.K, marker_size=0.2)
     dets = det.detect(img)

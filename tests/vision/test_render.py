@@ -9,21 +9,23 @@ import cv2
 import numpy as np
 import pytest
 
+from posekit.geometry import Transform
 from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA, T_CAMERA_FRAME_OPTICAL
 from posekit.vision.errors import CameraModelError
 from posekit.vision.evaluation import look_at
 from posekit.vision.render import BoxRenderer, marker_texture
-from posekit.worlds import ARUCO_BOX, box_pose_matrix
+from posekit.worlds import ARUCO_BOX
 
 SUN = np.array([-0.5, 0.1, -0.9])
 TO_SUN = -SUN / np.linalg.norm(SUN)
 GROUND, SKY = 105.0, 190.0
-BOX_WORLD = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
-             box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
+BOX_WORLD = [Transform.from_xyz_rpy((2.25, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, -0.5, 0.25), (0.0, 0.0, -1.57)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, 0.5, 0.25), (0.0, 0.0, 1.57)).as_matrix()]
 
 
 def _rpy(roll, pitch, yaw):
-    return box_pose_matrix(0, 0, 0, roll, pitch, yaw)[:3, :3]
+    return Transform.from_xyz_rpy((0, 0, 0), (roll, pitch, yaw)).as_matrix()[:3, :3]
 
 
 def _pose(R, t):
@@ -134,15 +136,15 @@ def test_rolled_camera_and_overhead_camera():
     T_wo[:3, :3] = T_wo[:3, :3] @ _rpy(0.0, 0.0, 0.7)  # roll about the optical axis
     check_against_raycast(BoxRenderer(OAK_RGB_CAMERA), T_wo, BOX_WORLD, step=4)
     T_over = _pose(_rpy(0.0, 1.5708, 0.0), [2.0, 2.0, 2.0]) @ T_CAMERA_FRAME_OPTICAL
-    _, code = check_against_raycast(BoxRenderer(OVERHEAD_CAMERA), T_over,
-                                    [box_pose_matrix(2.0, 2.0, 0.25)], step=2)
+    T_world_box = Transform.from_xyz_rpy((2.0, 2.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    _, code = check_against_raycast(BoxRenderer(OVERHEAD_CAMERA), T_over, [T_world_box], step=2)
     assert {int(c) // 100 for c in np.unique(code) if c >= 0} == {0}  # only the top face
 
 
 def test_face_crossing_the_near_plane_is_clipped_not_dropped():
     # Camera 0.12 m in front of face -x of a box at the origin, looking along +y and turned
     # 35 degrees towards the face: half of the face plane is behind the camera.
-    box = [box_pose_matrix(0.0, 0.0, 0.25)]
+    box = [Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()]
     fwd = np.array([math.sin(math.radians(35)), math.cos(math.radians(35)), 0.0])
     eye = np.array([-0.37, 0.0, 0.3])
     T_wo = look_at(eye, eye + fwd)
@@ -156,11 +158,14 @@ def test_back_faces_and_boxes_behind_camera_are_culled():
     T_wo = look_at((0.0, 0.0, 0.25), (1.0, 0.0, 0.25))
     empty = r.render(T_wo, [])
     # camera inside a box: every face is a back face -> only the background
-    assert np.array_equal(r.render(T_wo, [box_pose_matrix(0.0, 0.0, 0.25)]), empty)
+    T_world_box = Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    assert np.array_equal(r.render(T_wo, [T_world_box]), empty)
     # a box behind the camera
-    assert np.array_equal(r.render(T_wo, [box_pose_matrix(-1.5, 0.0, 0.25)]), empty)
+    T_world_box = Transform.from_xyz_rpy((-1.5, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    assert np.array_equal(r.render(T_wo, [T_world_box]), empty)
     # and only front faces are reported visible: head-on -> one marker
-    vis = r.visible_markers(T_wo, [box_pose_matrix(2.25, 0.0, 0.25)])
+    T_world_box = Transform.from_xyz_rpy((2.25, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    vis = r.visible_markers(T_wo, [T_world_box])
     assert [v.marker_id for v in vis] == [4]
     assert vis[0].in_image
     assert vis[0].viewing_angle == pytest.approx(0.0, abs=1e-9)
@@ -179,9 +184,10 @@ def test_silhouette_edges_land_on_projected_positions():
     # the face must sit where the closed-form projection puts the face edges.
     r = BoxRenderer(OAK_RGB_CAMERA, ground_level=None)
     cam = OAK_RGB_CAMERA
+    T_world_box = Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
     for dx in (0.0, 0.0123, 0.031):
         T_wo = look_at((-1.55 + 0.0, dx, 0.25 + dx), (0.0, dx, 0.25 + dx))
-        img = r.render(T_wo, [box_pose_matrix(0.0, 0.0, 0.25)])[..., 0].astype(np.float64)
+        img = r.render(T_wo, [T_world_box])[..., 0].astype(np.float64)
         depth = 1.3
         u_left = cam.cx + cam.fx * (-0.25 - dx) / depth  # face spans y in [-0.25, 0.25]
         u_right = cam.cx + cam.fx * (0.25 - dx) / depth
@@ -275,7 +281,7 @@ def test_walls_are_drawn_and_hide_the_boxes_behind_them():
     segs = WallSegments(np.array([w[0] for w in walls], dtype=float),
                         np.array([w[1] for w in walls], dtype=float),
                         np.array([w[2] for w in walls], dtype=float))
-    boxes = [*BOX_WORLD, box_pose_matrix(2.5, 2.0, 0.25, yaw=0.3)]
+    boxes = [*BOX_WORLD, Transform.from_xyz_rpy((2.5, 2.0, 0.25), (0.0, 0.0, 0.3)).as_matrix()]
     T_wo = look_at([-0.3, 0.6, 0.35], [2.0, 0.5, 0.3])
     renderer = BoxRenderer(OAK_RGB_CAMERA, walls=segs)
     _, code = check_against_raycast(renderer, T_wo, boxes, step=3, walls=walls)

@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation as SciRotation
 
+from posekit.geometry import Transform
 from posekit.worlds import (
     ARUCO_BOX,
     ArucoBoxModel,
     BoxFace,
     WorldError,
-    box_pose_matrix,
     marker_corners_local,
 )
 
@@ -46,19 +46,13 @@ def test_corner_order_is_ippe_square():
     )
 
 
-def test_box_pose_matrix_is_sdf_rpy():
-    T = box_pose_matrix(1.0, 2.0, 3.0, 0.3, -0.2, 1.1)
-    ref = SciRotation.from_euler("xyz", [0.3, -0.2, 1.1]).as_matrix()
-    np.testing.assert_allclose(T[:3, :3], ref, atol=1e-12)
-    np.testing.assert_allclose(T[:3, 3], [1, 2, 3])
-
-
 def test_aruco_box_world_markers_match_spec():
     # docs/specs/rosbot_and_worlds.md, aruco_box_worlds.sdf: id 4 at (2.000, 0, 0.25), id 2 at
     # (2.000, -0.5002, 0.25),
     # id 5 at (2.000, 0.5002, 0.25), orientations ~ quat (0, -0.7071, 0, 0.7071) +- 3e-4
-    boxes = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
-             box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
+    boxes = [Transform.from_xyz_rpy((2.25, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, -0.5, 0.25), (0.0, 0.0, -1.57)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, 0.5, 0.25), (0.0, 0.0, 1.57)).as_matrix()]
     truth = {(g.box_index, g.marker_id): g for g in ARUCO_BOX.ground_truth(boxes)}
     expected = {(0, 4): (2.0, 0.0, 0.25), (1, 2): (2.0, -0.5002, 0.25), (2, 5): (2.0, 0.5002, 0.25)}
     for key, pos in expected.items():
@@ -76,8 +70,8 @@ def test_aruco_box_world_markers_match_spec():
 
 def test_overhead_world_top_marker_matches_spec():
     # box_1 at (2, 2, 0.25): top marker id 3, centre (2, 2, 0.5), quat (0, 0, 1, 0)
-    g = next(g for g in ARUCO_BOX.ground_truth([box_pose_matrix(2.0, 2.0, 0.25)])
-             if g.marker_id == 3)
+    T_world_box = Transform.from_xyz_rpy((2.0, 2.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    g = next(g for g in ARUCO_BOX.ground_truth([T_world_box]) if g.marker_id == 3)
     np.testing.assert_allclose(g.T_world_marker[:3, 3], [2.0, 2.0, 0.5], atol=1e-12)
     q = SciRotation.from_matrix(g.T_world_marker[:3, :3]).as_quat()
     assert _quat_close(q, [0, 0, 1, 0], 1e-12)

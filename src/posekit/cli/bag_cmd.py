@@ -88,6 +88,31 @@ def default_bag_name(now: datetime.datetime | None = None) -> str:
     return (now or datetime.datetime.now()).strftime("rosbag2_%Y_%m_%d-%H_%M_%S")
 
 
+def _warn_record_overrides(ns: argparse.Namespace, topics: list[str], every: bool,
+                           every_service: bool) -> None:
+    """ros2 bag's warnings when --all, --all-topics or --all-services override a selection."""
+    if every_service and ns.services:
+        sys.stderr.write("[WARN] [ros2bag]: --all or --all-services will override --services\n")
+    if every and topics:
+        sys.stderr.write("[WARN] [ros2bag]: --all or --all-topics will override --topics\n")
+    if (every or every_service) and ns.regex:
+        sys.stderr.write("[WARN] [ros2bag]: --all, --all-topics or --all-services will "
+                         "override --regex\n")
+
+
+def _custom_data(pairs: Sequence[str]) -> dict[str, str] | None:
+    """``--custom-data`` KEY=VALUE pairs as a mapping; None after reporting a malformed one."""
+    custom: dict[str, str] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            sys.stderr.write(f"posekit bag record: error: --custom-data needs KEY=VALUE, "
+                             f"got {pair!r}\n")
+            return None
+        custom[key] = value
+    return custom
+
+
 def record(argv: Sequence[str], *, context: Any = None) -> int:
     """``posekit bag record``; ``context`` (tests) replaces the tool's own context."""
     parser = _Parser(prog="posekit bag record",
@@ -167,25 +192,14 @@ def record(argv: Sequence[str], *, context: Any = None) -> int:
     if problem:
         sys.stderr.write(parser.format_usage() + f"posekit bag record: error: {problem}\n")
         return 2
-    if every_service and ns.services:
-        sys.stderr.write("[WARN] [ros2bag]: --all or --all-services will override --services\n")
-    if every and topics:
-        sys.stderr.write("[WARN] [ros2bag]: --all or --all-topics will override --topics\n")
-    if (every or every_service) and ns.regex:
-        sys.stderr.write("[WARN] [ros2bag]: --all, --all-topics or --all-services will "
-                         "override --regex\n")
+    _warn_record_overrides(ns, topics, every, every_service)
     output = ns.output or default_bag_name()
     if Path(output).is_dir():
         sys.stderr.write(f"posekit bag record: error: Output folder '{output}' already exists.\n")
         return 1
-    custom: dict[str, str] = {}
-    for pair in ns.custom_data:
-        key, sep, value = pair.partition("=")
-        if not sep or not key:
-            sys.stderr.write(f"posekit bag record: error: --custom-data needs KEY=VALUE, "
-                             f"got {pair!r}\n")
-            return 2
-        custom[key] = value
+    custom = _custom_data(ns.custom_data)
+    if custom is None:
+        return 2
     compression: str | None = "zstd"
     if ns.compression_mode != "none":
         compression = ns.compression_mode

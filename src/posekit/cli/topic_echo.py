@@ -161,19 +161,9 @@ def main_echo(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     wait_s = ns.timeout if timeout_s is None else timeout_s
     with session_for(ns, context) as session:
         topic = resolve_topic(session, ns.topic_name)
-        if ns.message_type is not None:
-            try:
-                msg_cls = message_class(ns.message_type)
-            except ValueError:
-                raise CliError(f"The passed message type '{ns.message_type}' is invalid") \
-                    from None
-        else:
-            type_name = wait_for_topic_type(session, topic, err, wait_s)
-            if type_name is None:
-                if timeout_s is None:  # --timeout: ros2 ends quietly
-                    return 0
-                raise CliError(f"Could not determine the type for the passed topic '{topic}'")
-            msg_cls = message_class(type_name)
+        msg_cls = _echo_class(session, ns.message_type, topic, err, wait_s, timeout_s)
+        if msg_cls is None:  # --timeout and no publisher: ros2 ends quietly
+            return 0
         if qos_overridden(ns):
             qos = qos_from_args(ns)
         else:
@@ -210,6 +200,26 @@ def main_echo(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
                 return 1 if printed == 0 and timeout_s is not None else 0
             session.spin_for(0.1)
     return 0
+
+
+def _echo_class(session: Any, type_name: str | None, topic: str, err: TextIO,
+                wait_s: float | None, timeout_s: float | None) -> type | None:
+    """The message class to echo ``topic`` with: the given type, else the publishers' type.
+
+    None when ``--timeout`` ran out before a publisher showed its type (``timeout_s`` unset);
+    raises CliError for an invalid type name, or when the type stays unknown otherwise.
+    """
+    if type_name is not None:
+        try:
+            return message_class(type_name)
+        except ValueError:
+            raise CliError(f"The passed message type '{type_name}' is invalid") from None
+    found = wait_for_topic_type(session, topic, err, wait_s)
+    if found is not None:
+        return message_class(found)
+    if timeout_s is None:
+        return None
+    raise CliError(f"Could not determine the type for the passed topic '{topic}'")
 
 
 def _render(msg: Any, ns: argparse.Namespace, field: str | None, truncate: int | None,

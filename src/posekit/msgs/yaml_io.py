@@ -236,22 +236,32 @@ def yaml_scalar(value: Any) -> str:
     if isinstance(value, int):
         return str(int(value))
     if isinstance(value, float):
-        if value != value:
-            return ".nan"
-        if value == math.inf:
-            return ".inf"
-        if value == -math.inf:
-            return "-.inf"
-        text = repr(float(value)).lower()
-        if "." not in text and "e" in text:
-            text = text.replace("e", ".0e", 1)
-        return text
+        return _yaml_float(value)
     text = str(value)
     style = _string_style(text)
     if style == "":
         return text
     if style == "'":
         return "'" + text.replace("'", "''") + "'"
+    return _double_quoted(text)
+
+
+def _yaml_float(value: float) -> str:
+    """A float as PyYAML writes it: ``.nan``, ``.inf``, ``-.inf``, or repr with a ``.0e``."""
+    if value != value:
+        return ".nan"
+    if value == math.inf:
+        return ".inf"
+    if value == -math.inf:
+        return "-.inf"
+    text = repr(float(value)).lower()
+    if "." not in text and "e" in text:
+        text = text.replace("e", ".0e", 1)
+    return text
+
+
+def _double_quoted(text: str) -> str:
+    """``text`` as a double-quoted YAML scalar with PyYAML's escapes."""
     out = []
     for ch in text:
         if ch in _DOUBLE_ESCAPES:
@@ -510,17 +520,7 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str,
                 )
             return arr
         if isinstance(current, list):
-            if not isinstance(value, list):
-                raise MessageFieldError(f"{where}: expected a list, got {value!r}")
-            elem = _list_element_class(owner, name)
-            if elem is None:
-                return list(value)
-            out = []
-            for i, item in enumerate(value):
-                child = elem()
-                set_message_fields(child, item, path=f"{where}[{i}]", now_ns=now_ns)
-                out.append(child)
-            return out
+            return _converted_list(owner, name, value, where, now_ns)
         if isinstance(current, bool):
             if not isinstance(value, bool):
                 raise MessageFieldError(f"{where}: expected true/false, got {value!r}")
@@ -536,6 +536,22 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str,
     except (TypeError, ValueError, OverflowError) as exc:
         raise MessageFieldError(f"{where}: cannot use {value!r}: {exc}") from None
     return value
+
+
+def _converted_list(owner: type, name: str, value: Any, where: str,
+                    now_ns: Callable[[], int] | None) -> list[Any]:
+    """``value`` for the sequence field ``name`` of ``owner``: messages built from mappings."""
+    if not isinstance(value, list):
+        raise MessageFieldError(f"{where}: expected a list, got {value!r}")
+    elem = _list_element_class(owner, name)
+    if elem is None:
+        return list(value)
+    out = []
+    for i, item in enumerate(value):
+        child = elem()
+        set_message_fields(child, item, path=f"{where}[{i}]", now_ns=now_ns)
+        out.append(child)
+    return out
 
 
 def message_class(type_name: str) -> type:

@@ -65,6 +65,7 @@ from posekit.time import stamp_from_seconds, stamp_to_seconds
 __all__ = ["VX", "VY", "VYAW", "YAW", "Ekf2D", "Measurement", "X", "Y"]
 
 X, Y, YAW, VX, VY, VYAW = range(6)
+_STATE_INDICES = frozenset(range(6))
 _FloatArray = npt.NDArray[np.float64]
 
 
@@ -74,12 +75,20 @@ class Measurement:
 
     Stamp ``t`` (s), fused state ``indices``, ``values`` and their ``variances`` (diagonal
     covariance).
+
+    Raises:
+        IndexError: an index is not a state index 0..5 (``X`` .. ``VYAW``).
     """
 
     t: float
     indices: tuple[int, ...]
     values: tuple[float, ...]
     variances: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        if not _STATE_INDICES.issuperset(self.indices):
+            bad = next(i for i in self.indices if i not in _STATE_INDICES)
+            raise IndexError(f"measurement index {bad!r} is not a state index 0..5")
 
 
 class Ekf2D:
@@ -380,10 +389,8 @@ class Ekf2D:
                     r0, r1, r2, r3, r4, r5, innovation = p04, p14, p24, p34, p44, p45, z - vy
                 elif i == X:
                     r0, r1, r2, r3, r4, r5, innovation = p00, p01, p02, p03, p04, p05, z - x
-                elif i == Y:
+                else:  # Y: a Measurement holds state indices only
                     r0, r1, r2, r3, r4, r5, innovation = p01, p11, p12, p13, p14, p15, z - y
-                else:
-                    raise IndexError(f"measurement index {i} is not a state index 0..5")
                 denominator = (r0, r1, r2, r3, r4, r5)[i] + max(r, floor)
                 g0, g1, g2 = r0 / denominator, r1 / denominator, r2 / denominator
                 g3, g4, g5 = r3 / denominator, r4 / denominator, r5 / denominator

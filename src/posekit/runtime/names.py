@@ -143,13 +143,12 @@ def normalize_namespace(namespace: str | None) -> str:
     return validate_namespace(namespace)
 
 
-def validate_topic_name(name: str) -> str:
-    """Validate a topic name as written by the user (before expansion)."""
-    if not isinstance(name, str):
-        raise TypeError(f"topic name must be a str, got {type(name).__name__}")
-    if not name:
-        raise InvalidTopicNameException(name, "topic name must not be empty", 0)
-    # Substitutions: balanced braces with a valid name inside.
+def _without_substitutions(name: str) -> str:
+    """``name`` with each ``{...}`` substitution replaced by as many ``s``: a plain name.
+
+    Raises InvalidTopicNameException unless the braces are balanced, unnested and hold a
+    valid name.
+    """
     depth = 0
     for i, ch in enumerate(name):
         if ch == "{":
@@ -167,7 +166,16 @@ def validate_topic_name(name: str) -> str:
             raise InvalidTopicNameException(
                 name, f"substitution '{{{m.group(1)}}}' is not a valid name", m.start()
             )
-    plain = _SUBSTITUTION.sub(lambda m: "s" * len(m.group(0)), name)
+    return _SUBSTITUTION.sub(lambda m: "s" * len(m.group(0)), name)
+
+
+def validate_topic_name(name: str) -> str:
+    """Validate a topic name as written by the user (before expansion)."""
+    if not isinstance(name, str):
+        raise TypeError(f"topic name must be a str, got {type(name).__name__}")
+    if not name:
+        raise InvalidTopicNameException(name, "topic name must not be empty", 0)
+    plain = _without_substitutions(name)
     if "~" in plain[1:]:
         raise InvalidTopicNameException(
             name, "'~' is only allowed as the first character", plain.index("~", 1)

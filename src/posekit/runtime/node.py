@@ -59,6 +59,7 @@ from posekit.runtime.time_source import TimeSource
 from posekit.runtime.transport import EndpointInfo, ServiceInfo, Transport
 
 if TYPE_CHECKING:
+    from posekit.runtime.arguments import RosArguments
     from posekit.runtime.executors import Executor
 
 __all__ = ["Node", "NodeDefaults", "node_defaults"]
@@ -124,6 +125,29 @@ def _no_callback() -> None:
     """Placeholder timer callback a Rate replaces with its own."""
 
 
+def _merged_overrides(
+    fqn: str,
+    glob: RosArguments,
+    scope: NodeDefaults | None,
+    local: RosArguments,
+    parameter_overrides: Sequence[Parameter] | Mapping[str, Any] | None,
+) -> dict[str, Any]:
+    """A node's parameter overrides (name -> value) from every source, the last one winning.
+
+    Weakest first: the global arguments, the launch scope, the node's cli_args, then the
+    constructor's ``parameter_overrides``. ``fqn`` is the node's fully qualified name.
+    """
+    overrides: dict[str, Any] = glob.parameters_for(fqn)
+    if scope is not None:
+        overrides.update(scope.parameters)
+    overrides.update(local.parameters_for(fqn))
+    if isinstance(parameter_overrides, Mapping):
+        overrides.update(parameter_overrides)
+    elif parameter_overrides is not None:
+        overrides.update({p.name: p.value for p in parameter_overrides})
+    return overrides
+
+
 class Node:
     """A ROS 2 node (rclpy.node.Node API)."""
 
@@ -174,17 +198,9 @@ class Node:
         self._namespace = normalize_namespace(namespace)
         self._remap_rules = [r for r in rules if not r.from_name.startswith("__")]
 
-        # Parameter overrides, weakest first: global arguments, launch scope, cli_args,
-        # then the constructor's parameter_overrides.
-        fqn = self.get_fully_qualified_name()
-        overrides: dict[str, Any] = glob.parameters_for(fqn)
-        if scope is not None:
-            overrides.update(scope.parameters)
-        overrides.update(local.parameters_for(fqn))
-        if isinstance(parameter_overrides, Mapping):
-            overrides.update(parameter_overrides)
-        elif parameter_overrides is not None:
-            overrides.update({p.name: p.value for p in parameter_overrides})
+        overrides = _merged_overrides(
+            self.get_fully_qualified_name(), glob, scope, local, parameter_overrides
+        )
 
         if isinstance(transport, Transport):
             self._transport = transport

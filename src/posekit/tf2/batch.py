@@ -10,6 +10,7 @@ single-lookup code, so results and errors are always those of ``lookup_transform
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -119,6 +120,33 @@ def _canonical_rows(q: F64) -> F64:
     return out
 
 
+def _gathers(older: Any, newer: Any, n: int) -> tuple[Callable[[Any], Any], Callable[[Any], Any]]:
+    """Functions picking each stamp's older and newer sample from a per-sample row.
+
+    Gathers dominate the cost of :func:`_edge`. Sorted stamps (the usual case: a trajectory)
+    give non-decreasing indices, where np.repeat with per-sample counts is a run of memcpy's.
+    """
+    if older.shape[0] > 1 and bool((older[1:] >= older[:-1]).all()):
+        c_old = np.bincount(older, minlength=n)
+        c_new = np.bincount(newer, minlength=n)
+
+        def g_old(row: Any) -> Any:
+            return np.repeat(row, c_old)
+
+        def g_new(row: Any) -> Any:
+            return np.repeat(row, c_new)
+
+        return g_old, g_new
+
+    def take_old(row: Any) -> Any:
+        return row.take(older)
+
+    def take_new(row: Any) -> Any:
+        return row.take(newer)
+
+    return take_old, take_new
+
+
 def _edge(cache: Any, t: I64) -> tuple[int, Cols, B | None] | None:
     """One edge at every stamp, or None if no stamp has data.
 
@@ -155,26 +183,7 @@ def _edge(cache: Any, t: I64) -> tuple[int, Cols, B | None] | None:
     if at_oldest.any():
         older[at_oldest] = 0  # exact hit on the oldest stamp: its first-inserted sample
     newer = np.minimum(older + 1, n - 1)
-    # Gathers dominate the cost. Sorted stamps (the usual case: a trajectory) give
-    # non-decreasing indices, where np.repeat with per-sample counts is a run of memcpy's.
-    if older.shape[0] > 1 and bool((older[1:] >= older[:-1]).all()):
-        c_old = np.bincount(older, minlength=n)
-        c_new = np.bincount(newer, minlength=n)
-
-        def g_old(row: Any) -> Any:
-            return np.repeat(row, c_old)
-
-        def g_new(row: Any) -> Any:
-            return np.repeat(row, c_new)
-
-    else:
-
-        def g_old(row: Any) -> Any:
-            return row.take(older)
-
-        def g_new(row: Any) -> Any:
-            return row.take(newer)
-
+    g_old, g_new = _gathers(older, newer, n)
     p_old = g_old(parents)
     p_ok = p_old if ok is None else p_old[ok]
     parent = int(p_ok[0])

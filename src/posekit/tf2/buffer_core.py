@@ -504,16 +504,18 @@ class BufferCore:
         """tf2 ``getLatestCommonTime`` (lock held).
 
         The minimum of the newest non-zero stamps below the common ancestor, using each frame's
-        current newest sample and parent.
+        current newest sample and parent; 0 when every edge there is static. Two walks up the
+        tree, as in tf2: from the source (which ends here if the target is an ancestor of
+        it), then from the target (:meth:`_latest_common_time_from_target`).
         """
         caches = self._caches
         if sid == tid:
             cache = caches[sid]
             return cache.latest_stamp() if cache is not None else 0
-        src_list: list[tuple[int, int]] = []
-        frame = sid
+        source_up: dict[int, int] = {}  # parent -> stamp of the edge into it, in walk order
+        earliest = -1  # none seen yet (tf2 starts from TimePoint::max)
         depth = 0
-        common = -1  # -1 = none seen yet (tf2 uses TimePoint::max)
+        frame = sid
         while frame != 0:
             cache = caches[frame]
             if cache is None:
@@ -521,46 +523,55 @@ class BufferCore:
             stamp, parent = cache.latest_time_and_parent()
             if parent == 0:
                 break
-            if stamp != 0 and (common < 0 or stamp < common):
-                common = stamp
-            src_list.append((stamp, parent))
-            frame = parent
-            if frame == tid:
-                return common if common >= 0 else 0
+            if stamp != 0 and (earliest < 0 or stamp < earliest):
+                earliest = stamp
+            if parent == tid:  # the target is an ancestor of the source
+                return earliest if earliest >= 0 else 0
+            source_up[parent] = stamp
             depth += 1
             if depth > MAX_GRAPH_DEPTH:
                 raise self._loop_error()
-        src_parents = {p for _, p in src_list}
-        frame = tid
+            frame = parent
+        return self._latest_common_time_from_target(tid, sid, source_up)
+
+    def _latest_common_time_from_target(
+        self, tid: int, sid: int, source_up: dict[int, int]
+    ) -> int:
+        """The second walk of :meth:`_latest_common_time`: up from the target (lock held).
+
+        ``source_up`` is the first walk's edges (parent -> stamp of the edge into it, in walk
+        order). The walk ends at the source (an ancestor of the target: the target's edges
+        decide) or where it meets a parent in ``source_up`` (the common parent: the target's
+        edges and the source's edges below it decide). Raises tf2's connectivity error when
+        it meets neither, its loop error past :data:`MAX_GRAPH_DEPTH` edges.
+        """
+        caches = self._caches
+        earliest = -1
         depth = 0
-        common = -1
-        common_parent = 0
+        frame = tid
         while True:
             cache = caches[frame]
             if cache is None:
-                break
+                raise self._connectivity_error(sid, tid)
             stamp, parent = cache.latest_time_and_parent()
             if parent == 0:
+                raise self._connectivity_error(sid, tid)
+            if stamp != 0 and (earliest < 0 or stamp < earliest):
+                earliest = stamp
+            if parent in source_up:
                 break
-            if stamp != 0 and (common < 0 or stamp < common):
-                common = stamp
-            if parent in src_parents:
-                common_parent = parent
-                break
-            frame = parent
-            if frame == sid:
-                return common if common >= 0 else 0
+            if parent == sid:  # the source is an ancestor of the target
+                return earliest if earliest >= 0 else 0
             depth += 1
             if depth > MAX_GRAPH_DEPTH:
                 raise self._loop_error()
-        if common_parent == 0:
-            raise self._connectivity_error(sid, tid)
-        for stamp, parent in src_list:
-            if stamp != 0 and (common < 0 or stamp < common):
-                common = stamp
-            if parent == common_parent:
+            frame = parent
+        for reached, stamp in source_up.items():  # the source's edges up to the common parent
+            if stamp != 0 and (earliest < 0 or stamp < earliest):
+                earliest = stamp
+            if reached == parent:
                 break
-        return common if common >= 0 else 0
+        return earliest if earliest >= 0 else 0
 
     def _connectivity_error(self, sid: int, tid: int) -> ConnectivityException:
         names = self._names

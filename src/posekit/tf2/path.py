@@ -129,6 +129,19 @@ class FramePath:
         self.memo: tuple[int, int, Result] | None = None
 
 
+def _newest_edge(caches: Sequence[TimeCache | StaticCache | None], frame: int) -> Edge | None:
+    """The edge from ``frame`` to its newest parent, None without data or parent."""
+    cache = caches[frame]
+    if cache is None:
+        return None
+    parent = cache.latest_time_and_parent()[1]
+    if parent == 0:
+        return None
+    if isinstance(cache, TimeCache):
+        return Edge(cache.stamps, cache.parents, cache.data, cache._iv, parent, None)
+    return Edge(None, None, None, None, parent, cache)
+
+
 def build_path(caches: Sequence[TimeCache | StaticCache | None], tid: int, sid: int,
                max_depth: int) -> FramePath | None:
     """The path from the newest parents, or None where no cached path can serve the pair.
@@ -136,18 +149,6 @@ def build_path(caches: Sequence[TimeCache | StaticCache | None], tid: int, sid: 
     None for an edge without data or a walk longer than ``max_depth``: the reference walk
     decides.
     """
-
-    def edge(frame: int) -> Edge | None:
-        cache = caches[frame]
-        if cache is None:
-            return None
-        parent = cache.latest_time_and_parent()[1]
-        if parent == 0:
-            return None
-        if isinstance(cache, TimeCache):
-            return Edge(cache.stamps, cache.parents, cache.data, cache._iv, parent, None)
-        return Edge(None, None, None, None, parent, cache)
-
     up: list[Edge] = []
     frame = sid
     while True:
@@ -156,7 +157,7 @@ def build_path(caches: Sequence[TimeCache | StaticCache | None], tid: int, sid: 
         if caches[frame] is None:
             top = frame
             break
-        e = edge(frame)
+        e = _newest_edge(caches, frame)
         if e is None:
             return None
         if frame == tid:  # target is an ancestor: its own edge must only evaluate
@@ -170,7 +171,7 @@ def build_path(caches: Sequence[TimeCache | StaticCache | None], tid: int, sid: 
     while frame != top:
         if len(down) >= max_depth:
             return None
-        e = edge(frame)
+        e = _newest_edge(caches, frame)
         if e is None:
             return None
         if frame == sid:  # source is an ancestor of the target

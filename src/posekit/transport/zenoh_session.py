@@ -786,39 +786,50 @@ class WireSubscription:
         except Exception as exc:  # last line of defence: never raise into zenoh
             self._drop("internal", "?", f"unexpected {type(exc).__name__}: {exc}")
 
+    def _other_key_matches(self, sample: zenoh.Sample, key: str) -> bool:
+        """Whether a sample on ``key`` (not our key expression) carries our type hash.
+
+        A PUT with another type hash is dropped with a warning; a DELETE is ignored.
+        """
+        if sample.kind != _PUT:
+            return False
+        received_hash = key.rpartition("/")[2]
+        if received_hash != self.type_hash:
+            self._drop(
+                "type_hash",
+                key,
+                f"type hash {received_hash} differs from ours ({self.type_hash}) for "
+                f"{self.ros_type}: the publisher uses another definition",
+            )
+            return False
+        return True
+
+    def _drop_put(self, sample: zenoh.Sample, reason: str, source: str, detail: str) -> None:
+        """:meth:`_drop` for a PUT; a DELETE (no attachment, no payload) is ignored silently."""
+        if sample.kind == _PUT:
+            self._drop(reason, source, detail)
+
     def _handle(self, sample: zenoh.Sample) -> None:
         # Hot path (one call per sample): the checks a valid sample passes come first and
         # cost one comparison each; the sample kind is looked at only when one fails (a
         # DELETE has no attachment and no payload, and is ignored without a word).
         key = str(sample.key_expr)
-        if key != self.key:  # the wildcard hash chunk matched another definition of the type
-            if sample.kind != _PUT:
-                return
-            received_hash = key.rpartition("/")[2]
-            if received_hash != self.type_hash:
-                self._drop(
-                    "type_hash",
-                    key,
-                    f"type hash {received_hash} differs from ours ({self.type_hash}) for "
-                    f"{self.ros_type}: the publisher uses another definition",
-                )
-                return
+        # the wildcard hash chunk matched another definition of the type
+        if key != self.key and not self._other_key_matches(sample, key):
+            return
         raw_att = sample.attachment
         if raw_att is None:
-            if sample.kind == _PUT:
-                self._drop("attachment", key, "no attachment (rmw_zenoh requires one)")
+            self._drop_put(sample, "attachment", key, "no attachment (rmw_zenoh requires one)")
             return
         try:
             att = decode_attachment(raw_att.to_bytes())
         except WireFormatError as exc:
-            if sample.kind == _PUT:
-                self._drop("attachment", key, str(exc))
+            self._drop_put(sample, "attachment", key, str(exc))
             return
         try:
             msg = from_cdr(sample.payload.to_bytes(), self.msg_type)
         except CdrError as exc:
-            if sample.kind == _PUT:
-                self._drop("cdr", att.gid.hex(), str(exc))
+            self._drop_put(sample, "cdr", att.gid.hex(), str(exc))
             return
         seq, gid = att[0], att[2]
         last_seq = self._last_seq

@@ -69,7 +69,7 @@ import re
 import struct
 import threading
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -598,55 +598,77 @@ class ViewerServer:
                 client.sent += 1
 
     def _on_request(self, client: _Client, text: str) -> None:
+        """Answer one JSON request of a page; a bad one gets an ``error`` message back."""
+        handlers: dict[str, Callable[[_Client, Mapping[str, Any]], None]] = {
+            "fixed_frame": self._set_fixed_frame,
+            "watch": self._watch_images,
+            "pause": self._pause,
+            "goal": self._send_goal,
+            "initial_pose": self._send_initial_pose,
+            "display_subscribe": self._display_subscribe,
+            "display_unsubscribe": self._display_unsubscribe,
+        }
         try:
             request = json.loads(text)
             if not isinstance(request, Mapping):
                 raise ValueError("expected a JSON object")
             op = request.get("op")
-            if op == "fixed_frame":
-                frame = request.get("frame")
-                if not isinstance(frame, str) or not frame or len(frame) > _MAX_NAME:
-                    raise ValueError("'frame' must be a non-empty string")
-                client.fixed_frame = frame.lstrip("/")
-                client.put("tf", self._tf_message(client.fixed_frame))
-            elif op == "watch":
-                topics = request.get("topics")
-                if not isinstance(topics, list) or not all(
-                    isinstance(t, str) and 0 < len(t) <= _MAX_NAME for t in topics
-                ):
-                    raise ValueError("'topics' must be a list of topic names")
-                if len(topics) > _MAX_WATCH:
-                    raise ValueError(f"at most {_MAX_WATCH} image topics can be watched")
-                client.watched = set(topics)
-                for stale in [c for c in client.slots if c.startswith("image:")]:
-                    if stale[6:] not in client.watched:
-                        del client.slots[stale]
-                client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
-            elif op == "initial_pose":
-                pose = self.publish_initial_pose(request.get("frame"), request.get("x"),
-                                                 request.get("y"), request.get("yaw"))
-                client.put("initial_pose_sent", _dumps({"type": "initial_pose_sent", **pose}))
-            elif op == "display_subscribe":
-                self._display_subscribe(client, request)
-            elif op == "display_unsubscribe":
-                topic = request.get("topic")
-                if not isinstance(topic, str):
-                    raise ValueError("'topic' must be a topic name")
-                client.displays.pop(topic, None)
-                client.display_seq.pop(topic, None)
-                client.display_out.pop(topic, None)
-                self._update_message_watches()
-            elif op == "pause":
-                client.paused = bool(request.get("paused"))
-            elif op == "goal":
-                goal = self.publish_goal(request.get("frame"), request.get("x"),
-                                         request.get("y"), request.get("yaw"))
-                client.put("goal_sent", _dumps({"type": "goal_sent", **goal}))
-            else:
+            handler = handlers.get(op) if isinstance(op, str) else None
+            if handler is None:
                 raise ValueError(f"unknown op {op!r} (fixed_frame, watch, pause, goal, "
                                  "initial_pose, display_subscribe, display_unsubscribe)")
+            handler(client, request)
         except (ValueError, TypeError) as exc:
             client.put("error", _dumps({"type": "error", "message": f"bad request: {exc}"}))
+
+    def _set_fixed_frame(self, client: _Client, request: Mapping[str, Any]) -> None:
+        """``{"op": "fixed_frame", "frame"}``: the page's fixed frame, and its TF at once."""
+        frame = request.get("frame")
+        if not isinstance(frame, str) or not frame or len(frame) > _MAX_NAME:
+            raise ValueError("'frame' must be a non-empty string")
+        client.fixed_frame = frame.lstrip("/")
+        client.put("tf", self._tf_message(client.fixed_frame))
+
+    def _watch_images(self, client: _Client, request: Mapping[str, Any]) -> None:
+        """``{"op": "watch", "topics"}``: the image topics the page shows (replaces the last)."""
+        topics = request.get("topics")
+        if not isinstance(topics, list) or not all(
+            isinstance(t, str) and 0 < len(t) <= _MAX_NAME for t in topics
+        ):
+            raise ValueError("'topics' must be a list of topic names")
+        if len(topics) > _MAX_WATCH:
+            raise ValueError(f"at most {_MAX_WATCH} image topics can be watched")
+        client.watched = set(topics)
+        for stale in [c for c in client.slots if c.startswith("image:")]:
+            if stale[6:] not in client.watched:
+                del client.slots[stale]
+        client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
+
+    def _pause(self, client: _Client, request: Mapping[str, Any]) -> None:
+        """``{"op": "pause", "paused"}``: stop or resume the page's updates."""
+        client.paused = bool(request.get("paused"))
+
+    def _send_goal(self, client: _Client, request: Mapping[str, Any]) -> None:
+        """``{"op": "goal", "frame", "x", "y", "yaw"}``: publish a navigation goal."""
+        goal = self.publish_goal(request.get("frame"), request.get("x"),
+                                 request.get("y"), request.get("yaw"))
+        client.put("goal_sent", _dumps({"type": "goal_sent", **goal}))
+
+    def _send_initial_pose(self, client: _Client, request: Mapping[str, Any]) -> None:
+        """``{"op": "initial_pose", "frame", "x", "y", "yaw"}``: publish an initial pose."""
+        pose = self.publish_initial_pose(request.get("frame"), request.get("x"),
+                                         request.get("y"), request.get("yaw"))
+        client.put("initial_pose_sent", _dumps({"type": "initial_pose_sent", **pose}))
+
+    def _display_unsubscribe(self, client: _Client, request: Mapping[str, Any]) -> None:
+        """``{"op": "display_unsubscribe", "topic"}``: stop sending the topic to the page."""
+        topic = request.get("topic")
+        if not isinstance(topic, str):
+            raise ValueError("'topic' must be a topic name")
+        client.displays.pop(topic, None)
+        client.display_seq.pop(topic, None)
+        client.display_out.pop(topic, None)
+        self._update_message_watches()
 
     # -- displays --------------------------------------------------------------------------
     def _display_subscribe(self, client: _Client, request: Mapping[str, Any]) -> None:
@@ -849,7 +871,7 @@ class ViewerServer:
             await asyncio.sleep(period)
 
     async def _produce_round(self, feed: _Feed) -> None:
-        """One round of :meth:`_produce`: graph, TF, odometry and image slots."""
+        """One round of :meth:`_produce`: graph, TF, odometry, display and image slots."""
         loop = asyncio.get_running_loop()
         now = time.monotonic()
         active = [c for c in self._clients if not c.paused and not c.ws.closed]
@@ -860,47 +882,66 @@ class ViewerServer:
                 graph = self._graph_message()
                 for c in active:
                     c.put("graph", graph)
-        version = self.tap.tf_version
-        if active and (version != feed.tf_version or now - feed.tf_sent >= _IDLE_TF_PERIOD):
-            feed.tf_version, feed.tf_sent = version, now
-            by_frame: dict[str, str] = {}
-            for c in active:
-                if c.fixed_frame not in by_frame:
-                    by_frame[c.fixed_frame] = self._tf_message(c.fixed_frame)
-                c.put("tf", by_frame[c.fixed_frame])
-        if active and now >= feed.next_odom:
-            feed.next_odom = now + _ODOM_PERIOD
-            odom_version = self.tap.trails_version()
-            if odom_version != feed.odom_version:
-                feed.odom_version = odom_version
-                self._counters["odom"] += 1
-                odom = _dumps({"type": "odom", "displays": self.tap.trails()})
-                for c in active:
-                    c.put("odom", odom)
-        if active and any(c.displays for c in active):
+        if not active:
+            return
+        self._tf_slot(feed, active, now)
+        if now >= feed.next_odom:
+            self._odom_slot(feed, active, now)
+        if any(c.displays for c in active):
             batches = await loop.run_in_executor(None, self._display_round, active)
             for c, topics in batches.items():
                 for topic, messages in topics.items():
                     display = c.displays.get(topic)  # unsubscribed meanwhile: nothing to send
                     if display is not None:
                         c.put_display(topic, messages, display[1])
-        if active and now >= feed.next_image:
-            feed.next_image = now + 1.0 / self.image_rate
-            encoding = feed.encoding
-            for topic in {t for c in active for t in c.watched} - encoding:
-                latest = self.tap.latest_image(topic)
-                if latest is None:
-                    continue
-                seq, msg = latest
-                watchers = [c for c in active if topic in c.watched
-                            and c.image_seq.get(topic, 0) < seq]
-                if watchers:
-                    encoding.add(topic)
-                    task = loop.create_task(
-                        self._send_image(topic, seq, msg, watchers, encoding)
-                    )
-                    self._image_tasks.add(task)  # keep a reference until it is done
-                    task.add_done_callback(self._image_tasks.discard)
+        if now >= feed.next_image:
+            self._image_slot(feed, active, now, loop)
+
+    def _tf_slot(self, feed: _Feed, active: list[_Client], now: float) -> None:
+        """TF to every active client, per fixed frame: on a change, else every idle period."""
+        version = self.tap.tf_version
+        if version == feed.tf_version and now - feed.tf_sent < _IDLE_TF_PERIOD:
+            return
+        feed.tf_version, feed.tf_sent = version, now
+        by_frame: dict[str, str] = {}
+        for c in active:
+            if c.fixed_frame not in by_frame:
+                by_frame[c.fixed_frame] = self._tf_message(c.fixed_frame)
+            c.put("tf", by_frame[c.fixed_frame])
+
+    def _odom_slot(self, feed: _Feed, active: list[_Client], now: float) -> None:
+        """The odometry trails to every active client when they changed (the slot is due)."""
+        feed.next_odom = now + _ODOM_PERIOD
+        odom_version = self.tap.trails_version()
+        if odom_version == feed.odom_version:
+            return
+        feed.odom_version = odom_version
+        self._counters["odom"] += 1
+        odom = _dumps({"type": "odom", "displays": self.tap.trails()})
+        for c in active:
+            c.put("odom", odom)
+
+    def _image_slot(
+        self, feed: _Feed, active: list[_Client], now: float, loop: asyncio.AbstractEventLoop
+    ) -> None:
+        """Start encoding each watched topic's newest image that a watcher has not had yet.
+
+        One encoding per topic at a time (``feed.encoding``); the slot is due.
+        """
+        feed.next_image = now + 1.0 / self.image_rate
+        encoding = feed.encoding
+        for topic in {t for c in active for t in c.watched} - encoding:
+            latest = self.tap.latest_image(topic)
+            if latest is None:
+                continue
+            seq, msg = latest
+            watchers = [c for c in active if topic in c.watched
+                        and c.image_seq.get(topic, 0) < seq]
+            if watchers:
+                encoding.add(topic)
+                task = loop.create_task(self._send_image(topic, seq, msg, watchers, encoding))
+                self._image_tasks.add(task)  # keep a reference until it is done
+                task.add_done_callback(self._image_tasks.discard)
 
     async def _send_image(
         self, topic: str, seq: int, msg: Any, watchers: list[_Client], encoding: set[str]

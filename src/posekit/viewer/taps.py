@@ -339,7 +339,11 @@ class ViewerTap:
         if not reason.startswith(("unknown message type", "not subscribed")):
             self.logger.warning(f"viewer: not showing {topic}: {reason}")
 
-    def _make_sink(self, info: TopicInfo) -> Callable[[Any], None]:
+    def _topic_handler(self, info: TopicInfo) -> Callable[[Any], None] | None:
+        """What the viewer does with a topic's messages besides counting them, if anything.
+
+        TF, clock, odometry, goal and image topics each have their handler.
+        """
         handler: Callable[[Any], None] | None = None
         name = info.name
         if info.type_name == TF_TYPE and name in ("/tf", "/tf_static"):
@@ -361,6 +365,12 @@ class ViewerTap:
                 with self._lock:
                     seq = self._images.get(name, (0, None))[0] + 1
                     self._images[name] = (seq, msg)
+        return handler
+
+    def _make_sink(self, info: TopicInfo) -> Callable[[Any], None]:
+        """The subscription callback of a topic: counts, rates, latest message, handler."""
+        handler = self._topic_handler(info)
+        name = info.name
 
         def sink(msg: Any) -> None:
             if self._closed:

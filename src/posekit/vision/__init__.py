@@ -3,8 +3,8 @@
 ``camera`` needs numpy only; ``render`` and ``detector`` import OpenCV
 (``pip install posekit[vision]``) and are loaded on first attribute access. The ArUco box
 model (``ARUCO_BOX``, ``ArucoBoxModel``, ``BoxFace``, ``MarkerGroundTruth``,
-``box_pose_matrix``, ``marker_corners_local``) lives in :mod:`posekit.worlds`; it is
-re-exported here because the vision examples import it from ``posekit.vision``.
+``marker_corners_local``) lives in :mod:`posekit.worlds`; it is re-exported here because the
+vision examples import it from ``posekit.vision``.
 """
 
 from __future__ import annotations
@@ -25,7 +25,6 @@ from posekit.worlds import (
     ArucoBoxModel,
     BoxFace,
     MarkerGroundTruth,
-    box_pose_matrix,
     marker_corners_local,
 )
 
@@ -57,7 +56,6 @@ __all__ = [
     "PoseCandidate",
     "VisibleMarker",
     "VisionError",
-    "box_pose_matrix",
     "draw_detections",
     "marker_corners_local",
     "render_boxes",

@@ -17,7 +17,7 @@ import numpy.typing as npt
 
 from posekit.geometry import Rotation, Transform
 from posekit.vision.camera import OAK_RGB_CAMERA, PinholeCamera
-from posekit.worlds import ARUCO_BOX, ArucoBoxModel, box_pose_matrix
+from posekit.worlds import ARUCO_BOX, ArucoBoxModel
 
 __all__ = ["AccuracyCell", "accuracy_grid", "look_at", "marker_view_pose"]
 
@@ -43,7 +43,7 @@ def look_at(eye: npt.ArrayLike, target: npt.ArrayLike,
 
 def marker_view_pose(distance: float, angle: float) -> tuple[F64Array, F64Array]:
     """(``T_world_box``, ``T_world_optical``) of the evaluation scene, angle in radians."""
-    T_world_box = box_pose_matrix(0.0, 0.0, 0.25)
+    T_world_box = Transform.from_xyz_rpy((0.0, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
     centre = np.array([-0.25, 0.0, 0.25])
     eye = centre + distance * np.array([-math.cos(angle), math.sin(angle), 0.0])
     return T_world_box, look_at(eye, centre)

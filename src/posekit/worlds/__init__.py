@@ -17,7 +17,6 @@ from posekit.worlds.aruco_box import (
     ArucoBoxModel,
     BoxFace,
     MarkerGroundTruth,
-    box_pose_matrix,
     marker_corners_local,
 )
 from posekit.worlds.errors import WorldError
@@ -59,7 +58,6 @@ __all__ = [
     "World",
     "WorldError",
     "box_half_extents",
-    "box_pose_matrix",
     "load_world",
     "marker_corners_local",
     "marker_poses",

@@ -24,7 +24,6 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from posekit.geometry import Transform
 from posekit.worlds.errors import WorldError
 
 __all__ = [
@@ -32,7 +31,6 @@ __all__ = [
     "ArucoBoxModel",
     "BoxFace",
     "MarkerGroundTruth",
-    "box_pose_matrix",
     "marker_corners_local",
 ]
 
@@ -79,16 +77,6 @@ ARUCO_BOX_FACES: tuple[BoxFace, ...] = tuple(
         (5, (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0)),
     )
 )
-
-
-def box_pose_matrix(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0.0,
-                    yaw: float = 0.0) -> F64Array:
-    """``T_world_box`` (4x4) from an SDF ``<pose>``, by keyword.
-
-    Metres; rpy radians, fixed-axis x-y-z: :meth:`posekit.geometry.Transform.from_xyz_rpy` as a
-    matrix.
-    """
-    return Transform.from_xyz_rpy((x, y, z), (roll, pitch, yaw)).as_matrix()
 
 
 @dataclass(frozen=True)

@@ -91,10 +91,6 @@ _FloatArray = npt.NDArray[np.float64]
 _POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
-def _pose_matrix(pose: Sequence[float]) -> _FloatArray:
-    return Transform.from_xyz_rpy(pose[:3], pose[3:]).as_matrix()
-
-
 _MODELS: dict[str, ArucoBoxModel] = {ARUCO_BOX.name: ARUCO_BOX}
 
 
@@ -114,7 +110,7 @@ class BoxSpec:
     @property
     def T_world_box(self) -> _FloatArray:
         """4x4 pose of the box (centre) in the world frame."""
-        return _pose_matrix(self.pose)
+        return Transform.from_xyz_rpy(self.pose[:3], self.pose[3:]).as_matrix()
 
     def to_dict(self) -> dict[str, Any]:
         """As the plain mapping the loader accepts."""
@@ -181,7 +177,7 @@ class CameraSpec:
     @property
     def T_world_camera(self) -> _FloatArray:
         """4x4 pose of the camera model frame in the world."""
-        return _pose_matrix(self.pose)
+        return Transform.from_xyz_rpy(self.pose[:3], self.pose[3:]).as_matrix()
 
     @property
     def K(self) -> _FloatArray:

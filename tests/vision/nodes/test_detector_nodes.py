@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation as R
 
+from posekit.geometry import Transform
 from posekit.msgs.image import numpy_to_image
 from posekit.msgs.sensor_msgs import CameraInfo, Image
 from posekit.msgs.std_msgs import Header
@@ -20,14 +21,14 @@ from posekit.vision.camera import OAK_RGB_CAMERA, OVERHEAD_CAMERA
 from posekit.vision.detector import ArucoMarkerDetector
 from posekit.vision.nodes import DynamicDetector, StaticArucoDetector
 from posekit.vision.render import BoxRenderer
-from posekit.worlds import box_pose_matrix
 
 SIM = {"use_sim_time": True}
 
 # docs/specs/rosbot_and_worlds.md: aruco_box_world boxes, and the three front markers' centres in
 # odom.
-BOX_WORLD = [box_pose_matrix(2.25, 0.0, 0.25), box_pose_matrix(2.25, -0.5, 0.25, yaw=-1.57),
-             box_pose_matrix(2.25, 0.5, 0.25, yaw=1.57)]
+BOX_WORLD = [Transform.from_xyz_rpy((2.25, 0.0, 0.25), (0.0, 0.0, 0.0)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, -0.5, 0.25), (0.0, 0.0, -1.57)).as_matrix(),
+             Transform.from_xyz_rpy((2.25, 0.5, 0.25), (0.0, 0.0, 1.57)).as_matrix()]
 FRONT_MARKERS = {4: (2.000, 0.000, 0.250), 2: (2.000, -0.5002, 0.250),
                  5: (2.000, 0.5002, 0.250)}
 
@@ -261,8 +262,8 @@ def test_static_detector_publishes_once_then_unsubscribes(ctx, executor, logs) -
     feeder = Feeder(ctx, "/overhead_camera/image_raw", "/overhead_camera/camera_info")
     executor.add_node(det)
     executor.add_node(feeder)
-    pixels = BoxRenderer(OVERHEAD_CAMERA).render(T_ODOM_OVERHEAD_OPTICAL,
-                                                 [box_pose_matrix(2.0, 2.0, 0.25)])
+    T_odom_box = Transform.from_xyz_rpy((2.0, 2.0, 0.25), (0.0, 0.0, 0.0)).as_matrix()
+    pixels = BoxRenderer(OVERHEAD_CAMERA).render(T_ODOM_OVERHEAD_OPTICAL, [T_odom_box])
     optical = "overhead_camera_optical_frame"
     feeder.image(pixels, 0.0, optical)  # before CameraInfo: skipped
     executor.run_until(0.05)
