@@ -48,8 +48,8 @@ Topics of the :data:`ON_DEMAND_TYPES` (images and point clouds) are subscribed o
 page shows them: a display follows the topic (:meth:`set_message_watches`) or, for images,
 an Image or Camera display or an open image panel watches it (:meth:`set_image_watches`),
 as RViz2's displays subscribe only while enabled. A simulated sensor renders only for
-subscribers: the OAK-D's depth image costs about a third of its 30 Hz frame period and its
-cloud more.
+subscribers: the OAK-D's depth image costs a quarter to a half of its 30 Hz frame period,
+its cloud about a third more.
 """
 
 from __future__ import annotations
