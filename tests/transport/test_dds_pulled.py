@@ -190,3 +190,35 @@ def test_a_multithreaded_executor_leaves_delivery_to_the_transport(
     assert c.sub.endpoint in single.inbox.sources
     assert not _delivery_threads("/count")
     single.shutdown()
+
+
+def test_an_executor_shutdown_racing_a_context_shutdown(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The executor hands its readers back (starting delivery threads) while the context
+    deletes them, from two threads at once: neither raises, and no delivery thread is left."""
+    dds_domain(monkeypatch)
+    for _ in range(8):
+        ctx = dds_context()
+        node = Node("listener", context=ctx, transport="dds")
+        for i in range(4):
+            node.create_subscription(String, f"/race{i}", lambda _m: None, KEEP_ALL)
+        executor = SingleThreadedExecutor(context=ctx)
+        executor.add_node(node)
+        errors: list[BaseException] = []
+
+        def stop_executor(executor: SingleThreadedExecutor = executor,
+                          errors: list[BaseException] = errors) -> None:
+            try:
+                executor.shutdown()
+            except BaseException as exc:
+                errors.append(exc)
+
+        racer = threading.Thread(target=stop_executor)
+        racer.start()
+        ctx.try_shutdown()
+        racer.join(timeout=10)
+        assert not racer.is_alive()
+        assert errors == []
+        end = time.monotonic() + 5
+        while any(_delivery_threads(f"/race{i}") for i in range(4)) and time.monotonic() < end:
+            time.sleep(0.01)
+        assert not any(_delivery_threads(f"/race{i}") for i in range(4))
