@@ -232,6 +232,54 @@ def test_pointcloud2_layout_read_back_with_rosbags_and_a_dtype_built_here() -> N
     assert pts["rgb"][r, c].view(np.uint32) == 0x00FFFFFF
 
 
+def _decoded_cloud(msg):
+    """``(raw message, bytes (H, W, point_step))`` of ``msg`` deserialized by rosbags."""
+    from rosbags.typesys import Stores, get_typestore
+
+    raw = get_typestore(Stores.ROS2_JAZZY).deserialize_cdr(to_cdr(msg),
+                                                            "sensor_msgs/msg/PointCloud2")
+    data = np.frombuffer(bytes(raw.data), np.uint8)
+    return raw, data.reshape(raw.height, raw.width, raw.point_step)
+
+
+def test_pointcloud2_padding_is_zero_and_rgb_white_at_every_point() -> None:
+    """Every point's bytes outside x, y, z, rgb (12-16 and 20-32) are zero and every rgb is
+    0x00FFFFFF, read from the CDR rosbags decoded (the cloud is written in row blocks)."""
+    _, msg = _cloud_msg()
+    _, points = _decoded_cloud(msg)
+    assert not points[:, :, 12:16].any()
+    assert not points[:, :, 20:32].any()
+    assert np.all(points[:, :, 16:20].copy().view("<u4") == 0x00FFFFFF)
+
+
+@pytest.mark.parametrize("height", [1, 8, 11])
+def test_pointcloud2_of_a_small_image_every_point_closed_form(height: int) -> None:
+    """A 13-column image of ``height`` rows (fewer, as many and more rows than one block)
+    with random depths and every kind of non-finite value: x = (c - cx)/fx z and
+    y = (r - cy)/fy z at every pixel (float64 formula, float32 tolerance), NaN x, y, z where
+    the depth is not finite, ``is_dense`` false; the same image made finite is dense."""
+    params = DepthParams(width=13, height=height)
+    rng = np.random.default_rng(height)
+    z = rng.uniform(1.0, 5.0, (height, 13)).astype(np.float32)
+    flat = z.reshape(-1)
+    flat[rng.choice(flat.size, 3, replace=False)] = [np.inf, -np.inf, np.nan]
+    raw, points = _decoded_cloud(depth_cloud(z, params, Header(frame_id=OPTICAL)))
+    assert (raw.height, raw.width, raw.is_dense) == (height, 13, False)
+    xyz = points[:, :, :12].copy().view("<f4").astype(np.float64)
+    rows, cols = np.mgrid[0:height, 0:13]
+    finite = np.isfinite(z)
+    zz = z.astype(np.float64)
+    np.testing.assert_allclose(xyz[:, :, 0][finite], ((cols - params.cx) / params.fx * zz)[finite],
+                               rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(xyz[:, :, 1][finite], ((rows - params.cy) / params.fy * zz)[finite],
+                               rtol=1e-6, atol=1e-7)
+    np.testing.assert_array_equal(xyz[:, :, 2][finite], zz[finite])
+    assert np.all(np.isnan(xyz[~finite]))
+    raw_dense, _ = _decoded_cloud(depth_cloud(np.where(finite, z, np.float32(2.0)), params,
+                                              Header(frame_id=OPTICAL)))
+    assert raw_dense.is_dense is True
+
+
 def test_depth_image_is_32fc1_metres() -> None:
     from rosbags.typesys import Stores, get_typestore
 

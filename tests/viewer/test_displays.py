@@ -341,6 +341,35 @@ def test_image_display_shows_the_published_pixels_in_its_panel(
     assert page.query_selector(panel) is None
 
 
+def test_an_image_display_subscribes_the_server_only_while_enabled(
+    page: Any, viewer: Any
+) -> None:
+    """The simulator's depth image (rendered only for subscribers) is listed but not
+    subscribed while no display shows it; an Image display subscribes it (frames reach its
+    panel); unchecking the display lets go of the topic, as RViz2's displays unsubscribe when
+    disabled; checking it subscribes again; removing it lets go. Oracle: the in-process bus's
+    subscriber count of the topic."""
+    topic = "/oak/stereo/depth"
+
+    def subscribers() -> int:
+        return int(viewer.tap.transport.count_subscribers(topic))
+
+    wait_for(lambda: topic in viewer.tap.image_topics(), what="the depth image listed")
+    assert subscribers() == 0
+    d = add_from_topic_list(page, topic, "Image")
+    enabled = f"#display-list details[data-display-id='{d['id']}'] .display-enabled"
+    wait_for(lambda: subscribers() == 1, what="the server subscribed")
+    wait_for(lambda: (i := info(page, "Image", topic)) and i["frames"] >= 1
+             and (i["width"], i["height"]) == (1280, 720), timeout=30.0,
+             what="a depth frame in the panel")
+    page.uncheck(enabled)
+    wait_for(lambda: subscribers() == 0, what="the disabled display's topic let go")
+    page.check(enabled)
+    wait_for(lambda: subscribers() == 1, what="the enabled display's topic subscribed again")
+    page.click(f"#display-list details[data-display-id='{d['id']}'] .display-remove")
+    wait_for(lambda: subscribers() == 0, what="the removed display's topic let go")
+
+
 def test_tf_display_drives_the_tf_drawing(page: Any) -> None:
     page.uncheck("#show-tf")
     d = add_from_topic_list(page, "/tf", "TF")

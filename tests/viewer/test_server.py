@@ -17,6 +17,7 @@ import pytest
 aiohttp = pytest.importorskip("aiohttp")
 cv2 = pytest.importorskip("cv2")
 
+from _support.waiting import wait_for  # noqa: E402
 from _support.websocket import receive_until  # noqa: E402
 from posekit.msgs.geometry_msgs import TransformStamped  # noqa: E402
 from posekit.msgs.image import numpy_to_image  # noqa: E402
@@ -104,6 +105,8 @@ def test_images_are_encoded_only_for_watchers(system: System) -> None:
             await asyncio.sleep(0.3)
             assert system.server.stats["images_encoded"] == 0  # nobody watches
             await ws.send_json({"op": "watch", "topics": ["/camera/image"]})
+            assert wait_for(lambda: system.image_pub.get_subscription_count() == 1)
+            system.image_pub.publish(msg)
             frame = await receive_until(ws, lambda d: isinstance(d, bytes))
             (n,) = struct.unpack(">I", frame[:4])
             header = json.loads(frame[4 : 4 + n])
@@ -118,6 +121,49 @@ def test_images_are_encoded_only_for_watchers(system: System) -> None:
             encoded = system.server.stats["images_encoded"]
             await asyncio.sleep(0.3)
             assert system.server.stats["images_encoded"] == encoded == 1
+
+    system.tap.refresh()
+    asyncio.run(scenario())
+
+
+def test_an_image_topic_is_subscribed_only_while_a_client_watches_it(system: System) -> None:
+    """The server lists /camera/image (graph messages) without subscribing to it: its
+    publisher counts no subscriber, so a lazy camera renders nothing. A client's watch (what
+    the page's Image and Camera displays send while enabled) subscribes it; the topic stays
+    subscribed while any client watches it and is let go when the last one stops watching
+    or disconnects."""
+    count = system.image_pub.get_subscription_count
+    msg = numpy_to_image(np.full((8, 8, 3), 90, np.uint8), "rgb8")
+
+    async def scenario() -> None:
+        async with aiohttp.ClientSession() as session:
+            async with session.ws_connect(system.ws_url) as ws:
+                await receive_until(ws, is_type("hello"))
+                # Two graph rounds (each after a refresh of the tap) list the topic...
+                for _ in range(2):
+                    graph = await receive_until(
+                        ws, lambda d: is_type("graph")(d) and "/camera/image" in d["images"])
+                assert count() == 0  # ... and nobody subscribed to it
+                row = {t["name"]: t for t in graph["topics"]}["/camera/image"]
+                assert row["count"] == 0
+                await ws.send_json({"op": "watch", "topics": ["/camera/image"]})
+                assert wait_for(lambda: count() == 1)
+                system.image_pub.publish(msg)
+                await receive_until(ws, lambda d: isinstance(d, bytes))
+                async with session.ws_connect(system.ws_url) as other:
+                    await receive_until(other, is_type("hello"))
+                    await other.send_json({"op": "watch", "topics": ["/camera/image"]})
+                    # Its watch is handled once it gets the newest image.
+                    await receive_until(other, lambda d: isinstance(d, bytes))
+                    await ws.send_json({"op": "watch", "topics": []})
+                    await ws.send_json({"op": "no_such_op"})
+                    # Requests are handled in order: the error answer follows the unwatch.
+                    await receive_until(ws, is_type("error"))
+                    assert count() == 1  # the other client still watches
+                assert wait_for(lambda: count() == 0)  # its connection closed
+                await ws.send_json({"op": "watch", "topics": ["/camera/image"]})
+                assert wait_for(lambda: count() == 1)
+            assert wait_for(lambda: count() == 0)
 
     system.tap.refresh()
     asyncio.run(scenario())
@@ -142,8 +188,7 @@ def test_a_client_that_never_reads_keeps_memory_bounded() -> None:
     async def scenario() -> None:
         async with aiohttp.ClientSession() as session, session.ws_connect(system.ws_url) as ws:
             await ws.send_json({"op": "watch", "topics": ["/camera/image"]})
-            loop = asyncio.get_running_loop()
-            await loop.run_in_executor(None, system.tap.refresh)
+            assert wait_for(lambda: system.image_pub.get_subscription_count() == 1)
             for i in range(40):  # ~1 MB incompressible frames, never read by this client
                 system.image_pub.publish(numpy_to_image(noise[i % 3], "rgb8"))
                 await asyncio.sleep(0.03)

@@ -212,6 +212,7 @@ def test_images_newest_only_and_rates(ctx: Context, node: Node) -> None:
     pub = node.create_publisher(Image, "camera/image", 5)
     tap = ViewerTap(ctx.transport())
     tap.refresh()
+    tap.set_image_watches(["/camera/image"])
     images = []
     for i in range(11):
         msg = Image(height=1, width=1, encoding="mono8", step=1, data=np.array([i], np.uint8))
@@ -227,6 +228,44 @@ def test_images_newest_only_and_rates(ctx: Context, node: Node) -> None:
     assert row["publishers"] == 1
     # 10 intervals of >= 10 ms: at most 100 Hz, and a loaded machine still gives > 10 Hz.
     assert 10.0 < row["rate"] <= 101.0
+
+
+def test_image_topics_are_subscribed_only_while_watched(ctx: Context, node: Node) -> None:
+    """An Image topic is listed but not subscribed (its publisher counts no subscriber, so a
+    lazy camera renders nothing) until a page watches it or a display follows it; let go,
+    it keeps no image, so a new watch waits for a new message."""
+    from posekit.viewer.taps import ON_DEMAND_NOTE
+
+    pub = node.create_publisher(Image, "/depth", 5)
+    tap = ViewerTap(ctx.transport())
+    tap.refresh()
+    tap.refresh()
+    assert pub.get_subscription_count() == 0
+    assert tap.image_topics() == ["/depth"]
+    assert any(t["name"] == "/depth" and t["error"] == ON_DEMAND_NOTE for t in tap.topics())
+    pub.publish(Image(height=1, width=1, encoding="mono8", step=1, data=np.array([7], np.uint8)))
+    assert tap.latest_image("/depth") is None
+    tap.set_image_watches(["/depth", "/not_there"])
+    assert pub.get_subscription_count() == 1
+    pub.publish(Image(height=1, width=1, encoding="mono8", step=1, data=np.array([8], np.uint8)))
+    seq, newest = tap.latest_image("/depth")  # type: ignore[misc]
+    assert (seq, int(newest.data[0])) == (1, 8)
+    tap.set_message_watches({"/depth": 1})  # a display follows it too: still one subscription
+    tap.set_image_watches([])
+    assert pub.get_subscription_count() == 1
+    tap.set_message_watches({})
+    assert pub.get_subscription_count() == 0
+    assert tap.latest_image("/depth") is None
+    tap.refresh()
+    assert pub.get_subscription_count() == 0  # not observed again without a watch
+    tap.set_image_watches(["/depth"])
+    assert pub.get_subscription_count() == 1
+    assert tap.latest_image("/depth") is None
+    pub.publish(Image(height=1, width=1, encoding="mono8", step=1, data=np.array([9], np.uint8)))
+    seq, newest = tap.latest_image("/depth")  # type: ignore[misc]
+    assert seq > 1
+    assert int(newest.data[0]) == 9
+    tap.close()
 
 
 def test_tap_creates_no_topics_and_skips_unknown_types(ctx: Context, node: Node) -> None:
@@ -279,6 +318,7 @@ def test_rates_are_measured_on_the_sim_clock(ctx: Context, node: Node) -> None:
     pub = node.create_publisher(Image, "camera/image", 5)
     tap = ViewerTap(ctx.transport(), clock_ns=lambda: sim["ns"])
     tap.refresh()
+    tap.set_image_watches(["/camera/image"])  # image topics are followed while watched
     for i in range(15):
         pub.publish(Image(height=1, width=1, encoding="mono8", step=1,
                           data=np.array([i], np.uint8)))

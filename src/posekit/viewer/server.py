@@ -29,7 +29,10 @@ WebSocket protocol (server -> client, JSON text unless noted):
   once, at up to ``tf_rate`` Hz;
 * binary: one JPEG frame: 4-byte big-endian header length, the UTF-8 JSON header ``{topic,
   seq, stamp, width, height, encoding, frame_id}``, then the JPEG bytes. Only for topics the
-  client watches, newest only, at up to ``image_rate`` Hz (default 15).
+  client watches, newest only, at up to ``image_rate`` Hz (default 15). The server
+  subscribes to an image topic only while some client watches it (the page watches the
+  topics of its enabled Image and Camera displays and of its open image panels), so a
+  simulated camera renders nothing for a page that shows none of its images.
 
 Client -> server: ``{"op": "fixed_frame", "frame": NAME}``, ``{"op": "watch", "topics":
 [...]}``, ``{"op": "pause", "paused": BOOL}``, ``{"op": "goal", "frame": NAME, "x": M, "y": M,
@@ -569,6 +572,8 @@ class ViewerServer:
             self._clients.discard(client)
             if client.displays:
                 self._update_message_watches()
+            if client.watched:
+                self._update_image_watches()
             sender.cancel()
             with contextlib.suppress(asyncio.CancelledError):
                 await sender
@@ -643,6 +648,7 @@ class ViewerServer:
             if stale[6:] not in client.watched:
                 del client.slots[stale]
         client.image_seq = {t: s for t, s in client.image_seq.items() if t in topics}
+        self._update_image_watches()
 
     def _pause(self, client: _Client, request: Mapping[str, Any]) -> None:
         """``{"op": "pause", "paused"}``: stop or resume the page's updates."""
@@ -707,6 +713,10 @@ class ViewerServer:
             for topic, (_, queue) in c.displays.items():
                 depths[topic] = max(queue, depths.get(topic, 1))
         self.tap.set_message_watches(depths)
+
+    def _update_image_watches(self) -> None:
+        """Tell the tap which image topics the open pages watch (it follows only those)."""
+        self.tap.set_image_watches({t for c in self._clients for t in c.watched})
 
     def _display_round(self, active: list[_Client]) -> dict[_Client, dict[str, list[str]]]:
         """The display messages each active client has not had yet, converted to JSON.

@@ -23,9 +23,10 @@ What is tapped (topics are matched fully qualified):
   length;
 * ``/goal_pose`` (geometry_msgs/PoseStamped): the current goal (the newest message with
   finite values), drawn as an arrow in its header frame;
-* every ``sensor_msgs/Image`` topic: the newest message only (a reference; the in-process
-  bus shares the frozen pixel array, so this costs nothing); JPEG encoding happens on demand
-  in the server, only for topics a client watches;
+* the ``sensor_msgs/Image`` topics a page shows (:meth:`ViewerTap.set_image_watches`): the
+  newest message only (a reference; the in-process bus shares the frozen pixel array, so
+  this costs nothing); JPEG encoding happens in the server, only for topics a client
+  watches;
 * every topic: the newest message (a reference), and for the topics the page's displays
   follow (:meth:`ViewerTap.set_message_watches`) the newest messages in a
   :class:`~posekit.viewer.display_feed.MessageQueue`, seeded with the newest message received
@@ -43,9 +44,12 @@ publisher, so it never creates a topic of its own in the graph, with a QoS every
 matches (transient local when every publisher is: the latched ``/tf_static``), to at most
 :data:`MAX_SUBSCRIBED_TOPICS` of them (the others are listed with the reason); a topic whose
 publishers leave is unsubscribed, and leaves the topic panel when it leaves the graph.
-Topics of the :data:`ON_DEMAND_TYPES` (point clouds) are subscribed only while a display
-follows them (:meth:`set_message_watches`): a simulated sensor renders them only for
-subscribers, and the OAK-D's cloud costs more than its frame period.
+Topics of the :data:`ON_DEMAND_TYPES` (images and point clouds) are subscribed only while a
+page shows them: a display follows the topic (:meth:`set_message_watches`) or, for images,
+an Image or Camera display or an open image panel watches it (:meth:`set_image_watches`),
+as RViz2's displays subscribe only while enabled. A simulated sensor renders only for
+subscribers: the OAK-D's depth image costs a quarter to a half of its 30 Hz frame period,
+its cloud about a third more.
 """
 
 from __future__ import annotations
@@ -110,8 +114,8 @@ MAX_FRAMES = DEFAULT_MAX_FRAMES
 #: Topics the tap subscribes to at most (each costs a subscription; a peer can announce any
 #: number): /tf, /tf_static, /clock and the odometry displays first, then graph order.
 MAX_SUBSCRIBED_TOPICS = 200
-#: Types subscribed only while a display follows the topic (listed in the panel meanwhile).
-ON_DEMAND_TYPES = frozenset({"sensor_msgs/msg/PointCloud2"})
+#: Types subscribed only while a page shows the topic (listed in the panel meanwhile).
+ON_DEMAND_TYPES = frozenset({"sensor_msgs/msg/PointCloud2", IMAGE_TYPE})
 #: The topic panel's note for such a topic while no display follows it.
 ON_DEMAND_NOTE = "subscribed while a display shows it"
 #: /tf stamps further ahead of "now" are ignored (as TransformListener does).
@@ -267,6 +271,8 @@ class ViewerTap:
         self._images: dict[str, tuple[int, Any]] = {}
         self._latest: dict[str, Any] = {}
         self._queues: dict[str, MessageQueue] = {}
+        #: Image topics a page shows (see :meth:`set_image_watches`).
+        self._image_watches: frozenset[str] = frozenset()
         self._goal: dict[str, Any] | None = None
         self._clock_ns: int | None = None
         self._clock_fn = clock_ns
@@ -319,11 +325,29 @@ class ViewerTap:
         return self._make_sink(info)
 
     def _wanted(self, topic: str, type_name: str) -> bool:
-        """Whether the observer subscribes ``topic`` (on-demand types: while displayed)."""
+        """Whether the observer subscribes ``topic`` (on-demand types: while a page shows it)."""
         if type_name not in ON_DEMAND_TYPES:
             return True
         with self._lock:
-            return topic in self._queues
+            return topic in self._queues or topic in self._image_watches
+
+    def _on_demand_followed(self) -> set[str]:
+        """The on-demand topics a page shows now (call with the lock held)."""
+        return {t for t in (*self._queues, *self._image_watches)
+                if (info := self._topics.get(t)) is not None
+                and info.type_name in ON_DEMAND_TYPES}
+
+    def _follow(self, before: set[str]) -> None:
+        """Let go of the on-demand topics followed ``before`` and no more; subscribe new ones."""
+        with self._lock:
+            after = self._on_demand_followed()
+            for topic in before - after:
+                if topic in self._images:  # a later watch starts with a new image
+                    self._images[topic] = (self._images[topic][0], None)
+        for topic in before - after:
+            self._observer.release(topic)
+        if before != after:
+            self.refresh()  # subscribe the newly shown ones now
 
     def _unsubscribed(self, topic: str) -> None:
         with self._lock:
@@ -658,9 +682,24 @@ class ViewerTap:
             return sorted(n for n, i in self._topics.items() if i.type_name == IMAGE_TYPE)
 
     def latest_image(self, topic: str) -> tuple[int, Any] | None:
-        """``(sequence number, newest Image message)`` of ``topic``, or None."""
+        """``(sequence number, newest Image message)`` of ``topic``, or None.
+
+        None too when no page has shown the topic since its last message.
+        """
         with self._lock:
-            return self._images.get(topic)
+            latest = self._images.get(topic)
+        return None if latest is None or latest[1] is None else latest
+
+    def set_image_watches(self, topics: Iterable[str]) -> None:
+        """Follow the image topics of ``topics`` (what the pages show); let go of the others.
+
+        An image topic is subscribed only while watched here or followed by a display (see
+        the module doc); one let go keeps no image, so a new watch waits for a new message.
+        """
+        with self._lock:
+            before = self._on_demand_followed()
+            self._image_watches = frozenset(topics)
+        self._follow(before)
 
     def set_message_watches(self, depths: dict[str, int]) -> None:
         """Keep the newest ``depths[topic]`` messages of each topic for the displays.
@@ -668,9 +707,7 @@ class ViewerTap:
         A new watch starts with the newest message already received; other topics' queues go.
         """
         with self._lock:
-            on_demand = {n for n, i in self._topics.items() if i.type_name in ON_DEMAND_TYPES}
-            released = [t for t in self._queues if t not in depths and t in on_demand]
-            wanted = [t for t in depths if t not in self._queues and t in on_demand]
+            before = self._on_demand_followed()
             for topic in [t for t in self._queues if t not in depths]:
                 del self._queues[topic]
             for topic, depth in depths.items():
@@ -681,10 +718,7 @@ class ViewerTap:
                         queue.append(self._latest[topic])
                 else:
                     queue.resize(depth)
-        for topic in released:
-            self._observer.release(topic)
-        if wanted or released:
-            self.refresh()  # subscribe the newly displayed ones now
+        self._follow(before)
 
     def messages_after(self, topic: str, seq: int) -> list[tuple[int, Any]]:
         """``(number, message)`` of the kept messages of a watched ``topic`` newer than ``seq``.

@@ -137,6 +137,27 @@ export function createDisplayManager(modules, host) {
     };
   }
 
+  // A display's server-side wants (its topics' messages, its images) are held only while it
+  // is enabled, as RViz2's displays subscribe on enable and unsubscribe on disable: the
+  // server then follows a topic only while some enabled display shows it.
+  function want(entry, start) {
+    const w = { start, stop: null };
+    entry.wants.add(w);
+    if (entry.enabled) w.stop = start();
+    return () => {
+      if (w.stop) w.stop();
+      w.stop = null;
+      entry.wants.delete(w);
+    };
+  }
+
+  function holdWants(entry) {
+    for (const w of entry.wants) {
+      if (entry.enabled && !w.stop) w.stop = w.start();
+      else if (!entry.enabled && w.stop) { w.stop(); w.stop = null; }
+    }
+  }
+
   function place(obj, frame) {
     const m = host.scene.framePose ? host.scene.framePose(frame) : null;
     obj.visible = Boolean(m) && obj.userData.wantVisible !== false;
@@ -177,12 +198,12 @@ export function createDisplayManager(modules, host) {
       onFrames(cb) { frameListeners.add(cb); cleanups.push(() => frameListeners.delete(cb)); },
       subscribe(topic, type, queue, cb) {
         const listener = (msg) => cb(msg);
-        const off = subscribe(topic, type, queue, listener);
+        const off = want(entry, () => subscribe(topic, type, queue, listener));
         cleanups.push(off);
         return off;
       },
       watchImage(topic, cb) {
-        const off = watchImage(topic, cb);
+        const off = want(entry, () => watchImage(topic, cb));
         cleanups.push(off);
         return off;
       },
@@ -224,7 +245,7 @@ export function createDisplayManager(modules, host) {
       if (ok === undefined) problems.push(`${name} ${topic}: option ${k}`);
       else opts[k] = ok;
     }
-    const entry = { id: nextId++, module, topic, type, enabled: Boolean(enabled), options: opts, status: { level: "ok", text: "" } };
+    const entry = { id: nextId++, module, topic, type, enabled: Boolean(enabled), options: opts, status: { level: "ok", text: "" }, wants: new Set() };
     const ctx = makeContext(entry);
     if (!ctx.THREE && module.needs3d !== false) {
       entry.status = { level: "warn", text: "needs the 3D view" };
@@ -275,6 +296,7 @@ export function createDisplayManager(modules, host) {
     const entry = find(id);
     if (!entry) return;
     entry.enabled = Boolean(on);
+    holdWants(entry);
     if (entry.enabledEl) entry.enabledEl.checked = entry.enabled;
     if (entry.root) entry.root.visible = entry.enabled;
     if (entry.instance.setEnabled) entry.instance.setEnabled(entry.enabled);
