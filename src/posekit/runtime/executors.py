@@ -376,10 +376,15 @@ class Executor:
         try:
             while self._context.ok() and not self._is_shutdown:
                 if inbox.sources:
-                    # Before announcing the wait: a pulled source's samples queue without
-                    # waking anyone, and its data condition stays raised while samples wait
-                    # in the middleware, so one arriving after this pull ends the wait.
-                    inbox.pull_sources(self._PULL_BUDGET)
+                    # Outside the announced wait (end_wait), so the samples this thread
+                    # queues do not signal it. One arriving after this pull still ends the
+                    # wait: a DDS read condition stays raised while samples wait in the
+                    # reader, and a Zenoh hand-over is looked at (sources_pending) below.
+                    inbox.end_wait()
+                    if inbox.pull_sources(self._PULL_BUDGET):
+                        work = self._take_ready()  # found: no need to arm the wait
+                        if work is not None:
+                            return work
                 # Order matters: announce waiting, then look for work (Inbox.prepare_wait).
                 inbox.prepare_wait()
                 if condition is not None and condition():
@@ -387,6 +392,8 @@ class Executor:
                 work = self._take_ready()
                 if work is not None:
                     return work
+                if inbox.sources and inbox.sources_pending():
+                    continue  # handed over between the pull and prepare_wait
                 wait = self._schedule.wall_wait_s()
                 if deadline is not None:
                     remaining = deadline - time.monotonic()

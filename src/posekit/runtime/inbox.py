@@ -14,10 +14,12 @@
 
 * Pulled sources: a network subscription may let the executor take its samples itself
   (:meth:`Inbox.add_source`), as rclpy's executor takes from the middleware's wait set: the
-  executor then waits on a :class:`Waiter` the transport supplies (a DDS wait set, woken by the
-  middleware's own thread) and calls each source's ``pull(budget)`` on its own thread. One
-  thread wake-up per message instead of two (transport thread, then executor), and no second
-  Python thread contending for the GIL while samples flow.
+  executor calls each source's ``pull(budget)`` on its own thread. A DDS source also makes
+  the executor wait on a :class:`Waiter` the transport supplies (a Cyclone wait set that the
+  middleware's receive thread wakes directly: one thread wake-up per message instead of
+  two); a Zenoh source's thread only receives the first sample of a batch and wakes the
+  executor, which reads the rest of the channel itself. Either way no second Python thread
+  contends for the GIL while samples flow.
 
 The payload itself stays in the entity's own queue (bounded by its QoS depth): an inbox
 entry is only a pointer, and it is stale once the entity's first queued entry has a later
@@ -60,6 +62,14 @@ class PulledSource(Protocol):
 
     def pull(self, budget: int) -> int:
         """Hand up to ``budget`` waiting samples to the subscription's sink; how many."""
+
+    def pending(self) -> bool:
+        """Whether samples wait that the inbox's waiter would not wake the executor for.
+
+        A source whose data wakes the waiter for as long as samples wait (a DDS read
+        condition) says False; one that woke the executor once per hand-over (Zenoh) says
+        whether that hand-over is still untaken, which the executor checks before sleeping.
+        """
 
 
 class WakeSignal:
@@ -227,6 +237,10 @@ class Inbox:
     def pull_sources(self, budget: int) -> int:
         """Let every pulled source hand up to ``budget`` samples over; how many in all."""
         return sum(source.pull(budget) for source in self.sources)
+
+    def sources_pending(self) -> bool:
+        """Whether a pulled source still holds samples for :meth:`pull_sources`."""
+        return any(source.pending() for source in self.sources)
 
     def end_wait(self) -> None:
         """The waiter left: ``put`` stops signalling (unless ``always_wake``)."""

@@ -16,6 +16,9 @@ Contract for implementations:
   ``sink(msg)`` once per delivered message with an object this subscription owns, possibly
   from another thread and possibly before ``subscribe`` returns (TRANSIENT_LOCAL history).
   Queueing, depth, ordering and callbacks are the runtime's job, not the transport's.
+  Optionally an endpoint lets an executor read it on the executor's own thread
+  (``pull_into(inbox)`` / ``release_pull(inbox)``, the DDS transport does): the sink is then
+  called from the executor's ``pull(budget)`` calls instead of a transport thread.
 * QoS matching (reliability / durability offer vs request) is the transport's job; it should
   log incompatible pairs on ``info.logger``.
 * ``info.remote_only`` (network transports): the endpoint matches endpoints of *other*

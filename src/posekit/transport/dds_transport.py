@@ -292,6 +292,9 @@ class _Subscription(SubscriptionEndpoint):
         self.received = 0
         self.dropped = 0
         self._warned: set[str] = set()
+        # Who delivers (own thread / an executor / nobody) changes under this lock: an
+        # executor's thread and a context shutdown may switch it at the same time.
+        self._mode_lock = threading.RLock()
 
     def warn_once(self, tag: str, text: str) -> None:
         if tag in self._warned:
@@ -367,24 +370,26 @@ class _Subscription(SubscriptionEndpoint):
 
         The executor then waits on a Cyclone wait set holding this reader's data condition.
         """
-        if not self.alive or self.reader is None or self._pulled_by is not None:
-            return False
-        waiter = inbox.adopt_waiter(self._owner, self._owner.make_waiter)
-        if not isinstance(waiter, _DdsWaiter):
-            return False  # the inbox waits on another transport's waiter
-        self._stop_thread()
-        waiter.attach(self._data)
-        self._pulled_by, self._waiter = inbox, waiter
-        inbox.add_source(self)
-        return True
+        with self._mode_lock:
+            if not self.alive or self.reader is None or self._pulled_by is not None:
+                return False
+            waiter = inbox.adopt_waiter(self._owner, self._owner.make_waiter)
+            if not isinstance(waiter, _DdsWaiter):
+                return False  # the inbox waits on another transport's waiter
+            self._stop_thread()
+            waiter.attach(self._data)
+            self._pulled_by, self._waiter = inbox, waiter
+            inbox.add_source(self)
+            return True
 
     def release_pull(self, inbox: Inbox) -> None:
         """Back to the delivery thread (which takes what the executor left in the reader)."""
-        if self._pulled_by is not inbox:
-            return
-        self._leave_waiter()
-        if self.alive:
-            self._start_thread()
+        with self._mode_lock:
+            if self._pulled_by is not inbox:
+                return
+            self._leave_waiter()
+            if self.alive:
+                self._start_thread()
 
     def _leave_waiter(self) -> None:
         inbox, waiter = self._pulled_by, self._waiter
@@ -393,6 +398,10 @@ class _Subscription(SubscriptionEndpoint):
             waiter.detach(self._data)
         if inbox is not None:
             inbox.remove_source(self)
+
+    def pending(self) -> bool:
+        """False: the data condition keeps the executor's wait set awake while samples wait."""
+        return False
 
     def pull(self, budget: int) -> int:
         """Take up to ``budget`` samples (at most one Cyclone batch) into the sink, here."""
@@ -455,11 +464,12 @@ class _Subscription(SubscriptionEndpoint):
 
     def stop(self) -> None:
         """Stop delivering (the reader itself is deleted by the transport)."""
-        self.alive = False
-        if self.reader is None:  # never started
-            return
-        self._stop_thread()
-        self._leave_waiter()
+        with self._mode_lock:
+            self.alive = False
+            if self.reader is None:  # never started
+                return
+            self._stop_thread()
+            self._leave_waiter()
 
     def destroy(self) -> None:
         if self.alive:

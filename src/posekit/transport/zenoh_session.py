@@ -47,6 +47,7 @@ import zenoh.ext as zext
 from posekit.msgs.cdr import from_cdr, to_cdr
 from posekit.msgs.errors import CdrError
 from posekit.msgs.registry import normalize_type_name
+from posekit.runtime.inbox import Inbox
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.transport.zenoh_wire import (
     LIVELINESS_PREFIX,
@@ -625,6 +626,17 @@ class WireSubscription:
         self._last_seq: collections.OrderedDict[bytes, int] = collections.OrderedDict()
         self._recent_gid = b""  # the GID last heard from: already last in _last_seq
         self._destroyed = False
+        #: Whether an executor may read this subscription (a channel, not a callback).
+        self.pullable = False
+        # Pulled mode (pull_into): only the holder of _turn receives from the channel. The
+        # drain thread takes it, blocks in recv(), leaves the sample in _head and the turn
+        # with the executor (_handed), which takes what else the channel holds and gives
+        # the turn back once it is empty. One reader at a time keeps the order.
+        self._turn = threading.Lock()
+        self._mode = threading.RLock()
+        self._pulled_by: Inbox | None = None
+        self._head: zenoh.Sample | None = None
+        self._handed = False
         self.entity_id = owner.next_entity_id()
         self.token_key = endpoint_token(
             owner.domain_id,
@@ -665,6 +677,7 @@ class WireSubscription:
                     self._match_key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY),
                     allowed_origin=origin,
                 )
+                self.pullable = True
                 threading.Thread(
                     target=self._drain, name=f"posekit-zenoh {topic}", daemon=True
                 ).start()
@@ -678,11 +691,21 @@ class WireSubscription:
         # another thread (the executor) wakes about once per batch rather than per sample:
         # about 25 % less CPU per message through the runtime (benchmarks/transport.py).
         recv, try_recv, handle = self._sub.recv, self._sub.try_recv, self._handle
+        turn = self._turn
         while not self._destroyed:
+            turn.acquire()  # free unless an executor holds the turn (pulled mode)
+            if self._destroyed:
+                return
             try:
                 sample = recv()
             except Exception:  # the channel closed: undeclared or session closed
                 return
+            with self._mode:
+                inbox = self._pulled_by
+                if inbox is not None:  # the executor takes it from here
+                    self._head, self._handed = sample, True
+                    inbox.wake()
+                    continue
             while sample is not None:
                 try:
                     handle(sample)
@@ -694,6 +717,60 @@ class WireSubscription:
                     sample = try_recv()
                 except Exception:
                     return
+            turn.release()
+
+    # -- an executor reading the channel on its own thread (Executor._pulls_samples) -------
+    def pull_into(self, inbox: Inbox) -> bool:
+        """From the next sample on, ``inbox``'s executor handles them (:meth:`pull`)."""
+        with self._mode:
+            if not self.pullable or self._destroyed or self._pulled_by is not None:
+                return False
+            self._pulled_by = inbox
+            inbox.add_source(self)
+            return True
+
+    def release_pull(self, inbox: Inbox) -> None:
+        """The drain thread handles the samples again (a handed-over one is handled here)."""
+        with self._mode:
+            if self._pulled_by is not inbox:
+                return
+            self._pulled_by = None
+            inbox.remove_source(self)
+            if self._handed:
+                head, self._head, self._handed = self._head, None, False
+                if head is not None:
+                    self._on_sample(head)
+                self._turn.release()
+
+    def pending(self) -> bool:
+        """Whether a sample waits for :meth:`pull` (the executor's look before it sleeps)."""
+        return self._handed
+
+    def pull(self, budget: int) -> int:
+        """Handle the handed-over sample and up to ``budget`` in all from the channel."""
+        if not self._handed:
+            return 0
+        with self._mode:
+            if not self._handed or self._destroyed:
+                return 0
+            head, self._head = self._head, None
+            count = 0
+            if head is not None:
+                self._on_sample(head)
+                count = 1
+            try_recv = self._sub.try_recv
+            while count < budget:
+                try:
+                    sample = try_recv()
+                except Exception:  # the channel closed: undeclared or session closed
+                    sample = None
+                if sample is None:  # empty: the drain thread waits in recv() again
+                    self._handed = False
+                    self._turn.release()
+                    break
+                self._on_sample(sample)
+                count += 1
+            return count
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
@@ -776,6 +853,13 @@ class WireSubscription:
         self._destroyed = True
         _quiet(self._token.undeclare)
         _quiet(self._sub.undeclare)
+        with self._mode:
+            inbox, self._pulled_by = self._pulled_by, None
+            if inbox is not None:
+                inbox.remove_source(self)
+            if self._handed:  # let the drain thread see that it is over
+                self._handed = False
+                self._turn.release()
 
 
 def _service_token(

@@ -32,6 +32,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from posekit.runtime.inbox import Inbox
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from posekit.runtime.transport import (
     EndpointInfo,
@@ -147,6 +148,13 @@ class _Subscription(SubscriptionEndpoint):
             self.alive = False
             if self.wire is not None:
                 self._owner._forget(self.wire, self.info)
+
+    def pull_into(self, inbox: Inbox) -> bool:
+        return self.alive and self.wire is not None and self.wire.pull_into(inbox)
+
+    def release_pull(self, inbox: Inbox) -> None:
+        if self.wire is not None:
+            self.wire.release_pull(inbox)
 
     @property
     def publisher_count(self) -> int:
