@@ -127,6 +127,8 @@ def test_recorded_service_events_decode_with_ros2s_own_type_support(tmp_path: Pa
     assert any(client_events[0]["client_gid"])  # a client id, not zeros
     server_events = [e for e in events if e["event_type"] in (REQUEST_RECEIVED, RESPONSE_SENT)]
     assert [e["sequence_number"] for e in server_events] == [1, 1, 2, 2]
+    caller = tuple(client_events[0]["client_gid"])
+    assert {tuple(e["client_gid"]) for e in server_events} == {caller}
     # Sim time: the first call at 50.0 s, the second 0.1 s later.
     assert events[0]["stamp"] == [50, 0]
     assert events[4]["stamp"] == [50, 100_000_000]
@@ -284,6 +286,9 @@ def test_metadata_only_events_cannot_be_replayed(tmp_path: Path, logs: list) -> 
 @pytest.mark.parametrize(("server_state", "client_state"), [
     (ServiceIntrospectionState.OFF, ServiceIntrospectionState.CONTENTS),
     (ServiceIntrospectionState.METADATA, ServiceIntrospectionState.OFF),
+    # both sides: a server's events name the caller and number as the client's do (rmw_zenoh's
+    # request id), so each call counts once
+    (ServiceIntrospectionState.CONTENTS, ServiceIntrospectionState.METADATA),
 ])
 def test_verbose_info_counts_requests_and_responses_as_jazzy(
     tmp_path: Path, server_state: ServiceIntrospectionState,

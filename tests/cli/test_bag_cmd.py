@@ -223,17 +223,88 @@ def test_play_start_offset_and_remap(small_bag: Path, ctx: Context) -> None:
 def test_play_topic_selection_and_usage_errors(small_bag: Path, ctx: Context,
                                                capsys: pytest.CaptureFixture[str]) -> None:
     listener, words = _listen(ctx, "/words")
-    assert play([str(small_bag), "--rate", "50", "-e", "ord", "--progress-bar", "0"],
+    assert play([str(small_bag), "--rate", "50", "-e", "/w.rds", "--progress-bar", "0"],
                 context=ctx) == 0
     _deliver(ctx, listener)
     assert len(words) == 5
-    assert play([str(small_bag), "-x", "words"], context=ctx) == 2
+    assert play([str(small_bag), "-x", "/words"], context=ctx) == 2
     assert "no recorded topic matches" in capsys.readouterr().err
     assert play([str(small_bag), "--exclude-topics", "/words"], context=ctx) == 2
     assert play([str(small_bag), "--remap", "/words"], context=ctx) == 2
     assert "old:=new" in capsys.readouterr().err
     assert play([str(small_bag), "--remap", "/nope:=/x"], context=ctx) == 1
     assert "cannot remap ['/nope']" in capsys.readouterr().err
+
+
+#: Topics where a regular expression's search and its whole-name match differ.
+REGEX_TOPICS = ["/words", "/words_raw", "/robot/words", "/chatter"]
+
+
+@pytest.fixture
+def regex_bag(ctx: Context, tmp_path: Path) -> Path:
+    """One latched String on each of :data:`REGEX_TOPICS`, recorded by name."""
+    node = Node("speakers", context=ctx)
+    latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    for topic in REGEX_TOPICS:
+        node.create_publisher(String, topic, latched).publish(String(data=topic))
+    assert record(["-o", str(tmp_path / "all"), "--topics", *REGEX_TOPICS, "--duration", "0.05"],
+                  context=ctx) == 0
+    assert sorted(t.name for t in bag_info(tmp_path / "all").topics) == sorted(REGEX_TOPICS)
+    return tmp_path / "all"
+
+
+@pytest.mark.parametrize(("options", "recorded"), [
+    (["-e", "/words"], ["/robot/words", "/words", "/words_raw"]),
+    (["-e", "/words", "--exclude-regex", "raw"], ["/robot/words", "/words"]),
+    (["-e", "^/words$"], ["/words"]),
+    (["--all-topics", "--exclude-regex", "words"], ["/chatter"]),
+])
+def test_record_regex_matches_part_of_a_name(regex_bag: Path, ctx: Context, tmp_path: Path,
+                                             options: list[str], recorded: list[str]) -> None:
+    """rosbag2 Jazzy's recorder (rosbag2_transport topic_filter.cpp) selects with
+    ``std::regex_search``: a match anywhere in the name; a whole-name match would record
+    ``/words`` alone in the first two cases and nothing excluded in the last."""
+    del regex_bag  # its latched publishers are what is recorded
+    assert record(["-o", str(tmp_path / "sel"), *options, "--duration", "0.05"],
+                  context=ctx) == 0
+    names = {t.name for t in bag_info(tmp_path / "sel").topics}
+    assert sorted(names & set(REGEX_TOPICS)) == recorded  # (and /rosout ... with --all-topics)
+
+
+@pytest.mark.parametrize(("options", "played"), [
+    (["-e", "/words"], ["/words"]),
+    (["-e", ".*/words.*"], ["/robot/words", "/words", "/words_raw"]),
+    (["-e", "/words|/chatter"], ["/chatter", "/words"]),
+    (["-x", "/words"], ["/chatter", "/robot/words", "/words_raw"]),
+    (["-e", "/words.*", "-x", "/words_r"], ["/words", "/words_raw"]),
+])
+def test_play_regex_matches_whole_names(regex_bag: Path, options: list[str],
+                                        played: list[str]) -> None:
+    """rosbag2 Jazzy's player (player.cpp ``allow_topic``, and its MCAP and sqlite3 storage
+    filters) selects with ``std::regex_match``: the whole topic name must match, so ``/words``
+    plays ``/words`` only, where a search would also play ``/words_raw`` and
+    ``/robot/words``, and ``-x /words_r`` excludes nothing."""
+    other = Context()
+    other.init(transport="inprocess")
+    try:
+        got: dict[str, list[str]] = {t: [] for t in REGEX_TOPICS}
+        listener = Node("listener", context=other)
+        for topic in REGEX_TOPICS:
+            listener.create_subscription(String, topic, lambda m, t=topic: got[t].append(m.data),
+                                         QoSProfile(depth=10))
+        assert play([str(regex_bag), *options, "--rate", "20", "--progress-bar", "0",
+                     "--disable-keyboard-controls"], context=other) == 0
+        _deliver(other, listener)
+        assert sorted(t for t, data in got.items() if data) == played
+    finally:
+        other.try_shutdown()
+
+
+def test_play_regex_matching_no_whole_name_is_a_usage_error(
+        regex_bag: Path, ctx: Context, capsys: pytest.CaptureFixture[str]) -> None:
+    # "words" is in every name but is no whole one: rosbag2's player would play nothing
+    assert play([str(regex_bag), "-e", "words"], context=ctx) == 2
+    assert "no recorded topic matches the selection" in capsys.readouterr().err
 
 
 def test_play_progress_line(small_bag: Path, ctx: Context) -> None:

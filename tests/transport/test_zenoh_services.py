@@ -69,9 +69,11 @@ def test_posekit_server_answers_a_hand_written_rmw_zenoh_client(sessions) -> Non
     ours, peer = sessions
     node = ours.create_node("flag_server")
     requests: list[Any] = []
+    callers: list[tuple[bytes, int]] = []
 
-    def on_request(request: Any, respond: Callable[[Any], None]) -> None:
+    def on_request(request: Any, respond: Callable[[Any], None], att: Any) -> None:
         requests.append(request)
+        callers.append((att.gid, att.sequence_number))
         threading.Thread(  # answered later, from another thread, as an executor does
             target=respond, args=(SetBool.Response(success=not request.data, message="ok"),)
         ).start()
@@ -105,6 +107,7 @@ def test_posekit_server_answers_a_hand_written_rmw_zenoh_client(sessions) -> Non
     assert att[16] == 0x10
     assert att[17:] == client_gid  # the client's GID, echoed
     assert [r.data for r in requests] == [True]
+    assert callers == [(client_gid, 41)]  # the server learns who called (rmw's request id)
     # a query without an attachment is dropped (rmw_zenoh needs one), nothing crashes
     list(peer.session.get(KEY, payload=REQUEST_TRUE, timeout=0.5))
     assert wait_for(lambda: server.dropped["attachment"] == 1)

@@ -5,8 +5,8 @@
 1. ``viewer_p_controller.png``: the P-controller scenario (goal (5, 5, pi/2)) after about
    14 s of simulated time, paced to the wall clock.
 2. ``viewer_aruco.png``: the ``dynamic_detector`` scenario (the ROSbot approaching the
-   ArUco boxes, the OAK camera image, the detector's debug image and the ``aruco_marker_<id>``
-   frames) after about 5 s.
+   ArUco boxes, the OAK camera's frustum and image, the detector's debug image and the
+   ``aruco_marker_<id>`` frames) after about 5 s.
 3. ``viewer_cameras.png``: the same scenario seen from behind the robot: the OAK camera's
    frustum with its image on the far plane (the Camera display added for
    ``/oak/stereo/camera_info``) and the detected markers highlighted.

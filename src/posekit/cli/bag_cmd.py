@@ -391,7 +391,9 @@ def _play_topics(bag: str, ns: argparse.Namespace) -> list[str] | None:
     ``--topics``, ``--services``, ``-e``, ``-x``, ``--exclude-topics`` and
     ``--exclude-services``: topic options select among topics and service options among service
     event topics (``--topics`` alone still plays every recorded service), the regular
-    expressions apply to both.
+    expressions apply to both. A regular expression must match a *whole* name (a topic's, or a
+    service's event topic ``/svc/_service_event``), as the player's ``std::regex_match`` does;
+    ``record``'s expressions only need to match part of a name (``std::regex_search``).
     """
     import re
 
@@ -423,9 +425,9 @@ def _play_topics(bag: str, ns: argparse.Namespace) -> list[str] | None:
         else:
             listed, excluded = set(ns.topics), set(ns.exclude_topics)
         picked = (not listed and include is None) or topic in listed or (
-            include is not None and include.search(topic) is not None)
+            include is not None and include.fullmatch(topic) is not None)
         if picked and topic not in excluded and not (
-                exclude is not None and exclude.search(topic)):
+                exclude is not None and exclude.fullmatch(topic)):
             chosen.append(topic)
     if not chosen:
         raise _UsageError("posekit bag play: error: no recorded topic matches the selection")
@@ -445,9 +447,11 @@ def play(argv: Sequence[str], *, context: Any = None, err: TextIO | None = None)
     parser.add_argument("--topics", nargs="+", default=[], metavar="TOPIC",
                         help="space-delimited list of topics to play")
     parser.add_argument("-e", "--regex", default="",
-                        help="play only topics matching the regular expression")
+                        help="play only topics and services whose whole name matches the "
+                             "regular expression")
     parser.add_argument("-x", "--exclude-regex", default="",
-                        help="regular expression excluding topics from replay")
+                        help="regular expression excluding topics and services whose whole "
+                             "name matches it from replay")
     parser.add_argument("--exclude-topics", nargs="+", default=[], metavar="TOPIC",
                         help="space-delimited list of topics not to play")
     parser.add_argument("--services", nargs="+", default=[], metavar="SERVICE",

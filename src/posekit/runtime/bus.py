@@ -56,6 +56,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import itertools
+import os
 import threading
 import time
 import typing
@@ -75,6 +76,7 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestHeader,
     RequestSink,
     ResponseSink,
     ServiceClientEndpoint,
@@ -414,10 +416,19 @@ class _BusClient(ServiceClientEndpoint):
         self._bus = bus
         self.info = info
         self.alive = True
+        self._gid = os.urandom(16)  # unique per client, as an rmw GID
+        self._numbers = itertools.count(1)
 
-    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+    @property
+    def gid(self) -> bytes:
+        return self._gid
+
+    def send_request(self, request: Any, on_response: ResponseSink,
+                     header: RequestHeader | None = None) -> None:
         if not self.alive:
             raise RuntimeError(f"client of '{self.info.service}' has been destroyed")
+        if header is None:
+            header = RequestHeader(self._gid, next(self._numbers))
         server = self._bus._server_for(self.info.service)
         if server is None:
             return
@@ -430,7 +441,7 @@ class _BusClient(ServiceClientEndpoint):
             answered = True
             on_response(snapshot(response))
 
-        server.sink(snapshot(request), respond)
+        server.sink(snapshot(request), respond, header)
 
     @property
     def server_count(self) -> int:

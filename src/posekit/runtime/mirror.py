@@ -41,6 +41,7 @@ cameras, ``/tf`` when nobody subscribes) work for remote subscribers too.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import logging
 import threading
 import time
@@ -53,6 +54,7 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestHeader,
     RequestSink,
     ResponseSink,
     ServiceClientEndpoint,
@@ -150,15 +152,24 @@ class _MirrorServer(ServiceServerEndpoint):
 
 
 class _MirrorClient(ServiceClientEndpoint):
-    __slots__ = ("local", "remote")
+    __slots__ = ("_numbers", "local", "remote")
 
     def __init__(self, local: ServiceClientEndpoint, remote: ServiceClientEndpoint) -> None:
         self.local = local
         self.remote = remote
+        self._numbers = itertools.count(1)
 
-    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+    @property
+    def gid(self) -> bytes:
+        # One id whichever side carries the request: the network's (other processes see it).
+        return self.remote.gid
+
+    def send_request(self, request: Any, on_response: ResponseSink,
+                     header: RequestHeader | None = None) -> None:
         target = self.local if self.local.server_count else self.remote
-        target.send_request(request, on_response)
+        if header is None:
+            header = RequestHeader(self.remote.gid, next(self._numbers))
+        target.send_request(request, on_response, header)
 
     @property
     def server_count(self) -> int:

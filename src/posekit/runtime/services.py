@@ -26,19 +26,19 @@ Client publishes a ``<srv>_Event`` message (``service_msgs/msg/ServiceEventInfo 
 ``request[<=1]``, ``response[<=1]``) on the hidden topic ``<service>/_service_event`` for each
 step of a call: a client's REQUEST_SENT and RESPONSE_RECEIVED, a server's REQUEST_RECEIVED
 (when its executor takes the request, as ``rcl_take_request``) and RESPONSE_SENT. ``info``
-holds the event type, the ``clock``'s time, the client's 16-byte id and the request's
-sequence number; METADATA leaves ``request``/``response`` empty, CONTENTS includes them, OFF
-removes the event publisher. A client numbers its requests 1, 2, ... and carries a random
-id; posekit's transports do not tell a server who called, so a server's events carry a
-zero client id and number the requests it took 1, 2, ... This is what ``ros2 bag record
---services`` / ``posekit bag record --services`` record.
+holds the event type, the ``clock``'s time, the calling client's 16-byte id and the
+request's sequence number; METADATA leaves ``request``/``response`` empty, CONTENTS includes
+them, OFF removes the event publisher. A client numbers its requests 1, 2, ... and its id is
+its transport endpoint's GID (rmw_zenoh's client GID on Zenoh, a random one in process).
+The request carries both to the server (as rmw's request header), so the server's events
+of a call carry the same client id and sequence number as the client's, as in rcl. This is
+what ``ros2 bag record --services`` / ``posekit bag record --services`` record.
 """
 
 from __future__ import annotations
 
 import enum
 import inspect
-import os
 import threading
 import time
 import traceback
@@ -50,6 +50,7 @@ from posekit.runtime.callback_groups import CallbackGroup
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.task import Future
 from posekit.runtime.transport import (
+    RequestHeader,
     ResponseSink,
     ServiceClientEndpoint,
     ServiceServerEndpoint,
@@ -134,8 +135,6 @@ def _configure(current: _Introspection | None, node: Node, srv_type: Any, name: 
     return _Introspection(node, srv_type, name, clock, qos, state)
 
 
-_NO_CLIENT = bytes(16)
-
 _spinning = threading.local()
 
 
@@ -210,7 +209,6 @@ class Service:
         )
         self._endpoint: ServiceServerEndpoint | None = None
         self._introspection: _Introspection | None = None
-        self._taken = 0  # requests taken, numbering the server's introspection events
 
     def configure_introspection(self, clock: Any, service_event_qos_profile: QoSProfile,
                                 introspection_state: ServiceIntrospectionState | int) -> None:
@@ -222,18 +220,17 @@ class Service:
     def _attach(self, endpoint: ServiceServerEndpoint) -> None:
         self._endpoint = endpoint
 
-    def _receive(self, request: Any, respond: ResponseSink) -> None:
+    def _receive(self, request: Any, respond: ResponseSink, header: RequestHeader) -> None:
         """Transport sink: queue the request for the executor."""
-        self._queued.enqueue((request, respond))
+        self._queued.enqueue((request, respond, header))
 
-    def _handle(self, payload: tuple[Any, ResponseSink]) -> None:
-        request, respond = payload
+    def _handle(self, payload: tuple[Any, ResponseSink, RequestHeader]) -> None:
+        request, respond, header = payload
         introspection = self._introspection
         if introspection is not None:
-            self._taken += 1
-            sequence = self._taken
-            introspection.publish(_EventType.REQUEST_RECEIVED, _NO_CLIENT, sequence, request)
-            respond = self._introspected(respond, sequence)
+            introspection.publish(_EventType.REQUEST_RECEIVED, header.client_gid,
+                                  header.sequence_number, request)
+            respond = self._introspected(respond, header)
         result = self.callback(request, self.srv_type.Response())
         if inspect.iscoroutine(result):
             executor = self._node.executor
@@ -245,12 +242,12 @@ class Service:
             return
         self._send(result, respond)
 
-    def _introspected(self, respond: ResponseSink, sequence: int) -> ResponseSink:
+    def _introspected(self, respond: ResponseSink, header: RequestHeader) -> ResponseSink:
         def send(response: Any) -> None:
             introspection = self._introspection
             if introspection is not None:
-                introspection.publish(_EventType.RESPONSE_SENT, _NO_CLIENT, sequence,
-                                      response=response)
+                introspection.publish(_EventType.RESPONSE_SENT, header.client_gid,
+                                      header.sequence_number, response=response)
             respond(response)
 
         return send
@@ -324,7 +321,7 @@ class Client:
         )
         self._destroyed = False
         self._introspection: _Introspection | None = None
-        self._gid = os.urandom(16)  # this client's id in its introspection events
+        self._gid = endpoint.gid  # this client's id, sent with requests and in its events
 
     def configure_introspection(self, clock: Any, service_event_qos_profile: QoSProfile,
                                 introspection_state: ServiceIntrospectionState | int) -> None:
@@ -361,7 +358,7 @@ class Client:
         introspection = self._introspection
         if introspection is not None:
             introspection.publish(_EventType.REQUEST_SENT, self._gid, request_id, request)
-        self._endpoint.send_request(request, on_response)
+        self._endpoint.send_request(request, on_response, RequestHeader(self._gid, request_id))
         return future
 
     def _complete(self, payload: tuple[int, Any]) -> None:

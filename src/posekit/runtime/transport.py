@@ -46,11 +46,13 @@ Contract for implementations:
   nodes following ``/clock`` use it to ignore a second clock source. The default passes None.
 * Services are an optional capability (``supports_services``). ``create_service_server(info,
   sink)`` returns a :class:`ServiceServerEndpoint`; the transport calls ``sink(request,
-  respond)`` once per request (an object the server owns), and the runtime calls
+  respond, header)`` once per request (an object the server owns; ``header`` is the
+  :class:`RequestHeader` naming the calling client and its request), and the runtime calls
   ``respond(response)`` exactly once, from any thread, possibly later. A client's
-  ``send_request(request, on_response)`` (:class:`ServiceClientEndpoint`) delivers the
-  request to one server and calls ``on_response(response)`` at most once; its
-  ``server_count`` is what ``wait_for_service`` polls. ``get_service_names_and_types``,
+  ``send_request(request, on_response, header)`` (:class:`ServiceClientEndpoint`) delivers the
+  request to one server with ``header`` (or a header of its own numbering when None) and
+  calls ``on_response(response)`` at most once; its ``gid`` is the client's 16-byte id and
+  its ``server_count`` is what ``wait_for_service`` polls. ``get_service_names_and_types``,
   ``..._by_node``, ``count_services`` and ``count_clients`` answer graph questions. The base
   class raises :class:`ServicesNotSupportedError` from the two factories (and reports an empty
   service graph), so a transport without services says so.
@@ -85,6 +87,7 @@ __all__ = [
     "EndpointInfo",
     "MessageSink",
     "PublisherEndpoint",
+    "RequestHeader",
     "RequestSink",
     "ResponseSink",
     "ServiceClientEndpoint",
@@ -109,8 +112,23 @@ MessageSink = Callable[[Any], None]
 SourcedMessageSink = Callable[[Any, bytes | None], None]
 #: ``on_response(response)``: a client's reply sink.
 ResponseSink = Callable[[Any], None]
-#: ``sink(request, respond)``: a server's request sink; ``respond(response)`` answers it.
-RequestSink = Callable[[Any, ResponseSink], None]
+
+
+@dataclass(frozen=True, slots=True)
+class RequestHeader:
+    """Who sent a request: rmw's request id, as a server takes it with the request.
+
+    ``client_gid`` is the calling client's 16-byte id (its rmw GID), ``sequence_number`` the
+    client's number for this request (1, 2, ... per client).
+    """
+
+    client_gid: bytes
+    sequence_number: int
+
+
+#: ``sink(request, respond, header)``: a server's request sink; ``respond(response)`` answers
+#: it, ``header`` says which client sent it.
+RequestSink = Callable[[Any, ResponseSink, RequestHeader], None]
 
 
 class ServicesNotSupportedError(NotImplementedError):
@@ -187,8 +205,18 @@ class ServiceClientEndpoint(ABC):
     """A service client's handle on the transport."""
 
     @abstractmethod
-    def send_request(self, request: Any, on_response: ResponseSink) -> None:
-        """Send ``request`` to one server; ``on_response(response)`` at most once."""
+    def send_request(self, request: Any, on_response: ResponseSink,
+                     header: RequestHeader | None = None) -> None:
+        """Send ``request`` to one server; ``on_response(response)`` at most once.
+
+        The server learns ``header`` (this client's gid and the request's number); when None
+        the endpoint numbers the request itself.
+        """
+
+    @property
+    @abstractmethod
+    def gid(self) -> bytes:
+        """This client's 16-byte id (rmw's client GID), what servers see as the caller."""
 
     @property
     @abstractmethod

@@ -420,13 +420,14 @@ class ZenohSession:
         service: str,
         srv_type: type[Any],
         qos: WireQoS,
-        on_request: Callable[[Any, Callable[[Any], None]], None],
+        on_request: Callable[[Any, Callable[[Any], None], Attachment], None],
         *,
         warn: Callable[[str], object] | None = None,
     ) -> WireServiceServer:
-        """Serve ``service``: ``on_request(request, respond)`` per query (zenoh thread).
+        """Serve ``service``: ``on_request(request, respond, attachment)`` per query.
 
-        ``respond(response)`` replies, from any thread.
+        Called on a zenoh thread; ``attachment`` is the query's (the calling client's GID and
+        its sequence number for the request). ``respond(response)`` replies, from any thread.
         """
         server = WireServiceServer(self, node, service, srv_type, qos, on_request, warn)
         with self._lock:
@@ -902,7 +903,7 @@ class WireServiceServer:
         service: str,
         srv_type: type[Any],
         qos: WireQoS,
-        on_request: Callable[[Any, Callable[[Any], None]], None],
+        on_request: Callable[[Any, Callable[[Any], None], Attachment], None],
         warn: Callable[[str], object] | None,
     ) -> None:
         self.service = service
@@ -976,7 +977,7 @@ class WireServiceServer:
                 finally:
                     _quiet(query.drop)  # finalizes the query: the client sees the end
 
-            self._on_request(request, respond)
+            self._on_request(request, respond, att)
         except Exception as exc:  # never raise into zenoh
             self._drop("callback", f"unexpected {type(exc).__name__}: {exc}")
 
@@ -1027,15 +1028,18 @@ class WireServiceClient:
         except Exception as exc:
             raise ZenohSessionError(f"cannot declare a client on {self.key}: {exc}") from exc
 
-    def send_request(self, request: Any, on_response: Callable[[Any], None]) -> int:
+    def send_request(self, request: Any, on_response: Callable[[Any], None],
+                     sequence_number: int | None = None) -> int:
         """Send ``request``; returns the request's sequence number.
 
-        ``on_response(response)`` is called (on a zenoh thread) for the first matching reply.
+        ``sequence_number`` numbers the request in its attachment (the caller's own numbering,
+        unique per client); None takes this client's next number. ``on_response(response)``
+        is called (on a zenoh thread) for the first matching reply.
         """
         if self._destroyed:
             raise ZenohSessionError(f"client of {self.service} was destroyed")
         payload = to_cdr(request, self.srv_type.Request.__msgtype__)
-        seq = next(self._seq)
+        seq = next(self._seq) if sequence_number is None else sequence_number
         done = threading.Lock()
 
         def on_reply(reply: zenoh.Reply) -> None:

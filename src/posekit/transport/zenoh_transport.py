@@ -38,6 +38,7 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestHeader,
     RequestSink,
     ResponseSink,
     ServiceClientEndpoint,
@@ -177,12 +178,27 @@ class _Client(ServiceClientEndpoint):
         self._owner = owner
         self.info = info
         self.wire: WireServiceClient | None = wire
+        self._gid = wire.gid
         self._warned = False
 
-    def send_request(self, request: Any, on_response: ResponseSink) -> None:
+    @property
+    def gid(self) -> bytes:
+        """rmw_zenoh's client GID (from the client's liveliness token), sent with requests."""
+        return self._gid
+
+    def send_request(self, request: Any, on_response: ResponseSink,
+                     header: RequestHeader | None = None) -> None:
+        """Query the service; the attachment carries this client's GID and the number.
+
+        rmw_zenoh's attachment has room for the client's own GID only, so ``header``'s
+        ``sequence_number`` is sent and its ``client_gid`` must be :attr:`gid`.
+        """
         if self.wire is None:
             raise RuntimeError(f"client of '{self.info.service}' has been destroyed")
-        self.wire.send_request(request, on_response)
+        if header is not None and header.client_gid != self._gid:
+            raise ValueError("a zenoh client sends its own GID with each request")
+        self.wire.send_request(request, on_response,
+                               None if header is None else header.sequence_number)
 
     @property
     def server_count(self) -> int:
@@ -391,7 +407,9 @@ class ZenohTransport(Transport):
         endpoint = _Server(self, info)
         try:
             endpoint.wire = self.session.create_service_server(
-                node, info.service, info.srv_type, wire_qos(info.qos), sink,
+                node, info.service, info.srv_type, wire_qos(info.qos),
+                lambda request, respond, att: sink(
+                    request, respond, RequestHeader(att.gid, att.sequence_number)),
                 warn=info.logger.warning,
             )
         except BaseException:
