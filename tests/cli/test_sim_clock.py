@@ -192,3 +192,14 @@ def test_tools_detect_sim_time_for_frame_ages_and_rates(routed: World) -> None:
     rates = [float(r) for r in re.findall(r"average rate: ([0-9.]+)", hz.finish(60, "hz"))]
     assert len(rates) == 2
     assert all(15.0 < r < 35.0 for r in rates), rates  # 25 Hz per simulated second
+
+
+def test_a_launch_with_no_clock_publishes_no_clock(routed: World) -> None:
+    # Oracle: the graph another process sees. The same launch without --no-clock lists
+    # /clock (test_nodes_elsewhere_follow_the_one_simulation_clock follows it).
+    sim = routed.cli("launch", "empty_world", "--realtime", "--zenoh", "--no-clock")
+    sim.wait_stderr("world 'empty_world'", 30, "the simulation to start")
+    listing = routed.cli("topic", "list").finish(60, "topic list").split()
+    assert "/imu/data" in listing, listing  # the simulation's topics are visible
+    assert "/clock" not in listing, listing
+    assert sim.popen.poll() is None

@@ -19,7 +19,8 @@ says so in one line.
 Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:=value``
 reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds),
 ``--realtime`` (pace to the wall clock; default is as fast as possible; a paced run that
-falls behind logs its real-time factor), ``--record DIR`` (a ROS 2 bag), ``--viewer`` (serve
+falls behind logs its real-time factor), ``--no-clock`` (never publish ``/clock``, which a
+run visible to other processes publishes by default), ``--record DIR`` (a ROS 2 bag), ``--viewer`` (serve
 the browser viewer), ``--plot PNG`` (odometry plot), ``--save-images DIR`` (debug images as
 PNG, rqt_image_view's role), ``--show-args`` (the parameters and their defaults, as
 ``ros2 launch -s`` lists launch arguments). Every option applies to launch files as well
@@ -57,6 +58,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--seed", type=int, default=None)
     parser.add_argument("--until-sim-time", type=float, default=None, metavar="SECONDS")
     parser.add_argument("--realtime", action="store_true")
+    parser.add_argument("--no-clock", action="store_true",
+                        help="never publish /clock (default: published at every simulated "
+                             "step while the nodes are visible to other processes)")
     parser.add_argument("--isolated", action="store_true",
                         help="no network: nodes in this process only, no /clock (fastest)")
     parser.add_argument("--transport", default=None, choices=("inprocess", "zenoh", "dds"),
@@ -263,7 +267,7 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
             raise ScenarioError(f"'{name}' runs against a running world (start one in another "
                                 "terminal, e.g. posekit launch empty_world --realtime); it "
                                 "needs the network, not --isolated")
-        for option in ("plot", "realtime"):
+        for option in ("plot", "realtime", "no_clock"):
             if getattr(ns, option):
                 raise ScenarioError(f"--{option.replace('_', '-')} applies to a launch that "
                                     f"runs a simulation; '{name}' follows a running world's "
@@ -276,6 +280,7 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
             name, params, seed=seed, until_sim_time=ns.until_sim_time,
             realtime=ns.realtime or ns.viewer, plot_path=ns.plot, on_start=_hooks(ns, servers),
             transport=transport, record=ns.plot is not None,  # odometry kept only for the plot
+            publish_clock=False if ns.no_clock else None,
         )
     finally:
         for server in servers:
@@ -382,7 +387,8 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
     try:
         run = start(description, sim_time=True,
                     real_time_factor=1.0 if ns.realtime or ns.viewer else None,
-                    launch_arguments=params, transport=transport)
+                    launch_arguments=params, transport=transport,
+                    publish_clock=False if ns.no_clock else None)
     except LaunchDescriptionError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
         return 2
