@@ -21,9 +21,9 @@ reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated 
 ``--realtime`` (pace to the wall clock; default is as fast as possible; a paced run that
 falls behind logs its real-time factor), ``--no-clock`` (never publish ``/clock``, which a
 run visible to other processes publishes by default), ``--record DIR`` (a ROS 2 bag),
-``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot), ``--save-images DIR`` (debug images as
-PNG, rqt_image_view's role), ``--show-args`` (the parameters and their defaults, as
-``ros2 launch -s`` lists launch arguments). Every option applies to launch files as well
+``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot), ``--save-images
+DIR`` (debug images as PNG, rqt_image_view's role), ``--show-args`` (the parameters and
+their defaults, as ``ros2 launch -s`` lists launch arguments). Every option applies to launch files as well
 (``--seed`` as the file's ``seed`` launch argument).
 """
 
