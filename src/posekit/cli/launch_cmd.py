@@ -16,15 +16,14 @@ keeps everything in this process: no network, no ``/clock``, the fastest mode. W
 network transport's package installed, a launch that did not ask for it runs isolated and
 says so in one line.
 
-Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:=value``
-reaches one node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds),
-``--realtime`` (pace to the wall clock; default is as fast as possible; a paced run that
-falls behind logs its real-time factor), ``--no-clock`` (never publish ``/clock``, which a
-run visible to other processes publishes by default), ``--record DIR`` (a ROS 2 bag),
-``--viewer`` (serve the browser viewer), ``--plot PNG`` (odometry plot), ``--save-images
-DIR`` (debug images as PNG, rqt_image_view's role), ``--show-args`` (the parameters and
-their defaults, as ``ros2 launch -s`` lists launch arguments). Every option applies to launch files as well
-(``--seed`` as the file's ``seed`` launch argument).
+Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:=value`` reaches one
+node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds), ``--realtime`` (pace
+to the wall clock; default is as fast as possible; a paced run that falls behind logs its real-time
+factor), ``--no-clock`` (never publish ``/clock``, which a run visible to other processes publishes
+by default), ``--record DIR`` (a ROS 2 bag), ``--viewer`` (serve the browser viewer), ``--plot PNG``
+(odometry plot), ``--save-images DIR`` (debug images as PNG, rqt_image_view's role), ``--show-args``
+(the parameters and their defaults, as ``ros2 launch -s`` lists launch arguments). Every option
+applies to launch files as well (``--seed`` as the file's ``seed`` launch argument).
 """
 
 from __future__ import annotations
