@@ -29,7 +29,11 @@ from _support.procs import Proc
 
 REPO = Path(__file__).resolve().parents[1]
 WEB = REPO / "src" / "posekit" / "viewer" / "web"
-SERVED = ["index.html", "app/main.js", "app/scene3d.js", "app/scene2d.js", "app/style.css",
+#: The page, every script and style of the app (display modules included), and the parts of
+#: three.js the page imports.
+SERVED = ["index.html",
+          *sorted(p.relative_to(WEB).as_posix() for p in (WEB / "app").rglob("*")
+                  if p.suffix in (".js", ".css")),
           "vendor/three/build/three.module.js", "vendor/three/build/three.core.js",
           "vendor/three/examples/jsm/controls/OrbitControls.js", "vendor/three/LICENSE"]
 

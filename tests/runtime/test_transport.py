@@ -6,6 +6,9 @@ transport that cannot tell returns) and the nodes and publishers created in the 
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 
 from posekit.msgs.geometry_msgs import Twist
@@ -72,6 +75,20 @@ def test_unknown_transport_is_a_clear_error(ctx, monkeypatch) -> None:
     monkeypatch.setenv(ENV_TRANSPORT, "carrier_pigeon")
     with pytest.raises(UnknownTransportError, match=r"carrier_pigeon.*known:.*inprocess"):
         Node("a", context=ctx)
+
+
+@pytest.mark.parametrize(("name", "library"), [("zenoh", "zenoh"), ("dds", "cyclonedds")])
+def test_a_missing_network_library_names_the_extra(name: str, library: str) -> None:
+    # A fresh interpreter where the library cannot be imported (None in sys.modules makes
+    # Python refuse the import, as if it were not installed).
+    code = (f"import sys; sys.modules[{library!r}] = None\n"
+            "from posekit.runtime.transport import UnknownTransportError, create_transport\n"
+            f"try:\n    create_transport({name!r})\n"
+            "except UnknownTransportError as exc:\n    print(exc)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=60, check=True).stdout
+    assert f"transport '{name}' is not available" in out, out
+    assert f"pip install 'posekit[{name}]'" in out, out
 
 
 class _TopicsOnly(Transport):

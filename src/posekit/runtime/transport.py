@@ -472,8 +472,10 @@ def create_transport(name: str) -> Transport:
         try:
             module = importlib.import_module(module_name)
         except ImportError as exc:
+            # The built-in network transports come with an extra of the same name.
+            hint = f" (pip install 'posekit[{name}]')" if name in ("zenoh", "dds") else ""
             raise UnknownTransportError(
-                f"transport {name!r} is not available: {exc}"
+                f"transport {name!r} is not available: {exc}{hint}"
             ) from exc
         factory = getattr(module, attr)
     transport = factory()
