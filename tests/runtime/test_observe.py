@@ -187,6 +187,29 @@ def test_unknown_types_are_skipped_with_the_reason(ctx: Context) -> None:
     assert len(log.skipped) == said
 
 
+def test_skip_warnings_are_one_per_topic_and_a_flood_of_names_is_rate_limited(
+        ctx: Context, capfd: pytest.CaptureFixture[str]) -> None:
+    # 300 topics of a type nobody can resolve: the names are the publishers' choice. The
+    # observer's own warning (no on_skipped owner) names each of the first topics once; past
+    # the rate limiter's table of reasons the rest share one line a second.
+    node = Node("talkers", context=ctx)
+    for i in range(300):
+        node.create_publisher(String, f"/flood_{i}", 10)
+
+    def resolve(type_name: str) -> type:
+        raise LookupError(f"no class for {type_name}")
+
+    observer = TopicObserver(ctx.transport(), lambda topic: lambda msg: None, resolve=resolve)
+    capfd.readouterr()
+    observer.refresh()
+    assert len(observer.skipped) >= 300  # every topic was considered and refused
+    lines = [line for line in capfd.readouterr().err.splitlines() if "not observing" in line]
+    assert any(line.endswith("not observing '/flood_0': no class for std_msgs/msg/String")
+               for line in lines), lines[:3]
+    assert len(set(lines)) == len(lines)  # no topic twice
+    assert 10 <= len(lines) <= 64 + 1, len(lines)
+
+
 def test_close_tears_down_every_subscription(ctx: Context) -> None:
     node = Node("talkers", context=ctx)
     pub = node.create_publisher(String, "/words", 10)

@@ -71,6 +71,7 @@ from posekit.runtime.executors import Executor
 from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node
 from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped, is_hidden_topic
+from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import EndpointInfo, MessageSink, SubscriptionEndpoint
 from posekit.time import stamp_to_ns
@@ -293,6 +294,8 @@ class Recorder:
         self.errors: dict[str, int] = {}
         self._closed = False
         self._timer = None
+        # one line per skipped topic; a flood of peer-chosen names is rate limited
+        self._skip_log = RateLimitedLog(self.node.get_logger().warning)
         self._observer = TopicObserver(
             self.node.transport, self._sink_for, select=self._wanted,
             on_skipped=self._on_skipped, node_name=self.node.get_name(),
@@ -389,7 +392,7 @@ class Recorder:
             self.node, self.node.create_subscription(info.msg_type, info.topic, sink, info.qos))
 
     def _on_skipped(self, topic: str, reason: str) -> None:
-        self.node.get_logger().warning(f"not recording '{topic}': {reason}")
+        self._skip_log(f"not recording '{topic}'", reason)
 
     def _sink_for(self, observed: ObservedTopic) -> Callable[[Any], None]:
         """Open (or reuse) the bag connection of a topic the observer starts observing."""

@@ -234,6 +234,9 @@ class TopicObserver:
         self._graph: list[tuple[str, str]] = []
         self._closed = False
         self._warn = RateLimitedLog(self.logger.warning)
+        # Topic names are the peers': one line per topic, but a flood of new names shares
+        # the limiter's overflow slot (one line a second).
+        self._skip_log = RateLimitedLog(self.logger.warning)
 
     # -- what is observed --------------------------------------------------------------------
     @property
@@ -340,7 +343,7 @@ class TopicObserver:
         if self._on_skipped is not None:
             self._on_skipped(topic, reason)
         else:
-            self.logger.warning(f"not observing '{topic}': {reason}")
+            self._skip_log(f"not observing '{topic}'", reason)
 
     def _info(self, topic: str, msg_type: type, qos: QoSProfile) -> EndpointInfo:
         return EndpointInfo(topic, msg_type, qos, self._node_name, self._node_namespace,

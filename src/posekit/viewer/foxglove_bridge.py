@@ -163,6 +163,8 @@ class FoxgloveBridge:
         self._sim_clock_ns: int | None = None  # newest /clock (ns)
         self._sim_clock_seen = 0.0  # monotonic s of the newest /clock
         self._warn = RateLimitedLog(self.logger.warning)
+        # one line per skipped topic; a flood of peer-chosen names is rate limited
+        self._skip_log = RateLimitedLog(self.logger.warning)
         self._publishers: dict[tuple[int, int], tuple[PublisherEndpoint, type, str]] = {}
         self._front: _SubprotocolFront | None = None
         self._lock = threading.Lock()
@@ -416,7 +418,7 @@ class FoxgloveBridge:
                        f"{type(exc).__name__}: {exc}")
 
     def _log_skip(self, topic: str, reason: str) -> None:
-        self.logger.warning(f"foxglove bridge: not serving '{topic}': {reason}")
+        self._skip_log(f"foxglove bridge: not serving '{topic}'", reason)
 
     def _sink_for(self, observed: ObservedTopic) -> MessageSink:
         """Advertise a channel for a topic the observer starts observing."""
