@@ -219,3 +219,23 @@ def test_message_callbacks_run_alike_through_both_paths(ctx, logs, path: str) ->
     assert errors[0].startswith("Exception in subscription callback on '/t'")
     assert "ValueError: bad message" in errors[0]
     ex.shutdown()
+
+
+def test_the_context_holds_executors_and_bound_callbacks_weakly() -> None:
+    # As rclpy's Context.on_shutdown: a bound method is held by a weak reference, so an
+    # executor dropped by its owner is not kept alive by the context; plain functions are
+    # held and still run at shutdown.
+    import gc
+    import weakref
+
+    context = Context()
+    context.init()
+    ran: list[str] = []
+    context.on_shutdown(lambda: ran.append("function"))
+    executor = SingleThreadedExecutor(context=context)
+    gone = weakref.ref(executor)
+    del executor
+    gc.collect()
+    assert gone() is None
+    context.shutdown()
+    assert ran == ["function"]

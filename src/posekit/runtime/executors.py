@@ -122,7 +122,7 @@ class Executor:
         self.callback_exceptions = 0
         #: Endpoints whose samples this executor pulls (see ``_pulls_samples``).
         self._pulled: dict[Any, Any] = {}  # endpoint -> its subscription
-        self._context._register_executor(self)
+        self._context.on_shutdown(self.wake)  # spin returns when the context shuts down
 
     def _make_schedule(self) -> TimerSchedule:
         return TimerSchedule()
