@@ -266,7 +266,8 @@ class DdsServiceClient(ServiceClientEndpoint):
         self._numbers = itertools.count(1)
         self._warned_foreign = False
         self.entities = _ServiceEndpoints(owner, info, server=False, on_payload=self._on_reply)
-        self.client_id: int = int(self.entities.writer.get_instance_handle())
+        # the request writer's instance handle, as rmw_cyclonedds (Python reads it signed)
+        self.client_id: int = int(self.entities.writer.get_instance_handle()) & 0xFFFFFFFFFFFFFFFF
         self._gid = client_gid(self.client_id)
 
     @property
