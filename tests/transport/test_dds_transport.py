@@ -128,17 +128,6 @@ def test_selected_by_environment_and_rejections(
         context.try_shutdown()
 
 
-def test_a_service_call_on_dds_is_one_line_not_a_traceback(
-        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
-    from posekit.cli.main import main
-
-    dds_domain(monkeypatch)
-    assert main(["service", "call", "/reset", "std_srvs/srv/Trigger", "--transport", "dds"]) == 1
-    err = capsys.readouterr().err
-    assert err == ("posekit service call: error: the 'dds' transport does not carry services "
-                   "(posekit's 'inprocess' and 'zenoh' transports do)\n")
-
-
 CHILD = """
 import sys, time
 import posekit.rclpy as rclpy

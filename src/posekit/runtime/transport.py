@@ -336,7 +336,7 @@ class Transport(ABC):
     def _no_services(self) -> ServicesNotSupportedError:
         return ServicesNotSupportedError(
             f"the '{self.name}' transport does not carry services "
-            "(posekit's 'inprocess' and 'zenoh' transports do)"
+            "(posekit's 'inprocess', 'zenoh' and 'dds' transports do)"
         )
 
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
