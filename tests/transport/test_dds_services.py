@@ -117,7 +117,8 @@ def test_setbool_round_trip_wait_for_service_and_graph(two: tuple[Context, Conte
     assert (second.success, second.message) == (True, "was False")
     # the server learns the calling client's id and the request numbers from the header
     assert callers == [(client._gid, 1), (client._gid, 2)]
-    assert len(client._gid) == 16 and client._gid[8:] == bytes(8)
+    assert len(client._gid) == 16
+    assert client._gid[8:] == bytes(8)
     # the graph, derived from the rq/rr endpoints, seen from the client's participant
     client_node.transport.sync_graph(3.0)  # type: ignore[attr-defined]
     assert ("/flip", ["std_srvs/srv/SetBool"]) in client_node.get_service_names_and_types()
@@ -160,7 +161,8 @@ def test_concurrent_requests_of_two_clients_each_get_their_own_response(
     client_exec = SingleThreadedExecutor(context=b)
     client_exec.add_node(clients_node)
     try:
-        assert first.wait_for_service(15) and second.wait_for_service(15)
+        assert first.wait_for_service(15)
+        assert second.wait_for_service(15)
         futures = []
         for i in range(20):
             for tag, client in (("A", first), ("B", second)):
@@ -197,7 +199,8 @@ def test_a_raising_server_answers_nothing_and_keeps_serving(
         answer = client.call(SetBool.Request(data=True), timeout_sec=10)
     finally:
         spinner.stop()
-    assert answer is not None and answer.success is True
+    assert answer is not None
+    assert answer.success is True
     assert any("refusing false" in r.message for r in logs)
 
 

@@ -21,7 +21,8 @@ USER_DATA, so either side can tell which reader and writer belong together.
   before an executor pulls it). A malformed payload (shorter than the header, CDR that does
   not decode) is dropped with a logged reason, at most one line a second per reason, and
   never raises into Cyclone's threads. Requests from a writer without a ``clientid`` (Fast
-  DDS: its requests carry no header) are dropped the same way, and servers without a
+  DDS: its requests carry no header) are dropped the same way (Cyclone itself already
+  discards those too short for the header-carrying type), and servers without a
   ``serviceid`` are not counted, because they speak another format.
 * The client id servers see (:class:`~posekit.runtime.transport.RequestHeader`'s
   ``client_gid``) is the 8-byte id followed by 8 zero bytes, which is also the client
