@@ -89,11 +89,16 @@ def test_unwritable_output_paths(capsys: pytest.CaptureFixture[str],
 
 
 def test_groups_list_their_verbs(capsys: pytest.CaptureFixture[str]) -> None:
-    for group in ("topic", "node", "tf", "bag", "plot"):
+    for group in ("topic", "node", "tf", "bag", "plot", "param", "service", "action"):
         assert main([group]) == 0
         out = capsys.readouterr().out
         verbs = sorted(c for g, c in _COMMANDS if g == group and c is not None)
         assert [line.split()[0] for line in out.splitlines() if line.startswith("  ")] == verbs
+    # interface parses its own verbs (ros2 interface prints its help and succeeds)
+    assert main(["interface"]) == 0
+    out = capsys.readouterr().out
+    for verb in ("list", "package", "packages", "show", "proto"):
+        assert f"    {verb} " in out, out
 
 
 @pytest.mark.parametrize("command", sorted(

@@ -33,7 +33,7 @@ from posekit.tf2_ros import (  # noqa: E402
     StaticTransformBroadcaster,
     TransformBroadcaster,
 )
-from posekit.viewer import ViewerError  # noqa: E402
+from posekit.viewer import ViewerError, foxglove_bridge  # noqa: E402
 from posekit.viewer.foxglove_bridge import FOXGLOVE_SUBPROTOCOL, FoxgloveBridge  # noqa: E402
 
 pytestmark = pytest.mark.timeout(30)
@@ -553,3 +553,27 @@ def test_a_latched_topic_reaches_clients_that_subscribe_later(system: System) ->
                     assert msg.data == "<robot name='rosbot'/>"
 
     asyncio.run(go())
+
+
+def test_topics_and_static_frames_are_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Topic and frame names are the peers' choice: the bridge serves at most MAX_TOPICS
+    # topics (the rest are listed as skipped, with the reason) and keeps at most
+    # MAX_STATIC_FRAMES static frames for late clients (a frame it keeps is still updated).
+    monkeypatch.setattr(foxglove_bridge, "MAX_TOPICS", 3)
+    monkeypatch.setattr(foxglove_bridge, "MAX_STATIC_FRAMES", 2)
+    system = System()  # /tf_static: base_link -> camera_link before the bridge exists
+    try:
+        for i in range(6):
+            system.node.create_publisher(Odometry, f"/flood_{i}", 10)
+        system.static.sendTransform([_transform("base_link", f"extra_{i}", 0.1, 0)
+                                     for i in range(4)])
+        system.static.sendTransform(_transform("base_link", "camera_link", 0.5, 0))
+        system.bridge.refresh()
+        assert len(system.bridge.topics()) == 3
+        assert any("at most 3 topics" in reason for reason in system.bridge.skipped().values())
+        kept = dict(system.bridge._static)  # what a late client would be sent
+        assert len(kept) == 2
+        assert "camera_link" in kept
+        assert kept["camera_link"].transform.translation.x == 0.5
+    finally:
+        system.close()

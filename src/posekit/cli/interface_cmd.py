@@ -185,9 +185,9 @@ def main(argv: Sequence[str], *, out: TextIO | None = None, err: TextIO | None =
     proto.add_argument("type")
     proto.add_argument("--no-quotes", action="store_true")
     ns = parser.parse_args(list(argv))
-    if ns.verb is None:
-        parser.print_usage(err)
-        return 2
+    if ns.verb is None:  # as ros2 interface: the verbs, and success
+        parser.print_help(out)
+        return 0
     try:
         if ns.verb == "show":
             text = sys.stdin.readline().strip() if ns.type == "-" else ns.type

@@ -213,6 +213,6 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         lines += [f"  {name:<6}{text}" for name, (_, text) in _VERBS.items()]
         ok = bool(args) and args[0] in ("-h", "--help")
         (out or sys.stdout if ok or not args else err or sys.stderr).write("\n".join(lines) + "\n")
-        return 0 if ok else 2
+        return 0 if ok or not args else 2
     function = _VERBS[args[0]][0]
     return function(args[1:], context=context, out=out, err=err)

@@ -99,6 +99,10 @@ _PUBLISH_QOS = QoSProfile(depth=10)
 _STATIC_TOPIC = "/tf_static"
 #: Messages kept per latched (transient-local) topic for clients that subscribe later.
 MAX_LATCHED = 100
+#: Topics the bridge serves at most (the viewer's bound; the topic names are the peers').
+MAX_TOPICS = 200
+#: Static frames kept for late clients at most (a TF listener's bound).
+MAX_STATIC_FRAMES = 10_000
 _NODE_NAME = "posekit_foxglove_bridge"
 
 
@@ -172,7 +176,8 @@ class FoxgloveBridge:
         self._observer = TopicObserver(
             transport, self._sink_for, on_removed=self._remove_channel,
             on_skipped=self._log_skip, node_name=_NODE_NAME, depth=10,
-            resolve=_channel_class, logger=self.logger,
+            resolve=_channel_class, logger=self.logger, max_topics=MAX_TOPICS,
+            priority=(_STATIC_TOPIC, "/tf", "/clock"),  # served first when the bound is hit
         )
         self._static: dict[str, Any] = {}  # child frame -> newest static TransformStamped
         self._latched: dict[str, deque[bytes]] = {}  # transient-local topic -> last payloads
@@ -473,7 +478,9 @@ class FoxgloveBridge:
                 if is_static:
                     with self._lock:
                         for t in msg.transforms:
-                            self._static[t.child_frame_id] = t
+                            if (len(self._static) < MAX_STATIC_FRAMES
+                                    or t.child_frame_id in self._static):
+                                self._static[t.child_frame_id] = t
                 data = to_cdr(msg, type_name)
                 if latched is not None:
                     with self._lock:
