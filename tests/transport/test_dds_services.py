@@ -242,6 +242,52 @@ def test_a_destroyed_server_sends_no_late_answer_and_malformed_requests_are_drop
     assert len(held) == 1  # only the held respond callable: no malformed request delivered
 
 
+def test_an_action_between_two_participants(two: tuple[Context, Context]) -> None:
+    """Actions are services plus topics: goal, feedback and result cross DDS."""
+    from posekit.msgs.posekit_interfaces import NavigateToPose
+    from posekit.runtime.action import ActionClient, ActionServer
+
+    a, b = two
+    server_node = Node("driver", context=a)
+
+    def execute(goal_handle: Any) -> Any:
+        left = goal_handle.request.pose.pose.position.x
+        for step in (left, left / 2):
+            goal_handle.publish_feedback(NavigateToPose.Feedback(distance_remaining=step))
+        goal_handle.succeed()
+        return NavigateToPose.Result(distance_remaining=0.125)
+
+    server = ActionServer(server_node, NavigateToPose, "drive", execute)
+    client_node = Node("commander", context=b)
+    client = ActionClient(client_node, NavigateToPose, "drive")
+    server_exec = SingleThreadedExecutor(context=a)
+    server_exec.add_node(server_node)
+    spinner = Spinner(server_exec)
+    client_exec = SingleThreadedExecutor(context=b)
+    client_exec.add_node(client_node)
+    feedback: list[float] = []
+    try:
+        assert client.wait_for_server(timeout_sec=15)
+        # feedback is a VOLATILE topic: send once DDS matched the client's reader to it
+        assert wait_for(lambda: server._feedback_pub.get_subscription_count() == 1, 15)
+        goal = NavigateToPose.Goal()
+        goal.pose.pose.position.x = 3.0
+        sent = client.send_goal_async(
+            goal, feedback_callback=lambda m: feedback.append(m.feedback.distance_remaining))
+        assert spin_until(client_exec, sent.done, 15)
+        handle = sent.result()
+        assert handle.accepted
+        result = handle.get_result_async()
+        assert spin_until(client_exec, result.done, 15)
+        # (feedback and result travel on different DDS entities: either may come first)
+        assert spin_until(client_exec, lambda: len(feedback) >= 2, 10)
+    finally:
+        spinner.stop()
+    assert result.result().result.distance_remaining == 0.125
+    assert result.result().status == 4  # GoalStatus.STATUS_SUCCEEDED
+    assert feedback == [3.0, 1.5]
+
+
 # --- the wire format, against hand-written rmw_cyclonedds endpoints -------------------------
 
 
