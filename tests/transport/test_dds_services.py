@@ -23,7 +23,7 @@ from typing import Any
 
 import pytest
 
-from _support.dds import dds_context, dds_domain, posekit_env, spin_until
+from _support.dds import dds_context, dds_domain, posekit_env, spin_until, two_dds_contexts
 from _support.procs import Proc
 from _support.waiting import wait_for
 from posekit.msgs.rcl_interfaces import (
@@ -44,11 +44,8 @@ pytestmark = pytest.mark.slow
 
 @pytest.fixture
 def two(monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
-    dds_domain(monkeypatch)
-    a, b = dds_context(), dds_context()
-    yield a, b
-    b.try_shutdown()
-    a.try_shutdown()
+    with two_dds_contexts(monkeypatch) as pair:
+        yield pair
 
 
 class Spinner:

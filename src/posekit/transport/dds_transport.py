@@ -787,14 +787,6 @@ class DdsTransport(Transport):
         with self._lock:
             return client_service_id(self.gid, next(self._csid_counter))
 
-    @staticmethod
-    def _check_service_type(info: ServiceInfo) -> None:
-        if not isinstance(getattr(info.srv_type, "__srvtype__", None), str):
-            raise TypeError(
-                f"the dds transport carries ROS services only; {info.srv_type!r} on "
-                f"'{info.service}' has no __srvtype__"
-            )
-
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
         """A server of ``info``'s service: a reader on ``rq/...Request``, a writer on ``rr/...``.
 
@@ -803,7 +795,7 @@ class DdsTransport(Transport):
         """
         from posekit.transport.dds_services import DdsServiceServer
 
-        self._check_service_type(info)
+        info.require_ros_service("dds")
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
             server = DdsServiceServer(self, info, sink)
@@ -817,7 +809,7 @@ class DdsTransport(Transport):
         """A client of ``info``'s service: a writer on ``rq/...Request``, a reader on ``rr/...``."""
         from posekit.transport.dds_services import DdsServiceClient
 
-        self._check_service_type(info)
+        info.require_ros_service("dds")
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
             client = DdsServiceClient(self, info)
