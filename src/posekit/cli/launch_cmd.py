@@ -20,10 +20,11 @@ Scenario options: ``--param name:=value`` (or bare ``name:=value``; ``node.name:
 node), ``--seed N``, ``--until-sim-time S`` (stop after S simulated seconds), ``--realtime`` (pace
 to the wall clock; default is as fast as possible; a paced run that falls behind logs its real-time
 factor), ``--no-clock`` (never publish ``/clock``, which a run visible to other processes publishes
-by default), ``--record DIR`` (a ROS 2 bag), ``--viewer`` (serve the browser viewer), ``--plot PNG``
-(odometry plot), ``--save-images DIR`` (debug images as PNG, rqt_image_view's role), ``--show-args``
-(the parameters and their defaults, as ``ros2 launch -s`` lists launch arguments). Every option
-applies to launch files as well (``--seed`` as the file's ``seed`` launch argument).
+by default), ``--record DIR`` (a ROS 2 bag), ``--viewer`` (serve the browser viewer; ``--host``,
+``--port``, ``--allow-host``, ``--allow-origin`` as ``posekit view``), ``--plot PNG`` (odometry
+plot), ``--save-images DIR`` (debug images as PNG, rqt_image_view's role), ``--show-args`` (the
+parameters and their defaults, as ``ros2 launch -s`` lists launch arguments). Every option applies
+to launch files as well (``--seed`` as the file's ``seed`` launch argument).
 """
 
 from __future__ import annotations
@@ -71,6 +72,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--viewer", action="store_true")
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=8765)
+    from posekit.cli.view_cmd import add_access_options
+
+    add_access_options(parser)
     parser.add_argument("--plot", default=None, metavar="PNG")
     parser.add_argument("--save-images", default=None, metavar="DIR",
                         help="write the debug and camera images as PNG files into DIR")
@@ -135,7 +139,8 @@ def _hooks(ns: argparse.Namespace, servers: list[Any]) -> list[Callable[[Any], A
         from posekit.cli.view_cmd import attach_to_run
 
         def start_viewer(run: Any) -> None:
-            server = attach_to_run(run, host=ns.host, port=ns.port)
+            server = attach_to_run(run, host=ns.host, port=ns.port,
+                                   allow_hosts=ns.allow_host, allow_origins=ns.allow_origin)
             servers.append(server)
             sys.stdout.write(f"viewer: http://{ns.host}:{ns.port}/\n")
             sys.stdout.flush()

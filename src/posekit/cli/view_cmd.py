@@ -48,6 +48,19 @@ def find_world(run: LaunchRun) -> str | None:
     return None
 
 
+def add_access_options(parser: argparse.ArgumentParser) -> None:
+    """``--allow-host`` and ``--allow-origin``: what the viewer accepts beyond its own names.
+
+    Shared by ``posekit view`` and ``posekit launch --viewer``; see docs/security.md.
+    """
+    parser.add_argument("--allow-host", action="append", default=[], metavar="NAME",
+                        help="also accept this HTTP Host header (name or name:port; '*': any); "
+                             "by default only localhost, 127.0.0.1, [::1] and --host")
+    parser.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                        help="also accept WebSocket connections from pages of this origin "
+                             "(e.g. http://myhost:8765; '*': any)")
+
+
 def attach_to_run(
     run: LaunchRun,
     *,
@@ -111,12 +124,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--fixed-frame", default="odom", help="default Fixed Frame (odom)")
     parser.add_argument("--tf-rate", type=float, default=30.0,
                         help="TF updates per second sent to the page (max 100)")
-    parser.add_argument("--allow-host", action="append", default=[], metavar="NAME",
-                        help="also accept this HTTP Host header (name or name:port; '*': any); "
-                             "by default only localhost, 127.0.0.1, [::1] and --host")
-    parser.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
-                        help="also accept WebSocket connections from pages of this origin "
-                             "(e.g. http://myhost:8765; '*': any)")
+    add_access_options(parser)
     parser.add_argument("--config", "-d", default=None, metavar="FILE",
                         help="start the page from this saved view (the JSON file 'Save view' "
                              "downloads), as rviz2 -d does")
