@@ -10,11 +10,12 @@ for a posekit child process on the same domain.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import random
 import socket
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import pytest
 
@@ -60,6 +61,18 @@ def dds_context() -> Context:
     context = Context()
     context.init(transport="dds")
     return context
+
+
+@contextlib.contextmanager
+def two_dds_contexts(monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
+    """Two contexts (two DDS participants) on a fresh domain, shut down afterwards."""
+    dds_domain(monkeypatch)
+    a, b = dds_context(), dds_context()
+    try:
+        yield a, b
+    finally:
+        b.try_shutdown()
+        a.try_shutdown()
 
 
 def posekit_env(domain_id: int, **extra: str) -> dict[str, str]:

@@ -384,3 +384,64 @@ def test_late_independent_reader_gets_tf_static_from_posekit(
         ["base_link", "camera", 0.1, 0.2, 0.6, 0.8, 77],
         ["base_link", "lidar", -0.2, -0.4, 0.6, 0.8, 77],
     ], reader.describe()
+
+
+REAL_SERVICES = textwrap.dedent("""
+    import sys, time
+    import rclpy
+    from std_srvs.srv import SetBool
+    rclpy.init()
+    node = rclpy.create_node("real_services")
+    node.create_service(SetBool, "/real_flip", lambda req, resp: resp)
+    client = node.create_client(SetBool, "/posekit_flip")
+    print("ready", flush=True)
+    deadline = time.monotonic() + float(sys.argv[1])
+    future = None
+    while time.monotonic() < deadline:
+        rclpy.spin_once(node, timeout_sec=0.05)
+        if future is None and client.service_is_ready():
+            print("sees the posekit server", flush=True)
+            future = client.call_async(SetBool.Request(data=True))
+        elif future is not None and future.done():
+            print("answered", flush=True)
+            future = None
+""")
+
+
+def test_fast_dds_services_are_refused_with_a_reason_not_misread(
+        monkeypatch: pytest.MonkeyPatch, logs: list[LogRecord]) -> None:
+    """rmw_fastrtps's service format is not rmw_cyclonedds's: neither side is misread.
+
+    posekit's server never hands a Fast DDS request to its callback, posekit's client never
+    counts a Fast DDS server as available (and says why once).
+
+    Oracle: the real rclpy on Fast DDS (its server and client are found on the graph).
+    """
+    from posekit.msgs.std_srvs import SetBool
+
+    domain = dds_domain(monkeypatch)
+    real = Proc([str(ros2_python()), "-c", REAL_SERVICES, "25"], env=ros2_env(domain))
+    context = dds_context()
+    try:
+        node = Node("posekit_services", context=context)
+        called: list[Any] = []
+        node.create_service(SetBool, "/posekit_flip",
+                            lambda req, resp: called.append(req) or resp)
+        client = node.create_client(SetBool, "/real_flip")
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(node)
+        real.wait_line(lambda line: line.startswith("ready"), 60, "the real node")
+        assert spin_until(executor, lambda: node.count_services("/real_flip") == 1, 20)
+        real.wait_line(lambda line: "sees the posekit server" in line, 20, "the real client")
+        # the real server is on the graph but never counted as available
+        assert not spin_until(executor, client.service_is_ready, 2.0)
+        # its requests (no header) never reach the callback: Cyclone discards a payload
+        # shorter than the header-carrying type, posekit one from a writer without clientid
+        assert not spin_until(executor, lambda: bool(called), 2.0)
+    finally:
+        real.kill()
+        context.try_shutdown()
+    assert called == []
+    assert not any("answered" in line for line in real.out)
+    assert any("a server cannot be called" in r.message and "'/real_flip'" in r.message
+               for r in logs)

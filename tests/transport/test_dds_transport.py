@@ -16,7 +16,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from _support.dds import dds_context, dds_domain, spin_until
+from _support.dds import dds_context, dds_domain, spin_until, two_dds_contexts
 from posekit.msgs.geometry_msgs import TransformStamped
 from posekit.msgs.std_msgs import String
 from posekit.msgs.tf2_msgs import TFMessage
@@ -34,11 +34,8 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 @pytest.fixture
 def two(monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
-    dds_domain(monkeypatch)
-    a, b = dds_context(), dds_context()
-    yield a, b
-    b.try_shutdown()
-    a.try_shutdown()
+    with two_dds_contexts(monkeypatch) as pair:
+        yield pair
 
 
 def test_importing_the_runtime_does_not_import_cyclonedds() -> None:
@@ -126,17 +123,6 @@ def test_selected_by_environment_and_rejections(
         assert received[0].data == "ok"
     finally:
         context.try_shutdown()
-
-
-def test_a_service_call_on_dds_is_one_line_not_a_traceback(
-        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
-    from posekit.cli.main import main
-
-    dds_domain(monkeypatch)
-    assert main(["service", "call", "/reset", "std_srvs/srv/Trigger", "--transport", "dds"]) == 1
-    err = capsys.readouterr().err
-    assert err == ("posekit service call: error: the 'dds' transport does not carry services "
-                   "(posekit's 'inprocess' and 'zenoh' transports do)\n")
 
 
 CHILD = """

@@ -4,11 +4,13 @@
 Oracles: the rmw implementations' documented behaviour (rmw_cyclonedds's discovery settings
 per ``ROS_AUTOMATIC_DISCOVERY_RANGE``, Fast DDS's NUL-terminated USER_DATA), Cyclone DDS
 itself (it must accept every configuration), and rosbags, which decodes the
-``ParticipantEntitiesInfo`` payload with its own Jazzy definitions.
+``ParticipantEntitiesInfo`` payload with its own Jazzy definitions. Services: the names,
+id strings and header layout of rmw_cyclonedds's source, written out here by hand.
 """
 
 from __future__ import annotations
 
+import struct
 import subprocess
 import sys
 
@@ -16,16 +18,24 @@ import numpy as np
 import pytest
 
 from posekit.transport.dds_wire import (
+    REQUEST_HEADER_SIZE,
     DiscoveryOptions,
     DiscoveryRange,
     NodeEntities,
     ParticipantEntities,
+    client_service_id,
     cyclone_config,
     dds_topic_name,
     decode_participant_entities,
+    decode_service_payload,
     encode_participant_entities,
+    encode_service_payload,
+    format_client_service_id,
     parse_user_data,
+    ros_service_name,
+    ros_service_type,
     ros_topic_name,
+    service_topic_names,
 )
 
 
@@ -138,3 +148,46 @@ def test_participant_entities_payload_decodes_with_rosbags() -> None:
     assert [bytes(g.data) for g in first.writer_gid_seq] == [bytes([2] * 16), bytes([3] * 16)]
     assert decode_participant_entities(data) == info
     assert np.array_equal(np.frombuffer(data[4:20], dtype=np.uint8), np.arange(16))
+
+
+def test_service_names_and_types_as_rmw_cyclonedds_mangles_them() -> None:
+    assert service_topic_names("/robot/flip") == ("rq/robot/flipRequest", "rr/robot/flipReply")
+    assert ros_service_name("rq/robot/flipRequest") == ("/robot/flip", True)
+    assert ros_service_name("rr/robot/flipReply") == ("/robot/flip", False)
+    for not_a_service in ("rt/robot/flip", "rq/flipReply", "rr/flipRequest", "rq/Request",
+                          "ros_discovery_info"):
+        assert ros_service_name(not_a_service) is None, not_a_service
+    assert ros_service_type("std_srvs::srv::dds_::SetBool_Request_") == "std_srvs/srv/SetBool"
+    assert ros_service_type("rcl_interfaces::srv::dds_::GetParameters_Response_") == \
+        "rcl_interfaces/srv/GetParameters"
+    assert ros_service_type("posekit_interfaces::action::dds_::NavigateToPose_SendGoal_Request_") \
+        == "posekit_interfaces/action/NavigateToPose_SendGoal"
+    assert ros_service_type("std_msgs::msg::dds_::String_") is None
+    assert ros_service_type("not a type") is None
+    with pytest.raises(ValueError, match="fully qualified"):
+        service_topic_names("flip")
+
+
+def test_client_service_ids_are_the_participant_prefix_and_a_counter() -> None:
+    participant = bytes(range(1, 17))
+    csid = client_service_id(participant, 0x0102)
+    assert csid == bytes(range(1, 13)) + b"\x00\x00\x01\x02"
+    # rmw_cyclonedds prints the first byte with two digits, the others without padding
+    assert format_client_service_id(csid) == "01.2.3.4.5.6.7.8.9.a.b.c.0.0.1.2"
+
+
+def test_service_payload_header_sits_between_encapsulation_and_body() -> None:
+    body = b"\x00\x01\x00\x00" + b"\x01\x00\x00\x00" + struct.pack("<d", 2.5)
+    payload = encode_service_payload(body, 0xFEDCBA9876543210, 7)
+    assert len(payload) == len(body) + REQUEST_HEADER_SIZE
+    assert payload == (b"\x00\x01\x00\x00" + bytes.fromhex("1032547698badcfe")
+                       + (7).to_bytes(8, "little") + body[4:])
+    assert decode_service_payload(payload) == (0xFEDCBA9876543210, 7, body)
+    big = b"\x00\x00\x00\x00\x01"  # big-endian CDR: the header follows its byte order
+    encoded = encode_service_payload(big, 1, -2)
+    assert encoded[4:20] == (1).to_bytes(8, "big") + (-2).to_bytes(8, "big", signed=True)
+    assert decode_service_payload(encoded) == (1, -2, big)
+    with pytest.raises(ValueError, match="shorter than"):
+        decode_service_payload(b"\x00\x01\x00\x00" + bytes(15))
+    with pytest.raises(ValueError, match="encapsulation"):
+        decode_service_payload(b"\x00\x07\x00\x00" + bytes(17))

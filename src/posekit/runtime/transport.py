@@ -192,6 +192,14 @@ class ServiceInfo:
             return name
         return f"{self.srv_type.__module__}.{self.srv_type.__qualname__}"
 
+    def require_ros_service(self, transport: str) -> None:
+        """Raise TypeError unless the type is a ROS service (what network transports carry)."""
+        if not isinstance(getattr(self.srv_type, "__srvtype__", None), str):
+            raise TypeError(
+                f"the {transport} transport carries ROS services only; {self.srv_type!r} on "
+                f"'{self.service}' has no __srvtype__"
+            )
+
 
 class ServiceServerEndpoint(ABC):
     """A service server's handle on the transport."""
@@ -336,7 +344,7 @@ class Transport(ABC):
     def _no_services(self) -> ServicesNotSupportedError:
         return ServicesNotSupportedError(
             f"the '{self.name}' transport does not carry services "
-            "(posekit's 'inprocess' and 'zenoh' transports do)"
+            "(posekit's 'inprocess', 'zenoh' and 'dds' transports do)"
         )
 
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:

@@ -28,12 +28,14 @@ Environment: ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE`` (default ``LOC
 
 from __future__ import annotations
 
+import itertools
 import logging
 import threading
 import time
 import weakref
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cyclonedds._clayer import ddspy_take, ddspy_write
 from cyclonedds.builtin import (
@@ -67,6 +69,10 @@ from posekit.runtime.transport import (
     EndpointInfo,
     MessageSink,
     PublisherEndpoint,
+    RequestSink,
+    ServiceClientEndpoint,
+    ServiceInfo,
+    ServiceServerEndpoint,
     SourcedMessageSink,
     SubscriptionEndpoint,
     TopicTypeMismatchError,
@@ -80,17 +86,24 @@ from posekit.transport.dds_wire import (
     DiscoveryOptions,
     NodeEntities,
     ParticipantEntities,
+    client_service_id,
     cyclone_config,
     dds_topic_name,
     dds_type_name,
     decode_participant_entities,
     encode_participant_entities,
     parse_user_data,
+    ros_service_name,
+    ros_service_type,
     ros_topic_name,
     ros_type_name,
+    service_topic_names,
     user_data_type_hash,
 )
 from posekit.transport.zenoh_wire import EntityKind, WireQoS, type_hash
+
+if TYPE_CHECKING:
+    from posekit.transport.dds_services import _ServiceEndpoints
 
 __all__ = ["DdsTransport", "configure_domain", "endpoint_qos", "wire_qos_of"]
 
@@ -561,6 +574,7 @@ class DdsTransport(Transport):
 
     name = "dds"
     crosses_processes = True
+    supports_services = True
 
     def __init__(self, options: DiscoveryOptions | None = None) -> None:
         self.options = options or DiscoveryOptions.from_env()
@@ -576,6 +590,8 @@ class DdsTransport(Transport):
         self._nodes: dict[tuple[str, str], _NodeRef] = {}
         self._publishers: list[_Publisher] = []
         self._subscriptions: list[_Subscription] = []
+        self._services: list[_ServiceEndpoints] = []  # servers' and clients' endpoints
+        self._csid_counter = itertools.count(1)
         self._warned_types: set[tuple[str, str, str]] = set()
         # Peers choose what they announce: graph warnings are rate-limited per reason.
         self._warn_graph = RateLimitedLog(_log.warning)
@@ -625,7 +641,9 @@ class DdsTransport(Transport):
         return waiter
 
     # -- topics and nodes ------------------------------------------------------------
-    def _topic(self, dds_topic: str, ros_type: str) -> Topic[Any]:
+    def _topic(self, dds_topic: str, ros_type: str,
+               make: Callable[[str], type] = idl_struct) -> Topic[Any]:
+        """The process's Cyclone topic ``dds_topic`` (one per name), of type ``make(ros_type)``."""
         with self._lock:
             known = self._topics.get(dds_topic)
             if known is not None:
@@ -635,7 +653,7 @@ class DdsTransport(Transport):
                         f"{known[0]} in this process; cannot add an endpoint of {ros_type}"
                     )
                 return known[1]
-            topic: Topic[Any] = Topic(self.participant, dds_topic, idl_struct(ros_type))
+            topic: Topic[Any] = Topic(self.participant, dds_topic, make(ros_type))
             self._topics[dds_topic] = (ros_type, topic)
             return topic
 
@@ -762,6 +780,125 @@ class DdsTransport(Transport):
             _delete(entity)
         self._release_node(info.node_namespace, info.node_name)
         self._publish_graph()
+
+    # -- services --------------------------------------------------------------------
+    def next_client_service_id(self) -> bytes:
+        """A new ``serviceid``/``clientid`` of this participant (rmw_cyclonedds's scheme)."""
+        with self._lock:
+            return client_service_id(self.gid, next(self._csid_counter))
+
+    def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
+        """A server of ``info``'s service: a reader on ``rq/...Request``, a writer on ``rr/...``.
+
+        ``sink(request, respond, header)`` is called on the server's delivery thread
+        (:mod:`posekit.transport.dds_services`).
+        """
+        from posekit.transport.dds_services import DdsServiceServer
+
+        info.require_ros_service("dds")
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        try:
+            server = DdsServiceServer(self, info, sink)
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        self._add_service(node, server.entities)
+        return server
+
+    def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
+        """A client of ``info``'s service: a writer on ``rq/...Request``, a reader on ``rr/...``."""
+        from posekit.transport.dds_services import DdsServiceClient
+
+        info.require_ros_service("dds")
+        node = self._acquire_node(info.node_namespace, info.node_name)
+        try:
+            client = DdsServiceClient(self, info)
+        except BaseException:
+            self._release_node(info.node_namespace, info.node_name)
+            raise
+        self._add_service(node, client.entities)
+        return client
+
+    def _add_service(self, node: NodeEntities, entities: _ServiceEndpoints) -> None:
+        with self._lock:
+            node.reader_gids.append(entities.reader_gid)
+            node.writer_gids.append(entities.writer_gid)
+            self._services.append(entities)
+        self._publish_graph()
+
+    def _forget_service(self, entities: _ServiceEndpoints) -> None:
+        info = entities.info
+        with self._lock:
+            ref = self._nodes.get((info.node_namespace or "/", info.node_name))
+            if ref is not None:
+                if entities.reader_gid in ref.node.reader_gids:
+                    ref.node.reader_gids.remove(entities.reader_gid)
+                if entities.writer_gid in ref.node.writer_gids:
+                    ref.node.writer_gids.remove(entities.writer_gid)
+            if entities in self._services:
+                self._services.remove(entities)
+            closed = self._closed
+        if not closed:
+            if entities.reader.reader is not None:
+                _delete(entities.reader.reader)
+            _delete(entities.writer)
+        self._release_node(info.node_namespace, info.node_name)
+        self._publish_graph()
+
+    def _service_graph(self) -> list[tuple[EntityKind, str, bool, str, tuple[str, str] | None]]:
+        """Every service endpoint: (kind, service, on the request topic, srv type, node)."""
+        with self._lock:
+            owners = self._node_of()
+            out = []
+            for gid, (kind, s) in self._endpoints.items():
+                named = ros_service_name(s.topic_name)
+                srv_type = ros_service_type(s.type_name)
+                if named is None or srv_type is None:
+                    continue
+                out.append((kind, named[0], named[1], srv_type, owners.get(gid)))
+        return out
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """Every service with a request or reply endpoint on the graph, with its types."""
+        services: dict[str, set[str]] = {}
+        for _kind, service, _request, srv_type, _node in self._service_graph():
+            services.setdefault(service, set()).add(srv_type)
+        return [(name, sorted(types)) for name, types in sorted(services.items())]
+
+    def _services_by_node(self, node_name: str, node_namespace: str,
+                          request: bool) -> list[tuple[str, list[str]]]:
+        node = (node_namespace or "/", node_name)
+        services: dict[str, set[str]] = {}
+        for kind, service, on_request, srv_type, owner in self._service_graph():
+            if kind is EntityKind.SUBSCRIPTION and on_request is request and owner == node:
+                services.setdefault(service, set()).add(srv_type)
+        return [(name, sorted(types)) for name, types in sorted(services.items())]
+
+    def get_service_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services a node serves: its readers on ``rq/...Request`` (as rmw_cyclonedds)."""
+        return self._services_by_node(node_name, node_namespace, True)
+
+    def get_client_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The services a node calls: its readers on ``rr/...Reply`` (as rmw_cyclonedds)."""
+        return self._services_by_node(node_name, node_namespace, False)
+
+    def _count_reply_endpoints(self, service: str, kind: EntityKind) -> int:
+        reply_topic = service_topic_names(service)[1]
+        with self._lock:
+            return sum(1 for k, s in self._endpoints.values()
+                       if k is kind and s.topic_name == reply_topic)
+
+    def count_services(self, service: str) -> int:
+        """Servers of ``service``: writers on its reply topic (as rmw_cyclonedds counts)."""
+        return self._count_reply_endpoints(service, EntityKind.PUBLISHER)
+
+    def count_clients(self, service: str) -> int:
+        """Clients of ``service``: readers on its reply topic (as rmw_cyclonedds counts)."""
+        return self._count_reply_endpoints(service, EntityKind.SUBSCRIPTION)
 
     # -- graph -----------------------------------------------------------------------
     def _graph_loop(self) -> None:
@@ -959,9 +1096,13 @@ class DdsTransport(Transport):
                 return
             self._closed = True
             subs, self._subscriptions = self._subscriptions, []
+            services, self._services = self._services, []
             self._publishers = []
         for sub in subs:
             sub.stop()
+        for service in services:
+            service.alive = False
+            service.reader.stop()
         for waiter in list(self._waiters):
             waiter.close()
         self._wake.set(True)

@@ -23,7 +23,7 @@ from posekit.transport.zenoh_wire import dds_type_name
 
 t: Any = _types  # indexed at run time (array[T, n]); the stubs do not say so
 
-__all__ = ["idl_struct"]
+__all__ = ["idl_service_struct", "idl_struct"]
 
 _BASE: dict[str, Any] = {
     "bool": bool, "byte": t.byte, "char": t.uint8, "octet": t.byte,
@@ -34,6 +34,7 @@ _BASE: dict[str, Any] = {
 _BASE_NODE, _NAME_NODE, _ARRAY_NODE, _SEQUENCE_NODE = 1, 2, 3, 4
 _lock = threading.RLock()
 _cache: dict[str, type] = {}
+_service_cache: dict[str, type] = {}
 
 
 def _field_type(node: tuple[Any, Any]) -> Any:
@@ -79,4 +80,28 @@ def idl_struct(ros_type: str) -> type:
         cls = idl.make_idl_struct(dds_name.replace("::", "_"), dds_name.replace("::", "."),
                                   members)
         _cache[ros_type] = cls
+        return cls
+
+
+def idl_service_struct(ros_type: str) -> type:
+    """The topic type of a service request or response (``pkg/srv/Srv_Request``) on DDS.
+
+    rmw_cyclonedds's layout: the 16-byte request header (client id ``uint64``, sequence
+    number ``int64``) before the message's fields, under the message's own DDS name
+    (``pkg::srv::dds_::Srv_Request_``). Built once and cached.
+    """
+    with _lock:
+        cls = _service_cache.get(ros_type)
+        if cls is not None:
+            return cls
+        message: Any = idl_struct(ros_type)
+        fields = dict(message.__annotations__)
+        header = {"request_header_client_id": t.uint64,
+                  "request_header_sequence_number": t.int64}
+        while any(name in fields for name in header):  # never shadow a message field
+            header = {f"_{name}": kind for name, kind in header.items()}
+        dds_name = dds_type_name(ros_type)
+        cls = idl.make_idl_struct(dds_name.replace("::", "_") + "_with_header",
+                                  dds_name.replace("::", "."), {**header, **fields})
+        _service_cache[ros_type] = cls
         return cls

@@ -7,6 +7,17 @@ What rmw_fastrtps and rmw_cyclonedds (ROS 2 Jazzy) do, and what this module repr
 * Topics: a ROS topic ``/robot1/odom`` is the DDS topic ``rt/robot1/odom``; services use
   ``rq/<service>Request`` and ``rr/<service>Reply``. Other DDS topics (``ros_discovery_info``,
   DDS built-ins) are not ROS topics.
+* Services, as rmw_cyclonedds maps them: a server reads requests on ``rq/<service>Request``
+  (type ``<pkg>::srv::dds_::<Srv>_Request_``) and writes replies on ``rr/<service>Reply``
+  (``<Srv>_Response_``); a client does the reverse. Each payload is the CDR encapsulation,
+  then a 16-byte request header (the client's id as a uint64 and the request's sequence
+  number as an int64, in the encapsulation's byte order), then the message's own fields. The
+  header is 16 bytes, a multiple of 8 (CDR's largest alignment), so the message body starts
+  aligned exactly as it would at offset 0: its bytes are those of the message serialized
+  alone (:func:`encode_service_payload`, :func:`decode_service_payload`). The server copies
+  the header into its reply. Every service reader and writer also carries
+  ``serviceid=<id>;`` (a server's pair) or ``clientid=<id>;`` (a client's pair) in its
+  USER_DATA, so the two endpoints of one server or client can be paired.
 * Types: ``geometry_msgs/msg/Twist`` is the DDS type ``geometry_msgs::msg::dds_::Twist_``
   (:func:`posekit.transport.zenoh_wire.dds_type_name`, one owner for both transports).
 * Payloads: ROS 2's CDR (XCDR1 little endian with the 4-byte encapsulation header), exactly
@@ -28,6 +39,7 @@ from __future__ import annotations
 
 import enum
 import os
+import struct
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from xml.sax.saxutils import quoteattr
@@ -39,20 +51,28 @@ from posekit.transport.zenoh_wire import EntityKind, WireQoS, dds_type_name, ros
 __all__ = [
     "DISCOVERY_TOPIC",
     "DISCOVERY_TYPE",
+    "REQUEST_HEADER_SIZE",
     "DdsEndpoint",
     "DiscoveryOptions",
     "DiscoveryRange",
     "NodeEntities",
     "ParticipantEntities",
+    "client_service_id",
     "cyclone_config",
     "dds_topic_name",
     "dds_type_name",
     "decode_participant_entities",
+    "decode_service_payload",
     "encode_participant_entities",
+    "encode_service_payload",
+    "format_client_service_id",
     "format_gid",
     "parse_user_data",
+    "ros_service_name",
+    "ros_service_type",
     "ros_topic_name",
     "ros_type_name",
+    "service_topic_names",
     "user_data_type_hash",
 ]
 
@@ -61,6 +81,8 @@ DISCOVERY_TOPIC = "ros_discovery_info"
 DISCOVERY_TYPE = "rmw_dds_common/msg/ParticipantEntitiesInfo"
 
 _TOPIC_PREFIX = "rt"
+_REQUEST_PREFIX = "rq"
+_REPLY_PREFIX = "rr"
 ENV_RANGE = "ROS_AUTOMATIC_DISCOVERY_RANGE"
 ENV_PEERS = "ROS_STATIC_PEERS"
 ENV_DOMAIN = "ROS_DOMAIN_ID"
@@ -82,6 +104,92 @@ def ros_topic_name(dds_topic: str) -> str | None:
     if dds_topic.startswith(_TOPIC_PREFIX + "/") and len(dds_topic) > 3:
         return dds_topic[len(_TOPIC_PREFIX):]
     return None
+
+
+def service_topic_names(service: str) -> tuple[str, str]:
+    """``/add_two_ints`` -> (``rq/add_two_intsRequest``, ``rr/add_two_intsReply``)."""
+    if not service.startswith("/") or service == "/":
+        raise ValueError(f"expected a fully qualified ROS service name, got {service!r}")
+    return f"{_REQUEST_PREFIX}{service}Request", f"{_REPLY_PREFIX}{service}Reply"
+
+
+def ros_service_name(dds_topic: str) -> tuple[str, bool] | None:
+    """``rq/flipRequest`` -> (``/flip``, True), ``rr/flipReply`` -> (``/flip``, False).
+
+    None for a DDS topic that is neither a service's request nor its reply topic.
+    """
+    for prefix, suffix, request in ((_REQUEST_PREFIX, "Request", True),
+                                    (_REPLY_PREFIX, "Reply", False)):
+        if dds_topic.startswith(prefix + "/") and dds_topic.endswith(suffix):
+            service = dds_topic[len(prefix):-len(suffix)]
+            if len(service) > 1:
+                return service, request
+    return None
+
+
+def ros_service_type(dds_type: str) -> str | None:
+    """``std_srvs::srv::dds_::SetBool_Request_`` (or ``_Response_``) -> ``std_srvs/srv/SetBool``.
+
+    None for a type name that is not a service's request or response type.
+    """
+    try:
+        ros_type = ros_type_name(dds_type)
+    except ValueError:
+        return None
+    for suffix in ("_Request", "_Response"):
+        if ros_type.endswith(suffix) and len(ros_type.rsplit("/", 1)[-1]) > len(suffix):
+            return ros_type[:-len(suffix)]
+    return None
+
+
+def client_service_id(participant_gid: bytes, counter: int) -> bytes:
+    """The 16-byte id pairing a server's (or client's) reader and writer, as rmw_cyclonedds.
+
+    The participant's GUID prefix (12 bytes) and a per-participant counter (big endian).
+    """
+    return bytes(participant_gid[:12]).ljust(12, b"\x00") + (counter & 0xFFFFFFFF).to_bytes(
+        4, "big")
+
+
+def format_client_service_id(csid: bytes) -> str:
+    """The id as rmw_cyclonedds writes it into USER_DATA: hex bytes joined by dots.
+
+    The first byte has two digits, the others no leading zero (``01.f.a3.0...``).
+    """
+    return ".".join(f"{b:02x}" if i == 0 else f"{b:x}" for i, b in enumerate(csid))
+
+
+#: Bytes of rmw_cyclonedds's request header (client id uint64 + sequence number int64).
+REQUEST_HEADER_SIZE = 16
+
+
+def encode_service_payload(cdr: bytes, client_id: int, sequence_number: int) -> bytes:
+    """Put the request header between the encapsulation and the body of a message's CDR.
+
+    ``cdr`` is the message serialized alone (encapsulation included, as
+    :func:`posekit.msgs.cdr.to_cdr` gives it); the header uses its byte order.
+    """
+    if len(cdr) < 4:
+        raise ValueError(f"{len(cdr)} bytes is shorter than the CDR encapsulation")
+    order = "<" if cdr[1] & 1 else ">"
+    return (cdr[:4] + struct.pack(order + "Qq", client_id & 0xFFFFFFFFFFFFFFFF, sequence_number)
+            + cdr[4:])
+
+
+def decode_service_payload(data: bytes) -> tuple[int, int, bytes]:
+    """Split a service payload into (client id, sequence number, the message's own CDR).
+
+    Raises ValueError when the payload is shorter than encapsulation and header or its
+    encapsulation is not plain CDR (``00 00`` / ``00 01``).
+    """
+    if len(data) < 4 + REQUEST_HEADER_SIZE:
+        raise ValueError(f"{len(data)} bytes is shorter than the CDR encapsulation and the "
+                         f"{REQUEST_HEADER_SIZE}-byte request header")
+    if data[0] != 0 or data[1] > 1:
+        raise ValueError(f"unsupported CDR encapsulation {bytes(data[:2]).hex(' ')}")
+    order = "<" if data[1] else ">"
+    client_id, sequence_number = struct.unpack_from(order + "Qq", data, 4)
+    return client_id, sequence_number, bytes(data[:4]) + bytes(data[4 + REQUEST_HEADER_SIZE:])
 
 
 def format_gid(gid: bytes) -> str:

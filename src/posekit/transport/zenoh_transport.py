@@ -392,17 +392,9 @@ class ZenohTransport(Transport):
                 return
 
     # -- services ----------------------------------------------------------------------
-    @staticmethod
-    def _check_service_type(info: ServiceInfo) -> None:
-        if not isinstance(getattr(info.srv_type, "__srvtype__", None), str):
-            raise TypeError(
-                f"the zenoh transport carries ROS services only; {info.srv_type!r} on "
-                f"'{info.service}' has no __srvtype__"
-            )
-
     def create_service_server(self, info: ServiceInfo, sink: RequestSink) -> ServiceServerEndpoint:
         """A Zenoh queryable serving ``info``'s service (rmw_zenoh's service server)."""
-        self._check_service_type(info)
+        info.require_ros_service("zenoh")
         node = self._acquire_node(info.node_namespace, info.node_name)
         endpoint = _Server(self, info)
         try:
@@ -420,7 +412,7 @@ class ZenohTransport(Transport):
 
     def create_service_client(self, info: ServiceInfo) -> ServiceClientEndpoint:
         """A client of ``info``'s service; each request is a Zenoh query."""
-        self._check_service_type(info)
+        info.require_ros_service("zenoh")
         node = self._acquire_node(info.node_namespace, info.node_name)
         try:
             wire = self.session.create_service_client(

@@ -127,7 +127,7 @@ def test_without_services_the_controller_runs_without_the_action(ctx: Any) -> No
     from posekit.robot.nodes import PControllerNode
     from posekit.runtime.bus import InProcessBus
 
-    class TopicsOnly(InProcessBus):  # like the DDS transport: topics, no services
+    class TopicsOnly(InProcessBus):  # a transport with topics only (no services)
         supports_services = False
 
     node = PControllerNode(context=ctx, transport=TopicsOnly())

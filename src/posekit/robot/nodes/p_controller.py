@@ -15,7 +15,7 @@ Parameters (course names and node defaults): ``k_rho`` (0.4), ``k_alpha`` (0.8),
 course's fixed ±0.5 m/s and ±1.0 rad/s.
 
 Action ``navigate_to_pose`` (``posekit_interfaces/action/NavigateToPose``; on transports with
-services, i.e. not DDS): a goal pose in
+services, which posekit's are): a goal pose in
 ``odom`` (or with an empty frame) becomes the controller's goal; every tick publishes feedback
 with the remaining distance ``rho`` (m); the goal succeeds when both tolerances are met, with
 the final distance as result. A cancel request stops the robot (one zero twist, then the
@@ -99,7 +99,7 @@ class PControllerNode(Node):
         # ("reached", "canceled" or "preempted"), completed by the control tick.
         self._action_goal: tuple[ServerGoalHandle, Future[Any]] | None = None
         self._last_rho = 0.0
-        #: The navigate_to_pose server (None on a transport without services, e.g. DDS).
+        #: The navigate_to_pose server (None on a transport without services).
         self.navigate_action = ActionServer(
             self, NavigateToPose, "navigate_to_pose", self._execute_goal,
             goal_callback=self._check_goal,
