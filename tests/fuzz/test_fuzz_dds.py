@@ -18,7 +18,7 @@ import pytest
 
 pytest.importorskip("cyclonedds")
 
-from _support.dds import dds_context, dds_domain, spin_until
+from _support.dds import dds_context, dds_domain, spin_until, two_dds_contexts
 from posekit.msgs.cdr import CdrError, get_typestore, to_cdr
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
