@@ -522,3 +522,40 @@ def test_service_call_without_a_server_times_out_in_one_line(
                  "--timeout", "0.5"]) == 1
     err = capsys.readouterr().err
     assert err == "service '/reset' did not become available within 0.5 s\n"
+
+
+def test_readiness_stays_true_while_the_graph_churns(two: tuple[Context, Context]) -> None:
+    # A client's readiness reads the matched endpoints' USER_DATA on the caller's thread
+    # while the transport's graph thread reads the built-in topics; cyclonedds-python
+    # converts both through shared scratch buffers, so without one lock around every
+    # conversion a reading went wrong now and then (the server counted as absent, or a
+    # segmentation fault). Oracle: the server never goes away, so readiness must hold.
+    a, b = two
+    server = Node("steady_server", context=a)
+    server.create_service(SetBool, "/steady", lambda req, resp: resp)
+    client_node = Node("steady_client", context=b)
+    client = client_node.create_client(SetBool, "/steady")
+    assert client.wait_for_service(timeout_sec=15)
+    churn = Node("churn", context=a)
+    stop = time.monotonic() + 3.0
+    misses: list[int] = []
+
+    def churn_graph() -> None:  # publishers come and go: the graph thread re-reads
+        i = 0
+        while time.monotonic() < stop:
+            churn.destroy_publisher(churn.create_publisher(SetBool.Request, f"/churn_{i % 7}", 1))
+            i += 1
+
+    def ask() -> None:
+        while time.monotonic() < stop:
+            if not client.service_is_ready():
+                misses.append(1)
+
+    threads = [threading.Thread(target=churn_graph)] + [threading.Thread(target=ask)
+                                                         for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=30)
+    assert not any(t.is_alive() for t in threads)
+    assert misses == []

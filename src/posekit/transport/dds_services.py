@@ -55,7 +55,7 @@ from posekit.runtime.transport import (
     ServiceInfo,
     ServiceServerEndpoint,
 )
-from posekit.transport.dds_transport import _Subscription, endpoint_qos
+from posekit.transport.dds_transport import QOS_CONVERSION_LOCK, _Subscription, endpoint_qos
 from posekit.transport.dds_types import idl_service_struct
 from posekit.transport.dds_wire import (
     decode_service_payload,
@@ -185,8 +185,9 @@ class DdsServiceServer(ServiceServerEndpoint):
         if known is not None or handle in self._clients:
             return known
         try:
-            writer = self.entities.reader.reader.get_matched_publication_data(  # type: ignore[union-attr]
-                handle)
+            with QOS_CONVERSION_LOCK:
+                writer = self.entities.reader.reader.get_matched_publication_data(  # type: ignore[union-attr]
+                    handle)
         except Exception:  # gone (or never matched)
             writer = None
         clientid = None if writer is None else _user_data(writer.qos).get("clientid", "")
@@ -230,7 +231,8 @@ class DdsServiceServer(ServiceServerEndpoint):
         writer = self.entities.writer
         for handle in writer.get_matched_subscriptions():
             try:
-                reader = writer.get_matched_subscription_data(handle)
+                with QOS_CONVERSION_LOCK:
+                    reader = writer.get_matched_subscription_data(handle)
             except Exception:
                 continue
             if reader is not None and _user_data(reader.qos).get("clientid") == clientid:
@@ -364,8 +366,9 @@ class DdsServiceClient(ServiceClientEndpoint):
         ids: set[str] = set()
         for handle in handles:
             try:
-                data = (entity.get_matched_subscription_data(handle) if readers
-                        else entity.get_matched_publication_data(handle))
+                with QOS_CONVERSION_LOCK:
+                    data = (entity.get_matched_subscription_data(handle) if readers
+                            else entity.get_matched_publication_data(handle))
             except Exception:
                 continue
             if data is not None:

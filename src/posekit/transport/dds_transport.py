@@ -108,6 +108,12 @@ if TYPE_CHECKING:
 __all__ = ["DdsTransport", "configure_domain", "endpoint_qos", "wire_qos_of"]
 
 _log = logging.getLogger("posekit.transport.dds")
+
+#: cyclonedds-python turns a C QoS into Python through class-level scratch buffers
+#: (``cyclonedds.qos._CQos``), so two threads converting at once can read memory the other
+#: freed (a segmentation fault). Every such conversion (a built-in topic read, a matched
+#: endpoint's data) holds this lock.
+QOS_CONVERSION_LOCK = threading.Lock()
 _ANY = SampleState.Any | ViewState.Any | InstanceState.Any
 _ALIVE = int(InstanceState.Alive)
 _MAX_BLOCKING = duration(milliseconds=100)
@@ -930,7 +936,8 @@ class DdsTransport(Transport):
 
     def _refresh(self) -> None:
         changed = False
-        participants = self._builtin["participant"].read(N=100000)
+        with QOS_CONVERSION_LOCK:
+            participants = self._builtin["participant"].read(N=100000)
         alive_parts = {
             s.key.bytes for s in participants
             if int(s.sample_info.instance_state) == _ALIVE
@@ -938,7 +945,9 @@ class DdsTransport(Transport):
         endpoints: dict[bytes, tuple[EntityKind, Any]] = {}
         for kind, reader in ((EntityKind.PUBLISHER, self._builtin["publication"]),
                              (EntityKind.SUBSCRIPTION, self._builtin["subscription"])):
-            for s in reader.read(N=100000):
+            with QOS_CONVERSION_LOCK:
+                samples = reader.read(N=100000)
+            for s in samples:
                 if int(s.sample_info.instance_state) == _ALIVE:
                     endpoints[s.key.bytes] = (kind, s)
         announced: list[ParticipantEntities] = []
