@@ -70,7 +70,7 @@ def both_directions_matched(client: Any) -> bool:
     """DDS's own view: the request writer has a reader and the reply reader a writer."""
     entities = client._endpoint.entities
     return bool(entities.writer.get_matched_subscriptions()) and bool(
-        entities.reader.reader.get_matched_publications())
+        entities.reader.get_matched_publications())
 
 
 def test_setbool_round_trip_wait_for_service_and_graph(two: tuple[Context, Context]) -> None:
