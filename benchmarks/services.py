@@ -207,15 +207,21 @@ def raw_zenoh(n: int) -> list[float]:
     queryable = a.session.declare_queryable(
         key, lambda q: q.reply(key, reply, attachment=attachment), complete=True
     )
+    def ask() -> bool:
+        return any(r.ok is not None for r in b.session.get(
+            key, payload=b"\x00\x01\x00\x00\x01", attachment=attachment,
+            target=zenoh.QueryTarget.ALL_COMPLETE, timeout=10.0))
+
     try:
+        deadline = time.monotonic() + 10.0  # until the queryable is known to the querier
+        while not ask():
+            if time.monotonic() > deadline:
+                raise RuntimeError("the queryable never answered")
+            time.sleep(0.01)
         times = []
         for _ in range(n + 50):
             t0 = time.perf_counter()
-            got = [r for r in b.session.get(key, payload=b"\x00\x01\x00\x00\x01",
-                                            attachment=attachment,
-                                            target=zenoh.QueryTarget.ALL_COMPLETE,
-                                            timeout=10.0) if r.ok is not None]
-            if not got:
+            if not ask():
                 raise RuntimeError("no reply")
             times.append(time.perf_counter() - t0)
         return times[50:]
