@@ -41,15 +41,8 @@ import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from cyclonedds._clayer import ddspy_take, ddspy_write
-from cyclonedds.core import (
-    GuardCondition,
-    InstanceState,
-    ReadCondition,
-    SampleState,
-    ViewState,
-    WaitSet,
-)
+from cyclonedds._clayer import ddspy_write
+from cyclonedds.core import GuardCondition, ReadCondition, WaitSet
 from cyclonedds.domain import DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.qos import Policy
@@ -67,7 +60,7 @@ from posekit.runtime.transport import (
     ServiceInfo,
     ServiceServerEndpoint,
 )
-from posekit.transport.dds_transport import endpoint_qos
+from posekit.transport.dds_transport import _ANY, _delete, drain_reader, endpoint_qos
 from posekit.transport.dds_types import idl_service_struct
 from posekit.transport.dds_wire import (
     decode_service_payload,
@@ -89,8 +82,6 @@ _log = logging.getLogger("posekit.transport.dds")
 _REPLY_MATCH_WAIT_S = 0.1
 #: Remembered request writers (their client ids) per server before the table starts over.
 _MAX_KNOWN_WRITERS = 1024
-_ANY = SampleState.Any | ViewState.Any | InstanceState.Any
-_TAKE_BATCH = 64
 
 
 def client_gid(client_id: int) -> bytes:
@@ -156,24 +147,12 @@ class ServiceDispatcher:
                     entries = list(self._readers.values())
                 for condition, reader, on_payload in entries:
                     if condition.triggered:
-                        self._drain(reader, on_payload)
+                        drain_reader(reader._ref, on_payload)
             except Exception as exc:  # keep delivering whatever arrives
                 if self._closed:
                     return
                 self._warn("DDS service delivery failed", f"{type(exc).__name__}: {exc}")
                 time.sleep(0.05)
-
-    @staticmethod
-    def _drain(reader: DataReader[Any], on_payload: PayloadSink) -> None:
-        while True:
-            batch = ddspy_take(reader._ref, _ANY, _TAKE_BATCH)
-            if isinstance(batch, int) or not batch:  # nothing, or deleted meanwhile
-                return
-            for data, sample_info in batch:
-                if sample_info.valid_data:
-                    on_payload(data, sample_info)
-            if len(batch) < _TAKE_BATCH:
-                return
 
     def close(self) -> None:
         """Stop the thread (before the participant is deleted)."""
@@ -456,9 +435,3 @@ class DdsServiceClient(ServiceClientEndpoint):
             self._pending.clear()
         self.entities.close()
 
-
-def _delete(entity: Any) -> None:
-    try:
-        entity.__del__()
-    except Exception as exc:  # already gone with its participant
-        _log.debug("deleting %r: %s", entity, exc)

@@ -436,16 +436,7 @@ class _Subscription(SubscriptionEndpoint):
             return 0
 
     def _drain(self, ref: int) -> None:
-        deliver = self._deliver
-        while self.alive:
-            batch = ddspy_take(ref, _ANY, _TAKE_BATCH)
-            if isinstance(batch, int) or not batch:
-                return
-            for data, sample_info in batch:
-                if sample_info.valid_data:
-                    deliver(data, sample_info)
-            if len(batch) < _TAKE_BATCH:
-                return
+        drain_reader(ref, self._deliver, lambda: self.alive)
 
     def _deliver(self, data: bytes, sample_info: Any = None) -> None:
         try:
@@ -1118,6 +1109,23 @@ class DdsTransport(Transport):
         self._wake.set(True)
         self._thread.join(timeout=2.0)
         _delete(self.participant)
+
+
+def drain_reader(ref: int, deliver: Callable[[bytes, Any], None],
+                 alive: Callable[[], bool] | None = None) -> None:
+    """Take every sample waiting in reader ``ref`` (in batches) into ``deliver(data, info)``.
+
+    Stops when the reader is empty or deleted, or when ``alive()`` turns False.
+    """
+    while alive is None or alive():
+        batch = ddspy_take(ref, _ANY, _TAKE_BATCH)
+        if isinstance(batch, int) or not batch:  # nothing, or deleted meanwhile
+            return
+        for data, sample_info in batch:
+            if sample_info.valid_data:
+                deliver(data, sample_info)
+        if len(batch) < _TAKE_BATCH:
+            return
 
 
 def _delete(entity: Any) -> None:
