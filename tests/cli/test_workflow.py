@@ -1,4 +1,5 @@
-"""The two-terminal ROS workflow: a launch in one process, tools and demos in others (Zenoh).
+"""The two-terminal ROS workflow: a launch in one process, tools and demos in others (Zenoh;
+the graph listings also over DDS).
 
 Oracles, each independent of what the tools print:
 
@@ -19,11 +20,13 @@ import io
 import math
 import re
 import socket
+import sys
 import time
 
 import pytest
 import yaml
 
+from _support.procs import Proc
 from _support.world import World
 
 pytestmark = pytest.mark.slow
@@ -53,14 +56,15 @@ def expected_graph(scenario: str) -> tuple[set[str], set[str]]:
     return nodes, topics
 
 
-def list_once() -> tuple[set[str], set[str], str]:
+def list_once(transport: str = "zenoh") -> tuple[set[str], set[str], str]:
     """``topic list`` and ``node list`` as one fresh CLI invocation would run them (a new
-    context and Zenoh session, in this process to save the interpreter start)."""
+    context and Zenoh session or DDS participant, in this process to save the interpreter
+    start)."""
     from posekit.cli import node_cmd, topic_cmd
     from posekit.runtime.context import Context
 
     ctx = Context()
-    ctx.init(transport="zenoh")
+    ctx.init(transport=transport)
     try:
         topics_out, nodes_out, err = io.StringIO(), io.StringIO(), io.StringIO()
         assert topic_cmd.main_list([], context=ctx, out=topics_out, err=err) == 0
@@ -85,10 +89,11 @@ def wait_for_router(endpoint: str, timeout: float) -> None:
             time.sleep(0.1)
 
 
-def wait_for_graph(nodes: set[str], topics: set[str], timeout: float) -> None:
+def wait_for_graph(nodes: set[str], topics: set[str], timeout: float,
+                   transport: str = "zenoh") -> None:
     deadline = time.monotonic() + timeout
     while True:
-        got_topics, got_nodes, _ = list_once()
+        got_topics, got_nodes, _ = list_once(transport)
         if nodes <= got_nodes and topics <= got_topics:
             return
         if time.monotonic() > deadline:
@@ -128,6 +133,35 @@ def test_graph_listings_are_complete_in_100_of_100_runs(joined: World) -> None:
     assert not any("does not appear to be published" in line for line in echo.err), (
         echo.describe())
     assert launch.popen.poll() is None, launch.describe()
+
+
+def test_graph_listings_over_dds_are_complete_in_30_of_30_runs(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    pytest.importorskip("cyclonedds")
+    from _support.dds import dds_domain, posekit_env
+
+    domain = dds_domain(monkeypatch)
+    nodes, topics = expected_graph("p_controller")
+    cli = [sys.executable, "-m", "posekit.cli.main"]
+    launch = Proc([*cli, "launch", "p_controller", "--transport", "dds", "--realtime"],
+                  posekit_env(domain))
+    try:
+        wait_for_graph(nodes, topics, 60, "dds")
+        failures = []
+        for i in range(30):
+            got_topics, got_nodes, err = list_once("dds")
+            if got_topics != topics or got_nodes != nodes:
+                failures.append((i, topics - got_topics, nodes - got_nodes,
+                                 got_topics - topics, got_nodes - nodes, err))
+        assert not failures, f"{len(failures)} of 30 incomplete: {failures[:3]}"
+        # real command-line processes, as a user types them
+        topic_list = Proc([*cli, "topic", "list"], posekit_env(domain))
+        assert set(topic_list.finish(30, "topic list").split()) == topics
+        node_list = Proc([*cli, "node", "list"], posekit_env(domain))
+        assert set(node_list.finish(30, "node list").split()) == nodes
+        assert launch.popen.poll() is None, launch.describe()
+    finally:
+        launch.kill()
 
 
 def test_empty_graph_prints_one_hint_line(joined: World) -> None:

@@ -18,7 +18,7 @@ import pytest
 
 pytest.importorskip("cyclonedds")
 
-from _support.dds import dds_context, dds_domain, spin_until
+from _support.dds import dds_context, dds_domain, spin_until, two_dds_contexts
 from posekit.msgs.cdr import CdrError, get_typestore, to_cdr
 from posekit.msgs.std_msgs import String
 from posekit.runtime.context import Context
@@ -73,11 +73,8 @@ def _rosbags_decodes(data: bytes) -> str | None:
 
 @pytest.fixture
 def two(monkeypatch: pytest.MonkeyPatch) -> Iterator[tuple[Context, Context]]:
-    dds_domain(monkeypatch)
-    a, b = dds_context(), dds_context()
-    yield a, b
-    b.try_shutdown()
-    a.try_shutdown()
+    with two_dds_contexts(monkeypatch) as pair:
+        yield pair
 
 
 def test_malformed_samples_from_a_peer_are_dropped_and_the_rest_arrive_in_order(

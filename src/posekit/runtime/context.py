@@ -13,18 +13,15 @@ Different contexts are isolated from each other, like separate processes; tests 
 
 from __future__ import annotations
 
+import inspect
 import itertools
 import sys
 import threading
 import weakref
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
 
 from posekit.runtime.arguments import RosArguments, parse_arguments
 from posekit.runtime.transport import Transport, create_transport, selected_transport_name
-
-if TYPE_CHECKING:
-    from posekit.runtime.executors import Executor
 
 __all__ = [
     "Context",
@@ -55,8 +52,9 @@ class Context:
         self._lock = threading.RLock()
         self._transport_name: str | None = None
         self._transports: dict[str, Transport] = {}
-        self._on_shutdown: list[Callable[[], None]] = []
-        self._executors: weakref.WeakSet[Executor] = weakref.WeakSet()
+        # a bound method is held weakly (as rclpy's Context does), so an executor or node
+        # that registers its own method does not live as long as the context
+        self._on_shutdown: list[Callable[[], Callable[[], None] | None]] = []
         self.seq = itertools.count()
         #: The parsed global ROS arguments (parameters, remaps, log levels) of init().
         self.arguments = RosArguments()
@@ -95,13 +93,13 @@ class Context:
                 self._transports[chosen] = transport
             return transport
 
-    def _register_executor(self, executor: Executor) -> None:
-        self._executors.add(executor)
-
     def on_shutdown(self, callback: Callable[[], None]) -> None:
-        """Run ``callback`` when the context shuts down."""
+        """Run ``callback`` when the context shuts down (a bound method is held weakly)."""
+        ref: Callable[[], Callable[[], None] | None] = (
+            weakref.WeakMethod(callback) if inspect.ismethod(callback) else lambda: callback
+        )
         with self._lock:
-            self._on_shutdown.append(callback)
+            self._on_shutdown.append(ref)
 
     def shutdown(self) -> None:
         """Stop: executors return from spin, transports close. Raises if not initialized."""
@@ -113,10 +111,10 @@ class Context:
             self._on_shutdown.clear()
             transports = list(self._transports.values())
             self._transports.clear()
-        for executor in list(self._executors):
-            executor.wake()
-        for cb in callbacks:
-            cb()
+        for ref in callbacks:  # executors wake (they registered their wake) in this pass
+            cb = ref()
+            if cb is not None:
+                cb()
         for transport in transports:
             transport.close()
 
