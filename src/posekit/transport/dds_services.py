@@ -255,7 +255,7 @@ class DdsServiceServer(ServiceServerEndpoint):
 
     def _on_request(self, data: bytes, sample_info: Any) -> None:
         entities = getattr(self, "entities", None)
-        if entities is None:  # still being created: no client can have matched yet
+        if entities is None or not entities.alive:  # being created (nothing matched) or gone
             return
         handle = getattr(sample_info, "publication_handle", None)
         clientid = self._client_id_of(None if handle is None else int(handle))
