@@ -222,7 +222,7 @@ def test_a_destroyed_server_sends_no_late_answer_and_malformed_requests_are_drop
     client_exec.add_node(client._node)
     assert not spin_until(client_exec, future.done, 1.0)
     assert server.entities.alive is False  # type: ignore[attr-defined]
-    # malformed payloads never raise into Cyclone's thread; one line per reason per second
+    # malformed payloads never raise into the delivery thread; one line per reason per second
     server2 = server_node.transport.create_service_server(
         ServiceInfo("/strict", SetBool, QoSProfile(depth=10), "lazy", "/",
                     server_node.get_logger()),

@@ -23,7 +23,7 @@ USER_DATA, so either side can tell which reader and writer belong together.
   called on that thread and must return quickly (the runtime's only queue the request or
   response for an executor). A malformed payload (shorter than the header, CDR that does
   not decode) is dropped with a logged reason, at most one line a second per reason, and
-  never raises into Cyclone's threads. Requests from a writer without a ``clientid`` (Fast
+  never raises into the delivery thread. Requests from a writer without a ``clientid`` (Fast
   DDS: its requests carry no header) are dropped the same way (Cyclone itself already
   discards those too short for the header-carrying type), and servers without a
   ``serviceid`` are not counted, because they speak another format.
@@ -204,7 +204,7 @@ class _ServiceEndpoints:
     def _log_warning(self, line: str) -> None:
         try:
             self.info.logger.warning(line)
-        except Exception:  # a broken logger must not kill Cyclone's thread
+        except Exception:  # a broken logger must not kill the delivery thread
             _log.exception("warning callback failed")
 
     def drop(self, reason: str, detail: str) -> None:
@@ -279,7 +279,7 @@ class DdsServiceServer(ServiceServerEndpoint):
 
         try:
             self._sink(request, respond, RequestHeader(client_gid(client_id), seq))
-        except Exception as exc:  # never into Cyclone's thread
+        except Exception as exc:  # never into the delivery thread
             entities.drop("request callback failed", f"{type(exc).__name__}: {exc}")
 
     def _reply_reader_matched(self, clientid: str | None) -> bool:
