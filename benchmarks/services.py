@@ -16,6 +16,11 @@ reports the median and p90 round-trip time per call:
   attachments, executor hand-offs).
 * ``raw zenoh``: a plain zenoh queryable answering fixed CDR bytes and a plain ``get``: the
   floor for Python + zenoh on this machine.
+* ``posekit dds``: the zenoh row's nodes on two DDS participants (rmw_cyclonedds's service
+  mapping, loopback, domain ``$POSEKIT_BENCH_DOMAIN`` or 178).
+
+It also prints what a node costs to create on DDS with and without its six parameter
+services (twelve more DDS readers and writers, each announced on ``ros_discovery_info``).
 """
 
 from __future__ import annotations
@@ -29,7 +34,9 @@ import sys
 import textwrap
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parents[1]
 ROS2_PYTHON = REPO / ".venv-ros2" / "bin" / "python"
@@ -110,25 +117,67 @@ def _free_endpoint() -> str:
 
 
 def posekit_zenoh(n: int) -> list[float]:
-    from posekit.msgs.std_srvs import SetBool
-    from posekit.runtime.context import Context
-    from posekit.runtime.executors import SingleThreadedExecutor
-    from posekit.runtime.node import Node
     from posekit.transport.zenoh_session import SessionOptions
     from posekit.transport.zenoh_transport import ZenohTransport
 
     options = SessionOptions(router_endpoint=_free_endpoint())
+    return _two_contexts(n, lambda: ZenohTransport(options))
+
+
+def _dds_options() -> Any:
+    from posekit.transport.dds_wire import DiscoveryOptions
+
+    return DiscoveryOptions(domain_id=int(os.environ.get("POSEKIT_BENCH_DOMAIN", "178")))
+
+
+def posekit_dds(n: int) -> list[float]:
+    from posekit.transport.dds_transport import DdsTransport
+
+    options = _dds_options()
+    return _two_contexts(n, lambda: DdsTransport(options))
+
+
+def dds_node_cost(count: int = 10) -> tuple[float, float]:
+    """Milliseconds per node created on DDS: (without, with) parameter services."""
+    from posekit.runtime.context import Context
+    from posekit.runtime.node import Node
+    from posekit.transport.dds_transport import DdsTransport
+
+    context = Context()
+    context.init()
+    try:
+        transport = DdsTransport(_dds_options())
+        Node("warm_up", context=context, transport=transport)
+        costs = []
+        for services in (False, True):
+            t0 = time.perf_counter()
+            for i in range(count):
+                Node(f"cost_{int(services)}_{i}", context=context, transport=transport,
+                     start_parameter_services=services)
+            costs.append((time.perf_counter() - t0) / count * 1e3)
+        transport.close()
+        return costs[0], costs[1]
+    finally:
+        context.shutdown()
+
+
+def _two_contexts(n: int, make_transport: Callable[[], Any]) -> list[float]:
+    from posekit.msgs.std_srvs import SetBool
+    from posekit.runtime.context import Context
+    from posekit.runtime.executors import SingleThreadedExecutor
+    from posekit.runtime.node import Node
+
     server_ctx, client_ctx = Context(), Context()
     server_ctx.init()
     client_ctx.init()
     try:
-        server = Node("bench_server", context=server_ctx, transport=ZenohTransport(options))
+        server = Node("bench_server", context=server_ctx, transport=make_transport())
         server.create_service(SetBool, "flip", lambda q, r: SetBool.Response(success=not q.data))
         ex = SingleThreadedExecutor(context=server_ctx)
         ex.add_node(server)
         spinner = threading.Thread(target=ex.spin, daemon=True)
         spinner.start()
-        client_node = Node("bench_client", context=client_ctx, transport=ZenohTransport(options))
+        client_node = Node("bench_client", context=client_ctx, transport=make_transport())
         client = client_node.create_client(SetBool, "flip")
         if not client.wait_for_service(timeout_sec=10.0):
             raise RuntimeError("the server did not appear")
@@ -158,15 +207,21 @@ def raw_zenoh(n: int) -> list[float]:
     queryable = a.session.declare_queryable(
         key, lambda q: q.reply(key, reply, attachment=attachment), complete=True
     )
+    def ask() -> bool:
+        return any(r.ok is not None for r in b.session.get(
+            key, payload=b"\x00\x01\x00\x00\x01", attachment=attachment,
+            target=zenoh.QueryTarget.ALL_COMPLETE, timeout=10.0))
+
     try:
+        deadline = time.monotonic() + 10.0  # until the queryable is known to the querier
+        while not ask():
+            if time.monotonic() > deadline:
+                raise RuntimeError("the queryable never answered")
+            time.sleep(0.01)
         times = []
         for _ in range(n + 50):
             t0 = time.perf_counter()
-            got = [r for r in b.session.get(key, payload=b"\x00\x01\x00\x00\x01",
-                                            attachment=attachment,
-                                            target=zenoh.QueryTarget.ALL_COMPLETE,
-                                            timeout=10.0) if r.ok is not None]
-            if not got:
+            if not ask():
                 raise RuntimeError("no reply")
             times.append(time.perf_counter() - t0)
         return times[50:]
@@ -185,7 +240,8 @@ def main() -> None:
     rows: dict[str, dict[str, float] | None] = {}
     for name, fn in (("posekit inprocess", posekit_inprocess),
                      ("rclpy inprocess", rclpy_inprocess),
-                     ("posekit zenoh", posekit_zenoh), ("raw zenoh", raw_zenoh)):
+                     ("posekit zenoh", posekit_zenoh), ("raw zenoh", raw_zenoh),
+                     ("posekit dds", posekit_dds)):
         times = fn(n)
         rows[name] = _stats(times) if times else None
     for name, row in rows.items():
@@ -201,6 +257,12 @@ def main() -> None:
     pz, rz = rows["posekit zenoh"], rows["raw zenoh"]
     if pz and rz:
         print(f"ratio posekit/raw zenoh median: {pz['median_us'] / rz['median_us']:.2f}")
+    pd = rows["posekit dds"]
+    if pd and pz:
+        print(f"ratio posekit dds/posekit zenoh median: {pd['median_us'] / pz['median_us']:.2f}")
+    without, with_services = dds_node_cost()
+    print(f"dds node creation: {without:.1f} ms without parameter services, "
+          f"{with_services:.1f} ms with them")
 
 
 if __name__ == "__main__":

@@ -194,7 +194,7 @@ def test_service_requests_are_delivered_exactly_when_header_and_body_decode(
                     expected.append(([str(n) for n in msg.names], client_id, seq))
                 except Exception:  # rosbags raises several types for malformed input
                     pass
-            server._on_request(data, None)  # Cyclone's delivery thread calls this
+            server._on_request(data, None)  # the service delivery thread calls this
         assert got == expected
         assert 0 < len(expected) < 1500
         assert sum(server.entities.dropped.values()) == 1500 - len(expected)

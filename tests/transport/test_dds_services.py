@@ -70,7 +70,7 @@ def both_directions_matched(client: Any) -> bool:
     """DDS's own view: the request writer has a reader and the reply reader a writer."""
     entities = client._endpoint.entities
     return bool(entities.writer.get_matched_subscriptions()) and bool(
-        entities.reader.reader.get_matched_publications())
+        entities.reader.get_matched_publications())
 
 
 def test_setbool_round_trip_wait_for_service_and_graph(two: tuple[Context, Context]) -> None:
@@ -222,7 +222,7 @@ def test_a_destroyed_server_sends_no_late_answer_and_malformed_requests_are_drop
     client_exec.add_node(client._node)
     assert not spin_until(client_exec, future.done, 1.0)
     assert server.entities.alive is False  # type: ignore[attr-defined]
-    # malformed payloads never raise into Cyclone's thread; one line per reason per second
+    # malformed payloads never raise into the delivery thread; one line per reason per second
     server2 = server_node.transport.create_service_server(
         ServiceInfo("/strict", SetBool, QoSProfile(depth=10), "lazy", "/",
                     server_node.get_logger()),

@@ -17,10 +17,13 @@ USER_DATA, so either side can tell which reader and writer belong together.
   rmw_cyclonedds's ``rmw_service_server_is_available``); ``wait_for_service`` polls it. A
   server in turn waits up to 100 ms for its reply writer to match the calling client's reply
   reader before it answers (matching is not symmetric in time), as rmw_cyclonedds does.
-* Each server's and client's reader has a delivery thread of its own (as a subscription
-  before an executor pulls it). A malformed payload (shorter than the header, CDR that does
+* One thread per participant delivers the samples of all its servers' and clients' readers
+  (:class:`ServiceDispatcher`, woken by a Cyclone wait set holding each reader's data
+  condition), so a node's six parameter services cost no threads of their own. Sinks are
+  called on that thread and must return quickly (the runtime's only queue the request or
+  response for an executor). A malformed payload (shorter than the header, CDR that does
   not decode) is dropped with a logged reason, at most one line a second per reason, and
-  never raises into Cyclone's threads. Requests from a writer without a ``clientid`` (Fast
+  never raises into the delivery thread. Requests from a writer without a ``clientid`` (Fast
   DDS: its requests carry no header) are dropped the same way (Cyclone itself already
   discards those too short for the header-carrying type), and servers without a
   ``serviceid`` are not counted, because they speak another format.
@@ -39,15 +42,17 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from cyclonedds._clayer import ddspy_write
+from cyclonedds.core import GuardCondition, ReadCondition, WaitSet
+from cyclonedds.domain import DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.qos import Policy
 from cyclonedds.sub import DataReader
+from cyclonedds.util import duration
 
 from posekit.msgs.cdr import from_cdr, to_cdr
 from posekit.msgs.errors import CdrError
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.transport import (
-    EndpointInfo,
     RequestHeader,
     RequestSink,
     ResponseSink,
@@ -55,7 +60,13 @@ from posekit.runtime.transport import (
     ServiceInfo,
     ServiceServerEndpoint,
 )
-from posekit.transport.dds_transport import QOS_CONVERSION_LOCK, _Subscription, endpoint_qos
+from posekit.transport.dds_transport import (
+    _ANY,
+    QOS_CONVERSION_LOCK,
+    _delete,
+    drain_reader,
+    endpoint_qos,
+)
 from posekit.transport.dds_types import idl_service_struct
 from posekit.transport.dds_wire import (
     decode_service_payload,
@@ -70,7 +81,7 @@ from posekit.transport.zenoh_wire import type_hash
 if TYPE_CHECKING:
     from posekit.transport.dds_transport import DdsTransport
 
-__all__ = ["DdsServiceClient", "DdsServiceServer", "client_gid"]
+__all__ = ["DdsServiceClient", "DdsServiceServer", "ServiceDispatcher", "client_gid"]
 
 _log = logging.getLogger("posekit.transport.dds")
 #: How long a server waits for the calling client's reply reader to match (rmw_cyclonedds).
@@ -91,17 +102,73 @@ def _user_data(qos: Any) -> dict[str, str]:
         return {}
 
 
-class _ServiceReader(_Subscription):
-    """A service's reader: Cyclone's samples go to ``on_payload(data, sample_info)`` whole."""
+PayloadSink = Callable[[bytes, Any], None]
 
-    def __init__(self, owner: DdsTransport, info: EndpointInfo, ros_type: str,
-                 on_payload: Callable[[bytes, Any], None]) -> None:
-        super().__init__(owner, info, ros_type, lambda _msg: None)
-        self._on_payload = on_payload
 
-    def _deliver(self, data: bytes, sample_info: Any = None) -> None:
-        if self.alive:
-            self._on_payload(data, sample_info)
+class ServiceDispatcher:
+    """The thread that takes every service reader's samples of one participant.
+
+    ``on_payload(data, sample_info)`` per valid sample, in arrival order per reader. The
+    sinks handle their own errors; anything else is logged (rate limited) and the thread
+    keeps going.
+    """
+
+    def __init__(self, participant: DomainParticipant) -> None:
+        self._waitset = WaitSet(participant)
+        self._stop = GuardCondition(participant)
+        self._waitset.attach(self._stop)
+        self._lock = threading.Lock()
+        self._readers: dict[int, tuple[ReadCondition, DataReader[Any], PayloadSink]] = {}
+        self._closed = False
+        self._warn = RateLimitedLog(_log.warning)
+        self._thread = threading.Thread(target=self._run, name="posekit-dds-services",
+                                        daemon=True)
+        self._thread.start()
+
+    def add(self, reader: DataReader[Any], on_payload: PayloadSink) -> None:
+        """Deliver ``reader``'s samples to ``on_payload`` from now on."""
+        condition = ReadCondition(reader, _ANY)
+        with self._lock:
+            self._readers[reader._ref] = (condition, reader, on_payload)
+        self._waitset.attach(condition)
+
+    def remove(self, reader: DataReader[Any]) -> None:
+        """Stop delivering ``reader``'s samples (before it is deleted)."""
+        with self._lock:
+            entry = self._readers.pop(reader._ref, None)
+        if entry is not None:
+            try:
+                self._waitset.detach(entry[0])
+            except Exception as exc:  # deleted with its participant
+                _log.debug("detaching %r: %s", entry[0], exc)
+
+    def _run(self) -> None:
+        timeout = duration(seconds=1)
+        while not self._closed:
+            try:
+                self._waitset.wait(timeout)
+                if self._closed:
+                    return
+                with self._lock:
+                    entries = list(self._readers.values())
+                for condition, reader, on_payload in entries:
+                    if condition.triggered:
+                        drain_reader(reader._ref, on_payload)
+            except Exception as exc:  # keep delivering whatever arrives
+                if self._closed:
+                    return
+                self._warn("DDS service delivery failed", f"{type(exc).__name__}: {exc}")
+                time.sleep(0.05)
+
+    def close(self) -> None:
+        """Stop the thread (before the participant is deleted)."""
+        self._closed = True
+        try:
+            self._stop.set(True)
+        except Exception as exc:  # already gone with the participant
+            _log.debug("waking the service thread: %s", exc)
+        if self._thread is not threading.current_thread():
+            self._thread.join(timeout=2.0)
 
 
 class _ServiceEndpoints:
@@ -124,28 +191,26 @@ class _ServiceEndpoints:
             endpoint_qos(info.qos, user + user_data_type_hash(write_type, type_hash(write_type)),
                          writer=True))
         self.writer_gid: bytes = self.writer.guid.bytes
-        reader_info = EndpointInfo(info.service, srv.Request if server else srv.Response,
-                                   info.qos, info.node_name, info.node_namespace, info.logger)
         self.alive = True
         #: Dropped payloads by reason.
         self.dropped: dict[str, int] = {}
         self._warn = RateLimitedLog(self._log_warning)
-        self.reader = _ServiceReader(owner, reader_info, read_type, on_payload)
         try:
-            dds_reader: DataReader[Any] = DataReader(
+            self.reader: DataReader[Any] = DataReader(
                 owner.participant, owner._topic(read_topic, read_type, idl_service_struct),
                 endpoint_qos(info.qos, user + user_data_type_hash(read_type, type_hash(read_type)),
                              writer=False))
-            self.reader.start(owner.participant, dds_reader)
         except BaseException:
             _delete(self.writer)
             raise
-        self.reader_gid: bytes = self.reader.gid
+        self.reader_gid: bytes = self.reader.guid.bytes
+        self._dispatcher = owner.service_dispatcher()
+        self._dispatcher.add(self.reader, on_payload)
 
     def _log_warning(self, line: str) -> None:
         try:
             self.info.logger.warning(line)
-        except Exception:  # a broken logger must not kill Cyclone's thread
+        except Exception:  # a broken logger must not kill the delivery thread
             _log.exception("warning callback failed")
 
     def drop(self, reason: str, detail: str) -> None:
@@ -157,7 +222,7 @@ class _ServiceEndpoints:
         """Stop delivering and leave the graph (idempotent)."""
         if self.alive:
             self.alive = False
-            self.reader.stop()
+            self._dispatcher.remove(self.reader)
             self._owner._forget_service(self)
 
 
@@ -186,8 +251,7 @@ class DdsServiceServer(ServiceServerEndpoint):
             return known
         try:
             with QOS_CONVERSION_LOCK:
-                writer = self.entities.reader.reader.get_matched_publication_data(  # type: ignore[union-attr]
-                    handle)
+                writer = self.entities.reader.get_matched_publication_data(handle)
         except Exception:  # gone (or never matched)
             writer = None
         clientid = None if writer is None else _user_data(writer.qos).get("clientid", "")
@@ -198,7 +262,7 @@ class DdsServiceServer(ServiceServerEndpoint):
 
     def _on_request(self, data: bytes, sample_info: Any) -> None:
         entities = getattr(self, "entities", None)
-        if entities is None:  # still being created: no client can have matched yet
+        if entities is None or not entities.alive:  # being created (nothing matched) or gone
             return
         handle = getattr(sample_info, "publication_handle", None)
         clientid = self._client_id_of(None if handle is None else int(handle))
@@ -222,7 +286,7 @@ class DdsServiceServer(ServiceServerEndpoint):
 
         try:
             self._sink(request, respond, RequestHeader(client_gid(client_id), seq))
-        except Exception as exc:  # never into Cyclone's thread
+        except Exception as exc:  # never into the delivery thread
             entities.drop("request callback failed", f"{type(exc).__name__}: {exc}")
 
     def _reply_reader_matched(self, clientid: str | None) -> bool:
@@ -347,9 +411,8 @@ class DdsServiceClient(ServiceClientEndpoint):
         try:
             request_readers = self._service_ids(
                 entities.writer, entities.writer.get_matched_subscriptions(), readers=True)
-            dds_reader: Any = entities.reader.reader
             reply_writers = self._service_ids(
-                dds_reader, dds_reader.get_matched_publications(), readers=False)
+                entities.reader, entities.reader.get_matched_publications(), readers=False)
         except Exception:  # deleted underneath (context shut down)
             return 0
         foreign = "" in request_readers or "" in reply_writers
@@ -381,9 +444,3 @@ class DdsServiceClient(ServiceClientEndpoint):
             self._pending.clear()
         self.entities.close()
 
-
-def _delete(entity: Any) -> None:
-    try:
-        entity.__del__()
-    except Exception as exc:  # already gone with its participant
-        _log.debug("deleting %r: %s", entity, exc)

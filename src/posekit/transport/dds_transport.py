@@ -103,7 +103,7 @@ from posekit.transport.dds_wire import (
 from posekit.transport.zenoh_wire import EntityKind, WireQoS, type_hash
 
 if TYPE_CHECKING:
-    from posekit.transport.dds_services import _ServiceEndpoints
+    from posekit.transport.dds_services import ServiceDispatcher, _ServiceEndpoints
 
 __all__ = ["DdsTransport", "configure_domain", "endpoint_qos", "wire_qos_of"]
 
@@ -442,16 +442,7 @@ class _Subscription(SubscriptionEndpoint):
             return 0
 
     def _drain(self, ref: int) -> None:
-        deliver = self._deliver
-        while self.alive:
-            batch = ddspy_take(ref, _ANY, _TAKE_BATCH)
-            if isinstance(batch, int) or not batch:
-                return
-            for data, sample_info in batch:
-                if sample_info.valid_data:
-                    deliver(data, sample_info)
-            if len(batch) < _TAKE_BATCH:
-                return
+        drain_reader(ref, self._deliver, lambda: self.alive)
 
     def _deliver(self, data: bytes, sample_info: Any = None) -> None:
         try:
@@ -598,6 +589,7 @@ class DdsTransport(Transport):
         self._subscriptions: list[_Subscription] = []
         self._services: list[_ServiceEndpoints] = []  # servers' and clients' endpoints
         self._csid_counter = itertools.count(1)
+        self._service_dispatcher: ServiceDispatcher | None = None
         self._warned_types: set[tuple[str, str, str]] = set()
         # Peers choose what they announce: graph warnings are rate-limited per reason.
         self._warn_graph = RateLimitedLog(_log.warning)
@@ -788,6 +780,15 @@ class DdsTransport(Transport):
         self._publish_graph()
 
     # -- services --------------------------------------------------------------------
+    def service_dispatcher(self) -> ServiceDispatcher:
+        """The one thread delivering every service reader's samples (started on first use)."""
+        from posekit.transport.dds_services import ServiceDispatcher
+
+        with self._lock:
+            if self._service_dispatcher is None:
+                self._service_dispatcher = ServiceDispatcher(self.participant)
+            return self._service_dispatcher
+
     def next_client_service_id(self) -> bytes:
         """A new ``serviceid``/``clientid`` of this participant (rmw_cyclonedds's scheme)."""
         with self._lock:
@@ -845,8 +846,7 @@ class DdsTransport(Transport):
                 self._services.remove(entities)
             closed = self._closed
         if not closed:
-            if entities.reader.reader is not None:
-                _delete(entities.reader.reader)
+            _delete(entities.reader)
             _delete(entities.writer)
         self._release_node(info.node_namespace, info.node_name)
         self._publish_graph()
@@ -1111,12 +1111,30 @@ class DdsTransport(Transport):
             sub.stop()
         for service in services:
             service.alive = False
-            service.reader.stop()
+        if self._service_dispatcher is not None:
+            self._service_dispatcher.close()
         for waiter in list(self._waiters):
             waiter.close()
         self._wake.set(True)
         self._thread.join(timeout=2.0)
         _delete(self.participant)
+
+
+def drain_reader(ref: int, deliver: Callable[[bytes, Any], None],
+                 alive: Callable[[], bool] | None = None) -> None:
+    """Take every sample waiting in reader ``ref`` (in batches) into ``deliver(data, info)``.
+
+    Stops when the reader is empty or deleted, or when ``alive()`` turns False.
+    """
+    while alive is None or alive():
+        batch = ddspy_take(ref, _ANY, _TAKE_BATCH)
+        if isinstance(batch, int) or not batch:  # nothing, or deleted meanwhile
+            return
+        for data, sample_info in batch:
+            if sample_info.valid_data:
+                deliver(data, sample_info)
+        if len(batch) < _TAKE_BATCH:
+            return
 
 
 def _delete(entity: Any) -> None:
