@@ -1,5 +1,8 @@
 """The documentation runs as written: every Python block of README.md, and every shell block
-of README.md and docs/*.md marked runnable, in a fresh directory, against the real CLI.
+of README.md and docs/*.md marked runnable, in a fresh directory, against the real CLI. A
+shell block that cannot run here (it installs, spans two terminals, reaches another
+machine, benchmarks for minutes) says so with ``<!-- not runnable: REASON -->`` above it,
+naming the test that runs its commands where one does; no block goes unmarked.
 
 A shell block is marked by an HTML comment right above it::
 
@@ -223,3 +226,28 @@ def test_runnable_marker_parsing() -> None:
         True, 'a -> "b"', "posekit a\n", 1)
     assert (second.background, second.until, shlex.split(second.body)) == (
         False, "b: \\d", ["posekit", "b"])
+
+
+_ANY_BLOCK = re.compile(r"^(?P<indent>[ \t]*)```(?:sh|bash|console)\n", re.M)
+_NOT_RUNNABLE = re.compile(r"<!-- not runnable: (?P<reason>[^>]+?) -->$")
+
+
+def test_every_shell_block_is_run_or_says_why_not() -> None:
+    # Every shell block of the README and docs/ is either run above (marked runnable) or
+    # marked "not runnable" with its reason; a test a reason names must exist.
+    unmarked: list[str] = []
+    for doc in DOCS:
+        text = doc.read_text(encoding="utf-8")
+        for match in _ANY_BLOCK.finditer(text):
+            before = text[: match.start()].rstrip().splitlines()
+            above = before[-1].strip() if before else ""
+            where = f"{doc.name}:{text.count(chr(10), 0, match.start()) + 1}"
+            if above.startswith("<!-- runnable"):
+                continue
+            reason = _NOT_RUNNABLE.match(above)
+            if reason is None:
+                unmarked.append(where)
+                continue
+            for path in re.findall(r"tests/[\w/]+(?:\.py)?", reason["reason"]):
+                assert (REPO / path).exists(), (where, path)
+    assert unmarked == [], f"shell blocks neither runnable nor explained: {unmarked}"
