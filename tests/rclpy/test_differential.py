@@ -86,6 +86,11 @@ def lines_by_label(stdout: str) -> dict[str, str]:
 @pytest.mark.parametrize("script", SCRIPTS)
 def test_same_output_as_the_real_rclpy(script: str) -> None:
     ros = run_ros2_script(source(script), domain_id=150 + SCRIPTS.index(script), timeout=180)
+    if ros.returncode < 0 and "terminate called without an active exception" in ros.stderr:
+        # The reference itself (rclpy on Fast DDS) now and then aborts while its threads are
+        # torn down at exit, on a loaded machine; that says nothing about its output. Once more.
+        ros = run_ros2_script(source(script), domain_id=150 + SCRIPTS.index(script),
+                              timeout=180)
     assert ros.returncode == 0, ros.stderr[-3000:]
     ours = run_posekit_script(source(script), timeout=180)
     assert ours.returncode == 0, ours.stderr[-3000:]
