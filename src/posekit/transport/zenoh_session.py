@@ -637,7 +637,6 @@ class WireSubscription:
         self._pulled_by: Inbox | None = None
         self._head: zenoh.Sample | None = None
         self._handed = False
-        self._drainer: threading.Thread | None = None
         self.entity_id = owner.next_entity_id()
         self.token_key = endpoint_token(
             owner.domain_id,
@@ -679,10 +678,9 @@ class WireSubscription:
                     allowed_origin=origin,
                 )
                 self.pullable = True
-                self._drainer = threading.Thread(
+                threading.Thread(
                     target=self._drain, name=f"posekit-zenoh {topic}", daemon=True
-                )
-                self._drainer.start()
+                ).start()
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
             raise ZenohSessionError(f"cannot subscribe to {self.key}: {exc}") from exc
@@ -873,11 +871,6 @@ class WireSubscription:
             if self._handed:  # let the drain thread see that it is over
                 self._handed = False
                 self._turn.release()
-        # Wait for the drain thread to leave zenoh's recv(): a thread still inside zenoh
-        # when the interpreter finalizes aborts the process ("exception not rethrown").
-        drainer = self._drainer
-        if drainer is not None and drainer is not threading.current_thread():
-            drainer.join(timeout=2.0)
 
 
 def _service_token(
