@@ -289,6 +289,8 @@ class ZenohSession:
         ] = []
         self._graph: ZenohGraph | None = None
         self._closed = False
+        #: Subscriptions' drain threads: joined after the session closed (see close()).
+        self.drainers: list[threading.Thread] = []
         _open_sessions.add(self)
 
     @property
@@ -468,6 +470,13 @@ class ZenohSession:
         if graph is not None:
             graph.close()
         _quiet(self.session.close)
+        # The closed session's channels end every drain thread's recv(); wait for them to
+        # leave zenoh, since a thread still inside it when the interpreter finalizes aborts
+        # the process ("FATAL: exception not rethrown").
+        deadline = time.monotonic() + 2.0
+        for thread in self.drainers:
+            if thread is not threading.current_thread():
+                thread.join(timeout=max(0.0, deadline - time.monotonic()))
         if self.router is not None:
             _quiet(self.router.close)
 
@@ -678,9 +687,12 @@ class WireSubscription:
                     allowed_origin=origin,
                 )
                 self.pullable = True
-                threading.Thread(
+                drainer = threading.Thread(
                     target=self._drain, name=f"posekit-zenoh {topic}", daemon=True
-                ).start()
+                )
+                owner.drainers[:] = [t for t in owner.drainers if t.is_alive()]
+                owner.drainers.append(drainer)
+                drainer.start()
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
             raise ZenohSessionError(f"cannot subscribe to {self.key}: {exc}") from exc
