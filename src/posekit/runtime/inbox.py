@@ -14,12 +14,11 @@
 
 * Pulled sources: a network subscription may let the executor take its samples itself
   (:meth:`Inbox.add_source`), as rclpy's executor takes from the middleware's wait set: the
-  executor calls each source's ``pull(budget)`` on its own thread. A DDS source also makes
-  the executor wait on a :class:`Waiter` the transport supplies (a Cyclone wait set that the
-  middleware's receive thread wakes directly: one thread wake-up per message instead of
-  two); a Zenoh source's thread only receives the first sample of a batch and wakes the
-  executor, which reads the rest of the channel itself. Either way no second Python thread
-  contends for the GIL while samples flow.
+  executor calls each source's ``pull(budget)`` on its own thread. The source's transport
+  supplies the :class:`Waiter` the executor then blocks on, which the middleware's receive
+  thread wakes directly (one thread wake-up per message instead of two): a Cyclone wait set
+  for DDS, the channel of one subscription for Zenoh (``posekit.transport.zenoh_wait``).
+  Either way no second Python thread contends for the GIL while samples flow.
 
 The payload itself stays in the entity's own queue (bounded by its QoS depth): an inbox
 entry is only a pointer, and it is stale once the entity's first queued entry has a later
@@ -200,6 +199,11 @@ class Inbox:
         return self._signal.wait(timeout)
 
     # -- pulled sources (executors that take samples themselves) ---------------------
+    @property
+    def waiter(self) -> Waiter:
+        """What :meth:`wait` blocks on: a plain WakeSignal, or a transport's waiter."""
+        return self._signal
+
     def adopt_waiter(self, owner: object, make: Callable[[], Waiter]) -> Waiter | None:
         """The waiter of ``owner`` (a transport) for this inbox, made with ``make()`` if needed.
 

@@ -49,6 +49,7 @@ from posekit.msgs.errors import CdrError
 from posekit.msgs.registry import normalize_type_name
 from posekit.runtime.inbox import Inbox
 from posekit.runtime.ratelimit import RateLimitedLog
+from posekit.transport.zenoh_wait import ChannelWaiter
 from posekit.transport.zenoh_wire import (
     LIVELINESS_PREFIX,
     Attachment,
@@ -291,7 +292,15 @@ class ZenohSession:
         self._closed = False
         #: Subscriptions' drain threads: joined after the session closed (see close()).
         self.drainers: list[threading.Thread] = []
+        #: Executors' channel waiters (see make_waiter): closed after the session.
+        self._waiters: weakref.WeakSet[ChannelWaiter] = weakref.WeakSet()
         _open_sessions.add(self)
+
+    def make_waiter(self) -> ChannelWaiter:
+        """The waiter of an executor that reads this session's subscriptions itself."""
+        waiter = ChannelWaiter()
+        self._waiters.add(waiter)
+        return waiter
 
     @property
     def hosts_router(self) -> bool:
@@ -477,6 +486,8 @@ class ZenohSession:
         for thread in self.drainers:
             if thread is not threading.current_thread():
                 thread.join(timeout=max(0.0, deadline - time.monotonic()))
+        for waiter in list(self._waiters):  # executors blocked in a channel, likewise
+            waiter.close(timeout=max(0.0, deadline - time.monotonic()))
         if self.router is not None:
             _quiet(self.router.close)
 
@@ -638,14 +649,24 @@ class WireSubscription:
         #: Whether an executor may read this subscription (a channel, not a callback).
         self.pullable = False
         # Pulled mode (pull_into): only the holder of _turn receives from the channel. The
-        # drain thread takes it, blocks in recv(), leaves the sample in _head and the turn
-        # with the executor (_handed), which takes what else the channel holds and gives
-        # the turn back once it is empty. One reader at a time keeps the order.
+        # drain thread takes it and blocks in recv(). As a *secondary* source it leaves the
+        # sample in _head and the turn with the executor (_handed), which takes what else
+        # the channel holds and gives the turn back once it is empty. As the *primary* of
+        # the executor's ChannelWaiter (see posekit.transport.zenoh_wait) its first sample
+        # hands the turn over for good (_executor_reads): the executor then waits in the
+        # channel itself until release_pull. One reader at a time keeps the order.
         self._turn = threading.Lock()
         self._mode = threading.RLock()
         self._pulled_by: Inbox | None = None
         self._head: zenoh.Sample | None = None
         self._handed = False
+        self._waiter: ChannelWaiter | None = None  # the inbox's waiter, when a Zenoh one
+        self._primary = False  # this subscription is that waiter's primary
+        self._executor_reads = False
+        self._undeclare_on_leave = False  # destroyed while the executor was in the channel
+        self._zenoh = owner.session
+        self._owner = owner
+        self._local_ok = not remote_only  # a session-local poke reaches the channel
         self.entity_id = owner.next_entity_id()
         self.token_key = endpoint_token(
             owner.domain_id,
@@ -712,12 +733,8 @@ class WireSubscription:
                 sample = recv()
             except Exception:  # the channel closed: undeclared or session closed
                 return
-            with self._mode:
-                inbox = self._pulled_by
-                if inbox is not None:  # the executor takes it from here
-                    self._head, self._handed = sample, True
-                    inbox.wake()
-                    continue
+            if self._pulled_by is not None and self._hand_over(sample):
+                continue  # the executor takes it from here
             while sample is not None:
                 try:
                     handle(sample)
@@ -731,13 +748,48 @@ class WireSubscription:
                     return
             turn.release()
 
+    def _hand_over(self, sample: zenoh.Sample) -> bool:
+        """Drain thread, pulled mode: give ``sample`` and the turn to the executor.
+
+        False when the subscription is no longer pulled (the drain thread handles it). A
+        DELETE (a poke for an executor waiting in another channel) hands over no sample.
+        """
+        with self._mode:
+            inbox = self._pulled_by
+            if inbox is None:
+                return False
+            data = sample.kind == _PUT
+            if self._primary:  # the executor reads the channel from now on
+                self._executor_reads = True
+            elif not data:
+                self._turn.release()  # nothing to hand over: receive again
+                return True
+            if data:
+                self._head, self._handed = sample, True
+            waiter = self._waiter
+        if waiter is not None:
+            waiter.set_from_receiver()  # this thread holds no lock: it may poke at once
+        else:
+            inbox.wake()
+        return True
+
     # -- an executor reading the channel on its own thread (Executor._pulls_samples) -------
     def pull_into(self, inbox: Inbox) -> bool:
-        """From the next sample on, ``inbox``'s executor handles them (:meth:`pull`)."""
+        """From the next sample on, ``inbox``'s executor handles them (:meth:`pull`).
+
+        The first such subscription of an executor becomes the primary of its
+        :class:`~posekit.transport.zenoh_wait.ChannelWaiter`: the executor waits in its
+        channel.
+        """
         with self._mode:
             if not self.pullable or self._destroyed or self._pulled_by is not None:
                 return False
+            waiter = inbox.adopt_waiter(self._owner, self._owner.make_waiter)
             self._pulled_by = inbox
+            self._waiter = waiter if isinstance(waiter, ChannelWaiter) else None
+            if self._waiter is not None and self._waiter.primary is None and self._local_ok:
+                self._waiter.primary = self
+                self._primary = True
             inbox.add_source(self)
             return True
 
@@ -748,11 +800,38 @@ class WireSubscription:
                 return
             self._pulled_by = None
             inbox.remove_source(self)
-            if self._handed:
-                head, self._head, self._handed = self._head, None, False
-                if head is not None:
-                    self._on_sample(head)
-                self._turn.release()
+            waiter = self._leave_waiter()
+            if waiter is None:
+                self._give_back_turn()
+        if waiter is not None:
+            waiter.set()  # the executor leaves the channel and gives the turn back (took)
+
+    def _leave_waiter(self) -> ChannelWaiter | None:
+        """Stop being a source of the waiter (caller holds ``_mode``).
+
+        Returns the waiter when the executor is blocked in this channel right now: it gives
+        the turn back itself when it leaves (:meth:`took`).
+        """
+        waiter, self._waiter = self._waiter, None
+        if self._primary and waiter is not None and waiter.primary is self:
+            waiter.primary = None
+        self._primary = False
+        return waiter if waiter is not None and waiter.inside_of is self else None
+
+    def _give_back_turn(self, last: zenoh.Sample | None = None) -> None:
+        """The executor's turn goes back to the drain thread (caller holds ``_mode``).
+
+        What the executor took and did not handle yet (a handed-over sample, then ``last``)
+        is handled first, so the drain thread's next sample comes after it.
+        """
+        if not (self._handed or self._executor_reads):
+            return  # the drain thread holds the turn
+        head, self._head = self._head, None
+        self._handed = self._executor_reads = False
+        for sample in (head, last):
+            if sample is not None and sample.kind == _PUT:
+                self._on_sample(sample)
+        self._turn.release()
 
     def pending(self) -> bool:
         """Whether a sample waits for :meth:`pull` (the executor's look before it sleeps)."""
@@ -760,10 +839,10 @@ class WireSubscription:
 
     def pull(self, budget: int) -> int:
         """Handle the handed-over sample and up to ``budget`` in all from the channel."""
-        if not self._handed:
+        if not (self._handed or self._executor_reads):
             return 0
         with self._mode:
-            if not self._handed or self._destroyed:
+            if not (self._handed or self._executor_reads) or self._destroyed:
                 return 0
             head, self._head = self._head, None
             count = 0
@@ -776,13 +855,54 @@ class WireSubscription:
                     sample = try_recv()
                 except Exception:  # the channel closed: undeclared or session closed
                     sample = None
-                if sample is None:  # empty: the drain thread waits in recv() again
+                if sample is None:  # empty
                     self._handed = False
-                    self._turn.release()
+                    if not self._executor_reads:  # the drain thread waits in recv() again
+                        self._turn.release()
                     break
                 self._on_sample(sample)
                 count += 1
             return count
+
+    # -- the primary's side of ChannelWaiter (PrimaryChannel) -----------------------------
+    def enter_wait(self, waiter: ChannelWaiter) -> bool:
+        """Whether ``waiter``'s executor may block in this channel now (see PrimaryChannel)."""
+        with self._mode:
+            if (self._waiter is not waiter or not self._primary or not self._executor_reads
+                    or self._destroyed or self._handed):
+                return False
+            waiter.inside_of = self
+            return True
+
+    def channel_recv(self) -> zenoh.Sample:
+        """Block in the channel (GIL released) until it holds a sample."""
+        sample: zenoh.Sample = self._sub.recv()
+        return sample
+
+    def took(self, sample: zenoh.Sample | None) -> None:
+        """The executor left the channel with ``sample`` (None: the channel closed)."""
+        with self._mode:
+            if sample is None:
+                self.pullable = False  # the session closed: nothing to wait in any more
+            if self._primary and self._executor_reads and not self._destroyed:
+                if sample is not None:  # a poke too: pull ignores it as any DELETE
+                    self._head, self._handed = sample, True
+                return
+            # released or destroyed while the executor waited in the channel
+            self._give_back_turn(sample)
+            undeclare, self._undeclare_on_leave = self._undeclare_on_leave, False
+        if undeclare:
+            _quiet(self._sub.undeclare)
+
+    def poke(self) -> None:
+        """Wake a receive blocked in the channel: a DELETE on our key for this session only.
+
+        Every subscription ignores DELETE samples, and this one never reaches the network.
+        """
+        try:
+            self._zenoh.delete(self.key, allowed_destination=zenoh.Locality.SESSION_LOCAL)
+        except Exception:  # the session closed: the closed channel ends the receive anyway
+            _log.debug("poke on %s failed", self.topic, exc_info=True)
 
     def _drop(self, reason: str, source: str, detail: str) -> None:
         self.dropped[reason] += 1
@@ -875,14 +995,21 @@ class WireSubscription:
             return
         self._destroyed = True
         _quiet(self._token.undeclare)
-        _quiet(self._sub.undeclare)
         with self._mode:
             inbox, self._pulled_by = self._pulled_by, None
             if inbox is not None:
                 inbox.remove_source(self)
-            if self._handed:  # let the drain thread see that it is over
-                self._handed = False
-                self._turn.release()
+            waiter = self._leave_waiter()
+            if waiter is None:
+                self._give_back_turn()  # the drain thread sees that it is over
+            else:
+                # The executor waits in the channel: poke it out first (an undeclared
+                # subscriber's channel receives nothing more); it undeclares on leaving.
+                self._undeclare_on_leave = True
+        if waiter is None:
+            _quiet(self._sub.undeclare)
+        else:
+            waiter.set()
 
 
 def _service_token(

@@ -1,0 +1,193 @@
+"""An executor's wait on a Zenoh subscription's channel: one thread wake-up per message.
+
+A :class:`~posekit.runtime.executors.SingleThreadedExecutor` that reads its Zenoh
+subscriptions itself (``pull_into``) waits in :class:`ChannelWaiter`. zenoh-python offers no
+wait over several channels that releases the GIL, so the waiter blocks in the channel of one
+pulled subscription, its *primary*: zenoh's network thread wakes the executor directly when
+a sample arrives there, with the GIL released meanwhile, the one wake-up per message that
+raw zenoh-python's callback thread costs (and rclpy's executor on a middleware wait set).
+
+Whatever else must end the wait (another subscription's hand-over, a task, a future done on
+another thread, shutdown, a timer's deadline) *pokes* the primary's channel: a DELETE sample
+on the primary's key, routed to this session only (``Locality.SESSION_LOCAL``, never onto
+the network); every posekit subscription ignores DELETE samples. A zenoh channel is bounded,
+so a poke waits while it is full: pokes are therefore sent only by threads that hold no lock
+the executor could need to empty it (the waiter's own helper thread, which also keeps the
+timeout, and subscriptions' receive threads), never by an arbitrary caller of :meth:`set`.
+
+Before the primary's receive thread has handed its channel over, and when there is no
+primary, the waiter is a plain :class:`~posekit.runtime.inbox.WakeSignal`.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import Any, Protocol
+
+from posekit.runtime.inbox import WakeSignal
+
+__all__ = ["ChannelWaiter", "PrimaryChannel"]
+
+#: The helper thread ends after this long with nothing to do (a waiter an inbox dropped
+#: leaves no thread behind).
+_HELPER_IDLE_S = 1.0
+
+
+class PrimaryChannel(Protocol):
+    """What the waiter needs of its primary subscription (a ``WireSubscription``)."""
+
+    def enter_wait(self, waiter: ChannelWaiter) -> bool:
+        """Whether the executor may block in the channel now.
+
+        If so, ``waiter.inside_of`` is set under the subscription's lock, so a release
+        meanwhile leaves the turn to :meth:`took`.
+        """
+
+    def channel_recv(self) -> Any:
+        """Block until the channel holds a sample (GIL released); raises once it is closed."""
+
+    def took(self, sample: Any) -> None:
+        """The executor left the channel with ``sample`` (data for pull, or a poke)."""
+
+    def poke(self) -> None:
+        """Put a DELETE for this session only in the channel (wakes a blocked receive)."""
+
+
+class ChannelWaiter:
+    """The :class:`~posekit.runtime.inbox.Waiter` of an executor pulling Zenoh subscriptions.
+
+    One per executor inbox. ``primary`` is set and cleared by the subscription that serves as
+    the primary (under its own lock). See the module docstring.
+    """
+
+    def __init__(self) -> None:
+        self._plain = WakeSignal()
+        self._signalled = False
+        #: The subscription whose channel the executor waits in (None: plain wait).
+        self.primary: PrimaryChannel | None = None
+        #: The subscription whose channel the executor is blocked in right now, or None.
+        self.inside_of: PrimaryChannel | None = None
+        self._poked = False  # a poke was sent (or asked for) since the executor went in
+        # The helper thread: sends the pokes asked for and keeps the deadline.
+        self._cond = threading.Condition(threading.Lock())
+        self._deadline: float | None = None
+        self._helper_until = float("inf")  # what the helper sleeps until
+        self._poke_asked = False
+        self._helper: threading.Thread | None = None
+        self._closed = False
+
+    # -- the Waiter protocol ----------------------------------------------------------
+    def set(self) -> None:
+        """Signal; a blocked executor is poked by the helper thread (any caller, any lock)."""
+        self._signalled = True
+        self._plain.set()
+        if self.inside_of is not None and not self._poked:
+            self._poked = True
+            with self._cond:
+                self._poke_asked = True
+                self._ensure_helper()
+                self._cond.notify()
+
+    def set_from_receiver(self) -> None:
+        """:meth:`set` from a subscription's receive thread, which holds no lock: poke at once."""
+        self._signalled = True
+        self._plain.set()
+        inside = self.inside_of
+        if inside is not None and not self._poked:
+            self._poked = True
+            inside.poke()
+
+    def clear(self) -> None:
+        """Unsignal."""
+        self._signalled = False
+        self._plain.clear()
+
+    def is_set(self) -> bool:
+        """Whether signalled."""
+        return self._signalled
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Until signalled, a sample in the primary's channel, or ``timeout`` seconds passed.
+
+        True unless the timeout ended it (a poke counts as a wake-up either way; the executor
+        looks at the clock itself).
+        """
+        primary = self.primary
+        if primary is None or self._closed:
+            return self._plain.wait(timeout)
+        self._poked = False
+        if not primary.enter_wait(self):  # the receive thread still holds the channel
+            return self._plain.wait(timeout)
+        try:
+            if self._signalled:  # set() before inside_of was: it did not poke
+                return True
+            if timeout is not None:
+                self._arm(time.monotonic() + max(0.0, timeout))
+            try:
+                sample = primary.channel_recv()
+            except (KeyboardInterrupt, SystemExit):
+                raise
+            except Exception:  # the channel closed (session closed): no more blocking in it
+                sample = None
+        finally:
+            self.inside_of = None
+            if timeout is not None:
+                self._deadline = None
+        primary.took(sample)
+        return True
+
+    # -- the helper thread ------------------------------------------------------------
+    def _arm(self, deadline: float) -> None:
+        with self._cond:
+            self._deadline = deadline
+            if deadline < self._helper_until:  # it sleeps longer than that: wake it to re-arm
+                self._ensure_helper()
+                self._cond.notify()
+
+    def _ensure_helper(self) -> None:
+        """Start the helper thread if needed (the caller holds ``_cond``)."""
+        if self._helper is None and not self._closed:
+            self._helper = threading.Thread(target=self._run_helper, daemon=True,
+                                            name="posekit-zenoh wait")
+            self._helper.start()
+
+    def _run_helper(self) -> None:
+        cond = self._cond
+        with cond:
+            while not self._closed:
+                now = time.monotonic()
+                deadline = self._deadline
+                due = deadline is not None and now >= deadline
+                if self._poke_asked or due:
+                    self._poke_asked = False
+                    if due:
+                        self._deadline = None
+                    target = self.inside_of
+                    if target is not None:
+                        self._poked = True
+                        cond.release()  # a full channel may hold the poke back: no lock held
+                        try:
+                            target.poke()
+                        finally:
+                            cond.acquire()
+                    continue
+                self._helper_until = float("inf") if deadline is None else deadline
+                woken = cond.wait(_HELPER_IDLE_S if deadline is None else deadline - now)
+                self._helper_until = float("-inf")  # awake: no notify needed to re-arm
+                if not woken and self._deadline is None and not self._poke_asked:
+                    break  # idle: the next deadline or poke starts a new helper
+            self._helper = None
+
+    def close(self, timeout: float = 2.0) -> None:
+        """Stop the helper; wait (at most ``timeout`` s) for the executor to leave the channel.
+
+        Called after the session closed, which ends every blocked receive.
+        """
+        with self._cond:
+            self._closed = True
+            self._cond.notify()
+        end = time.monotonic() + timeout
+        while self.inside_of is not None and time.monotonic() < end:
+            time.sleep(0.001)
+        self._plain.set()

@@ -1,0 +1,296 @@
+"""A SingleThreadedExecutor waiting in a Zenoh subscription's channel (ChannelWaiter).
+
+Two contexts on two Zenoh sessions and a loopback router, in one process: a talker in the
+first, the executor under test in the second. Oracles: the sequence numbers the talker wrote
+(every message arrives, in order, however the channel changes hands), the thread that runs
+the callbacks, the waiter's own record of which channel the executor is blocked in, a
+wall clock for timers and wake-ups (generous bounds: "not stuck", never "fast"), and a raw
+zenoh-python subscriber on the router, which must see no poke (the DELETE that wakes the
+executor stays in its session).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+from _support.ports import free_port
+from _support.waiting import wait_for
+from posekit.msgs.std_msgs import String
+from posekit.runtime.context import Context
+from posekit.runtime.executors import SingleThreadedExecutor
+from posekit.runtime.node import Node
+from posekit.runtime.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+zenoh = pytest.importorskip("zenoh")
+
+from posekit.transport.zenoh_session import SessionOptions, WireSubscription  # noqa: E402
+from posekit.transport.zenoh_transport import ZenohTransport  # noqa: E402
+from posekit.transport.zenoh_wait import ChannelWaiter  # noqa: E402
+
+pytestmark = pytest.mark.slow
+
+KEEP_ALL = QoSProfile(depth=1000, history=HistoryPolicy.KEEP_ALL,
+                      reliability=ReliabilityPolicy.RELIABLE)
+
+
+class Sides:
+    """The talker's context and the listener's, each with its own Zenoh session."""
+
+    def __init__(self, endpoint: str) -> None:
+        self.endpoint = endpoint
+        options = SessionOptions(router_endpoint=endpoint)
+        self.contexts: list[Context] = []
+        self.transports: list[ZenohTransport] = []
+        for _ in range(2):
+            context = Context()
+            context.init()
+            self.contexts.append(context)
+            self.transports.append(ZenohTransport(options))
+
+    def node(self, side: int, name: str) -> Node:
+        return Node(name, context=self.contexts[side], transport=self.transports[side])
+
+    def close(self) -> None:
+        for context in reversed(self.contexts):
+            context.try_shutdown()
+        for transport in reversed(self.transports):
+            transport.close()
+
+
+@pytest.fixture
+def sides(monkeypatch: pytest.MonkeyPatch) -> Iterator[Sides]:
+    for var in ("ZENOH_SESSION_CONFIG_URI", "ZENOH_CONFIG_OVERRIDE", "ROS_DOMAIN_ID"):
+        monkeypatch.delenv(var, raising=False)
+    s = Sides(f"tcp/127.0.0.1:{free_port()}")
+    yield s
+    s.close()
+
+
+class Stream:
+    """A talker on ``topic`` in context 0 and a listener subscription in context 1."""
+
+    def __init__(self, sides: Sides, topic: str, listener: Node | None = None) -> None:
+        self.talker = sides.node(0, f"talker{abs(hash(topic)) % 1000}")
+        self.pub = self.talker.create_publisher(String, topic, KEEP_ALL)
+        self.listener = listener or sides.node(1, "listener")
+        self.got: list[int] = []
+        self.threads: set[int] = set()
+        self.sub = self.listener.create_subscription(String, topic, self._on, KEEP_ALL)
+        self.sent = 0
+        assert wait_for(lambda: self.pub.get_subscription_count() > 0, 10)
+
+    def _on(self, msg: String) -> None:
+        self.got.append(int(msg.data))
+        self.threads.add(threading.get_ident())
+
+    def send(self, n: int = 1) -> None:
+        for _ in range(n):
+            self.pub.publish(String(data=str(self.sent)))
+            self.sent += 1
+
+    @property
+    def wire(self) -> WireSubscription:
+        endpoint: Any = self.sub.endpoint
+        return endpoint.wire  # type: ignore[no-any-return]
+
+
+class Spinner:
+    """``executor.spin()`` on a thread of its own; ``stop()`` shuts the executor down."""
+
+    def __init__(self, executor: SingleThreadedExecutor) -> None:
+        self.executor = executor
+        self.thread = threading.Thread(target=executor.spin, daemon=True)
+        self.thread.start()
+
+    def stop(self) -> None:
+        self.executor.shutdown()
+        self.thread.join(timeout=5)
+        assert not self.thread.is_alive()
+
+
+def _waiter(executor: SingleThreadedExecutor) -> ChannelWaiter:
+    waiter = executor.inbox.waiter
+    assert isinstance(waiter, ChannelWaiter)
+    return waiter
+
+
+def test_the_executor_waits_in_the_channel_of_its_first_subscription(sides: Sides) -> None:
+    stream = Stream(sides, "/count")
+    executor = SingleThreadedExecutor(context=sides.contexts[1])
+    executor.add_node(stream.listener)
+    waiter = _waiter(executor)
+    assert waiter.primary is stream.wire
+    spinner = Spinner(executor)
+    try:
+        # The receive thread hands the channel over with the first sample; from then on,
+        # while nothing arrives, the spinning thread is blocked in the channel itself.
+        stream.send()
+        assert wait_for(lambda: stream.got == [0], 10)
+        assert wait_for(lambda: waiter.inside_of is stream.wire, 5)
+        for burst in (1, 1, 200, 1, 1000):
+            stream.send(burst)
+            assert wait_for(lambda: len(stream.got) == stream.sent, 20)
+            assert wait_for(lambda: waiter.inside_of is stream.wire, 5)
+        assert stream.got == list(range(stream.sent))
+        assert stream.threads == {spinner.thread.ident}
+    finally:
+        spinner.stop()
+    assert executor.inbox.sources == ()
+    assert waiter.inside_of is None
+
+
+def test_a_blocked_executor_wakes_for_timers_tasks_and_other_subscriptions(
+        sides: Sides) -> None:
+    first = Stream(sides, "/first")
+    second = Stream(sides, "/second", listener=first.listener)  # a secondary source
+    same = Stream(sides, "/first", listener=sides.node(1, "listener2"))  # same key
+    ticks: list[float] = []
+    first.listener.create_timer(0.05, lambda: ticks.append(time.monotonic()))
+    executor = SingleThreadedExecutor(context=sides.contexts[1])
+    executor.add_node(first.listener)
+    executor.add_node(same.listener)
+    waiter = _waiter(executor)
+    assert waiter.primary is first.wire
+    spinner = Spinner(executor)
+    try:
+        first.send()  # hands /first's channel to the executor
+        assert wait_for(lambda: len(first.got) == 1 and len(same.got) == 1, 10)
+        # Timer deadlines end the wait in the channel (the helper thread's poke).
+        n = len(ticks)
+        assert wait_for(lambda: len(ticks) >= n + 5, 5)
+        gaps = [b - a for a, b in zip(ticks[n:], ticks[n + 1:], strict=False)]
+        assert all(0.02 < g < 0.5 for g in gaps), gaps
+        # A secondary subscription's samples, in order, on the spinning thread.
+        for _ in range(5):
+            second.send(20)
+            assert wait_for(lambda: len(second.got) == second.sent, 10)
+        assert second.got == list(range(second.sent))
+        assert second.threads == {spinner.thread.ident}
+        # A task created on another thread runs on the spinning one.
+        task = executor.create_task(threading.get_ident)
+        assert wait_for(task.done, 5)
+        assert task.result() == spinner.thread.ident
+        # Two subscriptions of one key in one executor: pokes for the one do not wake the
+        # other in a loop. With only the timer left, pokes follow the ticks (20 a second).
+        assert wait_for(lambda: waiter.inside_of is first.wire, 5)
+        pokes = _count_pokes(sides, 1.0)
+        assert pokes <= 40, pokes
+        first.send(50)
+        assert wait_for(lambda: len(first.got) == 51 and len(same.got) == 51, 10)
+        assert first.got == list(range(51))
+        assert same.got == list(range(51))
+    finally:
+        spinner.stop()
+
+
+def _count_pokes(sides: Sides, seconds: float) -> int:
+    """How many pokes the listener's session sends in ``seconds`` (counted at the source)."""
+    counted = [0]
+    original = WireSubscription.poke
+
+    def counting(self: WireSubscription) -> None:
+        counted[0] += 1
+        original(self)
+
+    WireSubscription.poke = counting  # type: ignore[method-assign]
+    try:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            time.sleep(0.01)
+    finally:
+        WireSubscription.poke = original  # type: ignore[method-assign]
+    return counted[0]
+
+
+def test_pokes_never_leave_the_session(sides: Sides) -> None:
+    """A raw zenoh subscriber on the router sees the talker's samples but no DELETE."""
+    from posekit.transport.zenoh_session import build_peer_config
+
+    raw = zenoh.open(build_peer_config(SessionOptions(router_endpoint=sides.endpoint)))
+    kinds: list[Any] = []
+    raw_sub = raw.declare_subscriber("**", lambda s: kinds.append(s.kind))
+    try:
+        stream = Stream(sides, "/count")
+        stream.listener.create_timer(0.01, lambda: None)  # a poke every 10 ms
+        executor = SingleThreadedExecutor(context=sides.contexts[1])
+        executor.add_node(stream.listener)
+        waiter = _waiter(executor)
+        spinner = Spinner(executor)
+        try:
+            stream.send()
+            assert wait_for(lambda: stream.got == [0], 10)
+            assert wait_for(lambda: waiter.inside_of is stream.wire, 5)
+            assert _count_pokes(sides, 0.5) >= 10  # the executor was poked meanwhile
+            stream.send(10)
+            assert wait_for(lambda: len(stream.got) == 11, 10)
+            assert wait_for(lambda: kinds.count(zenoh.SampleKind.PUT) >= 11, 10)
+        finally:
+            spinner.stop()
+        assert zenoh.SampleKind.DELETE not in kinds
+    finally:
+        raw_sub.undeclare()
+        raw.close()
+
+
+def test_release_and_destroy_while_the_executor_is_in_the_channel(sides: Sides) -> None:
+    stream = Stream(sides, "/count")
+    executor = SingleThreadedExecutor(context=sides.contexts[1])
+    executor.add_node(stream.listener)
+    waiter = _waiter(executor)
+    spinner = Spinner(executor)
+    try:
+        stream.send(10)
+        assert wait_for(lambda: len(stream.got) == 10, 10)
+        assert wait_for(lambda: waiter.inside_of is stream.wire, 5)
+        # Removing the node from another thread: the executor leaves the channel and the
+        # receive thread takes over; what arrives meanwhile waits in the queue, in order.
+        executor.remove_node(stream.listener)
+        assert wait_for(lambda: waiter.inside_of is None, 5)
+        assert executor.inbox.sources == ()
+        stream.send(50)
+        assert wait_for(lambda: len(stream.sub.queue) == 50, 10)
+        assert [int(m.data) for _, m in stream.sub.queue] == list(range(10, 60))
+        executor.add_node(stream.listener)
+        stream.send(10)
+        assert wait_for(lambda: len(stream.got) == 70, 10)
+        assert stream.got == list(range(70))
+        # Destroying the subscription while the executor is blocked in its channel: the
+        # executor moves on (a timer created afterwards still runs), the callback is not
+        # called again.
+        waiter = _waiter(executor)
+        assert wait_for(lambda: waiter.inside_of is stream.wire, 5)
+        stream.listener.destroy_subscription(stream.sub)
+        assert wait_for(lambda: waiter.inside_of is None, 5)
+        ticked = threading.Event()
+        stream.listener.create_timer(0.01, ticked.set)
+        assert ticked.wait(5)
+        stream.send(5)
+        assert not wait_for(lambda: len(stream.got) > 70, 0.3)
+        # A new subscription on the topic becomes the next primary and gets what follows.
+        again = Stream(sides, "/count", listener=sides.node(1, "again"))
+        executor.add_node(again.listener)
+        again.send(20)  # from a second talker, numbered from 0
+        assert wait_for(lambda: again.got == list(range(20)), 10)
+    finally:
+        spinner.stop()
+
+
+def test_closing_the_session_under_a_blocked_executor(sides: Sides) -> None:
+    stream = Stream(sides, "/count")
+    executor = SingleThreadedExecutor(context=sides.contexts[1])
+    executor.add_node(stream.listener)
+    waiter = _waiter(executor)
+    spinner = Spinner(executor)
+    stream.send()
+    assert wait_for(lambda: waiter.inside_of is stream.wire, 10)
+    sides.transports[1].close()  # waits for the executor to leave the closed channel
+    assert waiter.inside_of is None
+    ticked = threading.Event()
+    stream.listener.create_timer(0.01, ticked.set)
+    assert ticked.wait(5)  # the executor goes on (timers, tasks) without the channel
+    spinner.stop()
