@@ -36,6 +36,10 @@ Phases:
 * latency: one message per millisecond; one-way latency = receive wall clock minus the
   ``header.stamp`` written just before publishing (same host, same clock). p50 / p99 of
   all but the first 5 % (warm-up: discovery, reliable repairs of the first samples).
+  ``switches/msg``: the subscriber process's voluntary context switches (all threads,
+  counted by the kernel) from the first message to the end, per message: how many times a
+  thread went to sleep and was woken for each message that arrives alone. Unlike times, it
+  does not depend on what else the machine runs.
 
 Each round runs every mode once per message and phase, in alternating order from round to
 round, so a burst of load from other processes falls on all modes alike. Ratios are taken
@@ -403,6 +407,14 @@ def _wait_matched(count: Callable[[], int]) -> None:
 # child processes
 
 
+def _voluntary_switches() -> int:
+    """Voluntary context switches of this process so far, all threads (a thread that
+    blocks, e.g. to wait for the next message, and is woken again counts one)."""
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_nvcsw
+
+
 def child_sub(transport: str, mode: str, message: str, endpoint: str) -> None:
     """Receive until the stream has been idle for IDLE_END_S after the first message."""
     recv: list[int] = []
@@ -410,11 +422,13 @@ def child_sub(transport: str, mode: str, message: str, endpoint: str) -> None:
     now_wall, now_mono = time.time_ns, time.monotonic_ns
 
     cpu_first = [0.0]  # process CPU time at the first message
+    switches_first = [0]  # the process's voluntary context switches then
 
     def on_stamp(sec: int, nsec: int) -> None:
         t = now_wall()
         if not recv:
             cpu_first[0] = time.process_time()
+            switches_first[0] = _voluntary_switches()
         recv.append(now_mono())
         lat.append(t - (sec * 1_000_000_000 + nsec))
 
@@ -437,8 +451,10 @@ def child_sub(transport: str, mode: str, message: str, endpoint: str) -> None:
 
     serve(done)
     cpu = time.process_time() - cpu_first[0]
+    switches = _voluntary_switches() - switches_first[0]
     close()
-    out: dict[str, Any] = {"count": len(recv), "cpu_s": cpu}
+    out: dict[str, Any] = {"count": len(recv), "cpu_s": cpu,
+                           "switches": switches / max(1, len(recv))}
     if len(recv) >= 2:
         out["rate"] = (len(recv) - 1) / ((recv[-1] - recv[0]) * 1e-9)
     lat = lat[len(lat) // WARM_UP_SHARE:]  # discovery and first-sample repairs excluded
@@ -564,7 +580,7 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
           f"latency: {n_lat} msgs at {LATENCY_RATE_HZ:.0f} Hz; {len(rounds)} round(s): "
           "median (min-max)")
     print(f"{'mode':<10}{'recv msgs/s':>26}{'recv CPU us/msg':>24}{'send CPU us/msg':>24}"
-          f"{'p50 us':>24}{'p99 us':>24}")
+          f"{'p50 us':>24}{'p99 us':>24}{'switches/msg':>22}")
 
     def col(mode: str, phase: str, key: str, scale: float = 1.0) -> list[float]:
         return [r[mode][phase][key] * scale for r in rounds
@@ -578,7 +594,8 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
               f"{_spread(cpu, '.1f'):>24}"
               f"{_spread(col(mode, 'throughput', 'send_cpu_us'), '.1f'):>24}"
               f"{_spread(col(mode, 'latency', 'p50', 1e-3), '.0f'):>24}"
-              f"{_spread(col(mode, 'latency', 'p99', 1e-3), '.0f'):>24}{short}")
+              f"{_spread(col(mode, 'latency', 'p99', 1e-3), '.0f'):>24}"
+              f"{_spread(col(mode, 'latency', 'switches'), '.2f'):>22}{short}")
     for mode in [m for m in modes if m not in ("raw",)]:
         both = [r for r in rounds if mode in r and "raw" in r]
         tput = [r["raw"]["throughput"]["rate"] / r[mode]["throughput"]["rate"] for r in both]
