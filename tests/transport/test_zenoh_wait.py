@@ -119,6 +119,13 @@ def _waiter(executor: SingleThreadedExecutor) -> ChannelWaiter:
     return waiter
 
 
+def _spinning(sides: Sides, stream: Stream) -> tuple[ChannelWaiter, Spinner]:
+    """An executor of the listener's context with ``stream``'s listener, spinning."""
+    executor = SingleThreadedExecutor(context=sides.contexts[1])
+    executor.add_node(stream.listener)
+    return _waiter(executor), Spinner(executor)
+
+
 def test_the_executor_waits_in_the_channel_of_its_first_subscription(sides: Sides) -> None:
     stream = Stream(sides, "/count")
     executor = SingleThreadedExecutor(context=sides.contexts[1])
@@ -217,10 +224,7 @@ def test_pokes_never_leave_the_session(sides: Sides) -> None:
     try:
         stream = Stream(sides, "/count")
         stream.listener.create_timer(0.01, lambda: None)  # a poke every 10 ms
-        executor = SingleThreadedExecutor(context=sides.contexts[1])
-        executor.add_node(stream.listener)
-        waiter = _waiter(executor)
-        spinner = Spinner(executor)
+        waiter, spinner = _spinning(sides, stream)
         try:
             stream.send()
             assert wait_for(lambda: stream.got == [0], 10)
@@ -239,10 +243,8 @@ def test_pokes_never_leave_the_session(sides: Sides) -> None:
 
 def test_release_and_destroy_while_the_executor_is_in_the_channel(sides: Sides) -> None:
     stream = Stream(sides, "/count")
-    executor = SingleThreadedExecutor(context=sides.contexts[1])
-    executor.add_node(stream.listener)
-    waiter = _waiter(executor)
-    spinner = Spinner(executor)
+    waiter, spinner = _spinning(sides, stream)
+    executor = spinner.executor
     try:
         stream.send(10)
         assert wait_for(lambda: len(stream.got) == 10, 10)
@@ -282,10 +284,7 @@ def test_release_and_destroy_while_the_executor_is_in_the_channel(sides: Sides) 
 
 def test_closing_the_session_under_a_blocked_executor(sides: Sides) -> None:
     stream = Stream(sides, "/count")
-    executor = SingleThreadedExecutor(context=sides.contexts[1])
-    executor.add_node(stream.listener)
-    waiter = _waiter(executor)
-    spinner = Spinner(executor)
+    waiter, spinner = _spinning(sides, stream)
     stream.send()
     assert wait_for(lambda: waiter.inside_of is stream.wire, 10)
     sides.transports[1].close()  # waits for the executor to leave the closed channel
