@@ -110,8 +110,8 @@ class ChannelWaiter:
     def wait(self, timeout: float | None = None) -> bool:
         """Until signalled, a sample in the primary's channel, or ``timeout`` seconds passed.
 
-        True unless the timeout ended it (a poke counts as a wake-up either way; the executor
-        looks at the clock itself).
+        False only when a plain wait timed out. In the channel a timeout is a poke like any
+        other wake-up, and True; the executor looks at the clock itself.
         """
         primary = self.primary
         if primary is None or self._closed:
