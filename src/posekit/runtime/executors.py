@@ -438,25 +438,23 @@ class Executor:
                 wait = min(wait, remaining)
             future.wait(wait)
 
-    @runs_callbacks
-    def spin_once(self, timeout_sec: float | None = None) -> None:
+    def _run_once(self, timeout_sec: float | None = None) -> None:
         """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""
         work = self._wait_for_work(timeout_sec)
         if work is not None:
             self._execute(work)
 
+    spin_once = runs_callbacks(_run_once)
+    spin_once.__name__, spin_once.__qualname__ = "spin_once", "Executor.spin_once"
+
     @runs_callbacks
     def spin(self) -> None:
         """Run callbacks until the context shuts down or shutdown() is called."""
-        if type(self).spin_once is not Executor.spin_once:  # a subclass's own spin_once
-            while self._context.ok() and not self._is_shutdown:
-                self.spin_once()
-            return
+        # spin_once without its wrapper on every call (1.6 against 2.2 us per message),
+        # unless a subclass has its own spin_once (rclpy's spin calls it)
+        step = self._run_once if type(self).spin_once is Executor.spin_once else self.spin_once
         while self._context.ok() and not self._is_shutdown:
-            # spin_once's body without its per-call wrapper: 1.6 against 2.2 us per message
-            work = self._wait_for_work(None)
-            if work is not None:
-                self._execute(work)
+            step()
 
     @runs_callbacks
     def spin_some(self, max_duration: float = 0.0) -> None:
