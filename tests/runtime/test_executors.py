@@ -148,6 +148,74 @@ def test_spin_runs_callbacks_and_calls_a_subclass_own_spin_once(ctx) -> None:
     assert got == ["a", "b", "c", "d", "e"]
 
 
+@pytest.mark.parametrize("kind", ["single", "multi"])
+def test_shutdown_waits_for_the_callback_running_on_another_thread(ctx, kind: str) -> None:
+    """rclpy's Executor.shutdown(timeout_sec): stop, then wait for the callbacks running now;
+    False while one still runs after ``timeout_sec``, True once every spinning thread has
+    returned. A node destroyed after that is never met by a callback of the executor."""
+    node = Node("n", context=ctx)
+    entered, release = threading.Event(), threading.Event()
+    finished: list[bool] = []
+
+    def slow() -> None:
+        entered.set()
+        release.wait(10.0)
+        finished.append(True)
+
+    node.create_timer(0.001, slow)
+    ex = SingleThreadedExecutor(context=ctx) if kind == "single" else MultiThreadedExecutor(
+        num_threads=2, context=ctx)
+    ex.add_node(node)
+    spinner = threading.Thread(target=ex.spin)
+    spinner.start()
+    try:
+        assert entered.wait(5.0)
+        assert ex.shutdown(timeout_sec=0.05) is False  # the callback is still running
+        assert not finished
+        release.set()
+        assert ex.shutdown(timeout_sec=5.0) is True
+        assert finished == [True]  # done before shutdown returned, and not run again
+        spinner.join(timeout=5.0)
+        assert not spinner.is_alive()
+    finally:
+        release.set()
+        spinner.join(timeout=5.0)
+
+
+def test_shutdown_from_a_callback_does_not_wait_for_itself(ctx) -> None:
+    node = Node("n", context=ctx)
+    results: list[bool] = []
+    ex = SingleThreadedExecutor(context=ctx)
+    node.create_timer(0.001, lambda: results.append(ex.shutdown()))  # no timeout
+    ex.add_node(node)
+    spinner = threading.Thread(target=ex.spin, daemon=True)
+    spinner.start()
+    spinner.join(timeout=5.0)
+    assert not spinner.is_alive()
+    assert results == [True]
+
+
+def test_shutdown_ends_a_paced_simulated_run_waiting_for_the_wall_clock(ctx) -> None:
+    """A run paced to the wall clock waits (wall time) for its next timer, here 30 s away;
+    shutdown ends that wait at once and time stays where it was."""
+    node = Node("n", context=ctx)
+    ticks: list[int] = []
+    node.create_timer(30.0, lambda: ticks.append(1))
+    ex = SimulatedTimeExecutor(context=ctx, real_time_factor=1.0)
+    ex.add_node(node)
+    spinner = threading.Thread(target=ex.spin, daemon=True)
+    spinner.start()
+    try:
+        started = time.monotonic()
+        assert ex.shutdown(timeout_sec=20.0) is True
+        assert time.monotonic() - started < 15.0  # not the 30 s wait
+        assert ticks == []
+        assert ex.now_ns == 0
+    finally:
+        spinner.join(timeout=5.0)
+    assert not spinner.is_alive()
+
+
 def test_wall_timer_fires_repeatedly(ctx) -> None:
     node = Node("n", context=ctx)
     ticks: list[int] = []

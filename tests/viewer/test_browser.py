@@ -150,6 +150,81 @@ def test_image_panels_update_with_the_published_pixels(
     assert np.allclose(sample[2:], support.CAMERA_RGB, atol=12), sample
 
 
+_LOADER_RUN = """async ([jpeg, burst, streamMs]) => {
+  const { newestImageLoader } = await import('/app/image_loader.js');
+  // count the URLs of this test's blobs only (the page's own panels make theirs meanwhile)
+  const created = [], revoked = new Set(), mine = new WeakSet();
+  const make = URL.createObjectURL, revoke = URL.revokeObjectURL;
+  URL.createObjectURL = (b) => { const u = make(b); if (mine.has(b)) created.push(u); return u; };
+  URL.revokeObjectURL = (u) => { revoked.add(u); revoke(u); };
+  try {
+    const bytes = Uint8Array.from(atob(jpeg), (c) => c.charCodeAt(0));
+    const img = new Image(), shown = [];
+    const loader = newestImageLoader(img, (i) => shown.push([i, img.naturalWidth]));
+    const until = async (done) => {  // at most 10 s
+      for (let t = 0; t < 1000 && !done(); t++) await new Promise((r) => setTimeout(r, 10));
+    };
+    const last = () => (shown.length ? shown[shown.length - 1][0] : -1);
+    const send = (i, data = bytes) => {
+      const blob = new Blob([data], { type: "image/jpeg" });
+      mine.add(blob);
+      loader.show(blob, i);
+    };
+    for (let i = 0; i < burst; i++) send(i);  // a burst in one task
+    await until(() => last() === burst - 1);
+    const afterBurst = shown.slice();
+    send(-1, "not a jpeg");  // loads at once (the loader is idle) and fails
+    send(burst);
+    await until(() => last() === burst);
+    // then a new blob every millisecond: far faster than a 1280x720 JPEG decodes
+    let sent = burst + 1;
+    const t0 = performance.now();
+    while (performance.now() - t0 < streamMs) {
+      send(sent++);
+      await new Promise((r) => setTimeout(r, 1));
+    }
+    await until(() => last() === sent - 1);
+    const live = created.filter((u) => !revoked.has(u)).length;
+    loader.dispose();
+    return { afterBurst, shown, sent, created: created.length, live,
+             liveAfterDispose: created.filter((u) => !revoked.has(u)).length };
+  } finally {
+    URL.createObjectURL = make;
+    URL.revokeObjectURL = revoke;
+  }
+}"""
+
+
+def test_image_panels_show_the_newest_frame_and_never_abort_a_load(page: Any) -> None:
+    """The page's image loader (app/image_loader.js, behind the image panels and the Image
+    and Camera displays) under frames arriving faster than the browser decodes them:
+
+    - a burst of 20 in one task shows the first and the last and nothing between;
+    - an undecodable blob is skipped, frees its URL, and the one after it is shown;
+    - a stream at 1 kHz shows every frame whose load began (none is aborted by the next,
+      which would leave a stream faster than the decoder showing nothing at all) and ends
+      on the newest;
+    - blob URLs: only the one on screen stays alive, and none after dispose().
+    """
+    noise = np.random.default_rng(0).integers(0, 255, (720, 1280, 3), dtype=np.uint8)
+    ok, jpeg = cv2.imencode(".jpg", noise, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    assert ok
+    import base64
+
+    r = page.evaluate(_LOADER_RUN, [base64.b64encode(jpeg.tobytes()).decode(), 20, 1000])
+    assert r["afterBurst"] == [[0, 1280], [19, 1280]]
+    shown = [i for i, _ in r["shown"]]
+    assert shown[2] == 20
+    assert -1 not in shown
+    assert shown[-1] == r["sent"] - 1  # ends on the newest
+    assert shown == sorted(set(shown))
+    assert all(width == 1280 for _, width in r["shown"])
+    # every URL made was for a load that completed, except the undecodable one
+    assert r["created"] == len(shown) + 1
+    assert r["live"] == 1
+    assert r["liveAfterDispose"] == 0
+
+
 def test_odometry_trail_grows(page: Any) -> None:
     first = wait_for(lambda: (debug(page, "trails") or {}).get("/odometry/filtered", 0),
                      what="an odometry trail")

@@ -25,6 +25,7 @@ from typing import Any
 from posekit.launch.description import LaunchDescription, LaunchDescriptionError
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor, MultiThreadedExecutor, SingleThreadedExecutor
+from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.parameters import parse_parameter_value
 from posekit.runtime.sim_executor import SimulatedTimeExecutor
@@ -33,6 +34,9 @@ from posekit.runtime.time_source import CLOCK_TOPIC
 __all__ = [
     "LaunchRun", "launch", "load_launch_file", "main", "run_launch_file", "run_until", "start",
 ]
+
+#: How long :meth:`LaunchRun.shutdown` waits for a callback still running elsewhere (s).
+SHUTDOWN_WAIT_S = 10.0
 
 
 @dataclass
@@ -51,9 +55,18 @@ class LaunchRun:
                 return n
         raise KeyError(f"no node named {name!r}; have {[n.get_name() for n in self.nodes]}")
 
-    def shutdown(self) -> None:
-        """Destroy the nodes and shut the context down."""
-        self.executor.shutdown()
+    def shutdown(self, timeout_sec: float = SHUTDOWN_WAIT_S) -> None:
+        """Stop the executor, destroy the nodes and shut the context down.
+
+        A thread spinning the executor elsewhere finishes its current callback first (waited
+        for up to ``timeout_sec`` s; past that, a warning names the wait and the nodes go
+        anyway), so no callback of this run meets a destroyed node.
+        """
+        if not self.executor.shutdown(timeout_sec):
+            get_logger("posekit.launch").warning(
+                f"a callback of this run was still running {timeout_sec:g} s after shutdown; "
+                "destroying its nodes anyway"
+            )
         for n in self.nodes:
             n.destroy_node()
         self.context.try_shutdown()

@@ -73,7 +73,8 @@ def runs_callbacks(method: _F) -> _F:
     """Decorator for an executor's spinning methods.
 
     Marks the calling thread as running this executor's callbacks for the call's duration (what
-    ``Client.call`` checks to serve a request instead of deadlocking).
+    ``Client.call`` checks to serve a request instead of deadlocking), and counts it among the
+    threads :meth:`Executor.shutdown` waits for.
     """
 
     @functools.wraps(method)
@@ -81,9 +82,15 @@ def runs_callbacks(method: _F) -> _F:
         if current_executor() is self:  # nested (spin -> spin_once): already marked
             return method(self, *args, **kwargs)
         previous = set_current_executor(self)
+        running = self._running
+        with running:
+            self._threads_running += 1
         try:
             return method(self, *args, **kwargs)
         finally:
+            with running:
+                self._threads_running -= 1
+                running.notify_all()
             set_current_executor(previous)
 
     return cast(_F, wrapper)
@@ -111,6 +118,9 @@ class Executor:
         self._tasks: deque[Task] = deque()
         self._lock = threading.RLock()
         self._is_shutdown = False
+        #: Threads inside a spinning method (spin, spin_once, a worker...), and its condition.
+        self._threads_running = 0
+        self._running = threading.Condition(threading.Lock())
         self._schedule = self._make_schedule()
         #: Where this executor's nodes hand their queued work (see posekit.runtime.inbox).
         self.inbox = Inbox(
@@ -423,7 +433,7 @@ class Executor:
         A blocking call made inside a callback; simulated time never moves meanwhile.
         """
         end = None if timeout_sec is None or timeout_sec < 0 else time.monotonic() + timeout_sec
-        while not future.done() and self._context.ok():
+        while not future.done() and self._context.ok() and not self._is_shutdown:
             if self.inbox.sources:
                 self.inbox.pull_sources(self._PULL_BUDGET)
             work = self._take_ready()
@@ -508,15 +518,24 @@ class Executor:
             self._spin_once_until(timeout_sec, future)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
-        """Stop spinning and drop the nodes."""
-        del timeout_sec
+        """Stop spinning, drop the nodes and wait for the callbacks running now to finish.
+
+        As rclpy: waits up to ``timeout_sec`` s (None or negative: until they finish) for every
+        thread spinning this executor to return (each returns once its current callback
+        does); True when they all did, False on timeout. Called from one of this executor's
+        own callbacks, it does not wait for that callback. A node destroyed after this
+        returned True is never in use by a callback of this executor.
+        """
         self._is_shutdown = True
         for node in list(self._nodes):
             self.remove_node(node)
         with self._lock:
             self._sync_pulled()
         self.wake()
-        return True
+        own = 1 if current_executor() is self else 0
+        timeout = None if timeout_sec is None or timeout_sec < 0 else timeout_sec
+        with self._running:
+            return self._running.wait_for(lambda: self._threads_running <= own, timeout)
 
 
 class SingleThreadedExecutor(Executor):

@@ -28,6 +28,7 @@ Its timers on the driven node clocks sit in the heap of its
 from __future__ import annotations
 
 import math
+import threading
 import time
 from typing import Any
 
@@ -136,6 +137,7 @@ class SimulatedTimeExecutor(Executor):
         self._clock_node: Node | None = None
         self._clock_pub: Any = None
         self._anchor: tuple[float, int] | None = None
+        self._pace_stop = threading.Event()  # set by shutdown(): ends a pacing wait at once
         self._rtf_window: tuple[float, int] | None = None
         self._behind_logged = -math.inf
         #: Simulated seconds per wall second over the last :data:`RTF_WINDOW_S` of a paced
@@ -298,8 +300,8 @@ class SimulatedTimeExecutor(Executor):
             wall0, sim0 = self._anchor
             due = wall0 + (ns - sim0) / 1e9 / self.real_time_factor
             delay = due - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
+            if delay > 0 and self._pace_stop.wait(delay):
+                return  # shut down while waiting: time stays where it is
             self._watch_pace(ns, -delay)
         self._now_ns = ns
         for source in self._time_sources:
@@ -482,7 +484,11 @@ class SimulatedTimeExecutor(Executor):
                 self._advance(nxt)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
-        """Shut down as :meth:`Executor.shutdown`, and destroy the ``/clock`` publisher node."""
+        """Shut down as :meth:`Executor.shutdown`, and destroy the ``/clock`` publisher node.
+
+        A paced run waiting for the wall clock stops waiting at once.
+        """
+        self._pace_stop.set()
         result = super().shutdown(timeout_sec)
         if self._clock_node is not None and self._context.ok():
             self._clock_node.destroy_node()

@@ -4,6 +4,7 @@
 // display_manager.js and the modules in displays/.
 
 import { createDisplayManager, loadDisplayModules } from "./display_manager.js";
+import { newestImageLoader } from "./image_loader.js";
 
 const params = new URLSearchParams(location.search);
 const STALE_S = Number(params.get("stale") || 1.0);          // frames older than this: grey
@@ -27,7 +28,6 @@ const state = {
   lastOdom: null,
   imageTopics: [],
   watched: new Set(),
-  imageUrls: {},
   dirty: true,
   fps: Number(params.get("fps") || 30),
 };
@@ -675,6 +675,16 @@ function updateWatch(force) {
   send({ op: "watch", topics: [...want] });
 }
 
+// The panels' images, newest only (image_loader.js); the info line follows the image shown.
+const panelImages = {};
+for (const target of ["camera", "aruco"]) {
+  panelImages[target] = newestImageLoader($(`${target}-image`), (header) => {
+    debug.imageUpdates[header.topic] = (debug.imageUpdates[header.topic] || 0) + 1;
+    $(`${target}-info`).textContent =
+      `${header.topic}  ${header.width}×${header.height} ${header.encoding}  stamp ${header.stamp.toFixed(3)} s`;
+  });
+}
+
 function onImage(buffer) {
   if (state.paused) return;
   const view = new DataView(buffer);
@@ -683,17 +693,7 @@ function onImage(buffer) {
   const blob = new Blob([new Uint8Array(buffer, 4 + headerLength)], { type: "image/jpeg" });
   if (displays) displays.onImage(header.topic, blob, header);
   const target = isAruco(header.topic) ? "aruco" : (header.topic === $("camera-topic").value ? "camera" : null);
-  if (!target) return;
-  const img = $(`${target}-image`);
-  const url = URL.createObjectURL(blob);
-  img.onload = () => {
-    if (state.imageUrls[target]) URL.revokeObjectURL(state.imageUrls[target]);
-    state.imageUrls[target] = url;
-    debug.imageUpdates[header.topic] = (debug.imageUpdates[header.topic] || 0) + 1;
-  };
-  img.src = url;
-  $(`${target}-info`).textContent =
-    `${header.topic}  ${header.width}×${header.height} ${header.encoding}  stamp ${header.stamp.toFixed(3)} s`;
+  if (target) panelImages[target].show(blob, header);
 }
 
 // ------------------------------------------------------------------------------ start

@@ -2,6 +2,7 @@
 // (pinhole K, width, height) out to the far plane, in the info's header frame (an optical
 // frame: z forward, x right, y down), with the camera's newest image textured on that
 // plane. The image topic is the option's, else paired automatically (pairImageTopic).
+import { newestImageLoader } from "../image_loader.js";
 import { disposeTree } from "./_util.js";
 
 const IMAGE_TYPE = "sensor_msgs/msg/Image";
@@ -61,8 +62,7 @@ export default {
     const img = new Image();
     const texture = new THREE.Texture(img);
     texture.colorSpace = THREE.SRGBColorSpace;
-    let url = null;
-    img.onload = () => {
+    const loader = newestImageLoader(img, () => {
       texture.needsUpdate = true;
       frames += 1;
       imageSize = [img.naturalWidth, img.naturalHeight];
@@ -71,7 +71,7 @@ export default {
       planeMaterial.needsUpdate = true;
       plane.visible = o.show_image;
       ctx.requestRender();
-    };
+    });
     const planeMaterial = new THREE.MeshBasicMaterial({ color: 0x202020, side: THREE.DoubleSide, transparent: true, opacity: o.image_alpha });
     const plane = new THREE.Mesh(new THREE.BufferGeometry(), planeMaterial);
     plane.visible = false;
@@ -107,12 +107,7 @@ export default {
       unwatch = null;
       imageTopic = wanted;
       if (!wanted) return;
-      unwatch = ctx.watchImage(wanted, (blob) => {
-        const next = URL.createObjectURL(blob);
-        if (url) URL.revokeObjectURL(url);
-        url = next;
-        img.src = next;
-      });
+      unwatch = ctx.watchImage(wanted, (blob) => loader.show(blob));
     };
     watch();
     const pairing = setInterval(() => { if (!imageTopic) watch(); }, 1000);
@@ -134,7 +129,7 @@ export default {
       setOptions(next) { o = next; watch(); draw(); },
       dispose() {
         clearInterval(pairing);
-        if (url) URL.revokeObjectURL(url);
+        loader.dispose();
         texture.dispose();
         disposeTree(frameGroup);
       },

@@ -1,5 +1,7 @@
 // Image (RViz2's Image display / rqt_image_view): the newest frame of a sensor_msgs/Image
 // topic in a panel of its own (JPEG from the server's image path, newest only).
+import { newestImageLoader } from "../image_loader.js";
+
 export default {
   name: "Image",
   types: ["sensor_msgs/msg/Image"],
@@ -17,23 +19,18 @@ export default {
     info.className = "image-info";
     info.textContent = "waiting for an image…";
     body.append(img, info);
-    let url = null, frames = 0;
+    let frames = 0;
     const size = (o) => { img.style.width = `${o.width}%`; };
     size(options);
-    ctx.watchImage(topic, (blob, header) => {
-      const next = URL.createObjectURL(blob);
-      img.onload = () => {
-        if (url) URL.revokeObjectURL(url);
-        url = next;
-        frames += 1;
-      };
-      img.src = next;
+    const loader = newestImageLoader(img, (header) => {
+      frames += 1;
       info.textContent = `${header.width}×${header.height} ${header.encoding}  stamp ${header.stamp.toFixed(3)} s`;
     });
+    ctx.watchImage(topic, (blob, header) => loader.show(blob, header));
     return {
       update() {},
       setOptions: size,
-      dispose() { if (url) URL.revokeObjectURL(url); },
+      dispose() { loader.dispose(); },
       info: () => ({ frames, width: img.naturalWidth, height: img.naturalHeight }),
     };
   },
