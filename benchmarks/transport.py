@@ -1,8 +1,9 @@
 """Messages between two processes over Zenoh and over DDS on loopback: posekit against the
 raw libraries it is built on, in interleaved rounds of the same run.
 
-Run: ``.venv/bin/python benchmarks/transport.py`` (every transport and message, 3 rounds,
-about 4 minutes); ``--transport zenoh`` or ``dds``, ``--messages tf`` or ``image``,
+Run: ``.venv/bin/python benchmarks/transport.py`` (every transport and message, 7 rounds,
+about 12 minutes; with fewer rounds two runs of identical code differed by up to 1.3x on a
+2-core VM, with 7 they agreed within 7 %, see docs/performance.md); ``--transport zenoh`` or ``dds``, ``--messages tf`` or ``image``,
 ``--rounds N``, ``--quick`` (one short round); ``--references`` adds, on DDS, the real ROS 2
 rclpy (Fast DDS, needs ``make ros2-ref``) and cyclonedds' own Python API. Figures are
 recorded in docs/performance.md.
@@ -613,7 +614,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--transport", choices=("zenoh", "dds", "all"), default="all")
     parser.add_argument("--messages", default="tf,image", help="comma-separated: tf,image")
-    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--rounds", type=int, default=7)
     parser.add_argument("--quick", action="store_true", help="one round of short runs")
     parser.add_argument("--no-transport-mode", action="store_true",
                         help="skip the transport-layer-alone mode")
