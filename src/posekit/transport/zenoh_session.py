@@ -16,10 +16,12 @@ zenoh-ext AdvancedPublishers with a cache of ``depth`` samples, and TRANSIENT_LO
 subscriptions AdvancedSubscribers with history and late-publisher detection, as rmw_zenoh
 does. Every entity is announced by an rmw_zenoh liveliness token.
 
-Received samples that do not decode (no or malformed attachment, type-hash mismatch, bad
-CDR) are dropped and counted in :attr:`WireSubscription.dropped`; each subscription logs at
-most one line per second per reason (with how many were suppressed), whatever GIDs or key
-expressions the senders use, and tracks sequence numbers for at most
+A subscription listens on its exact data key, type hash included (rmw_zenoh's key), so a
+publisher of another definition of the type never reaches it; the graph names such a
+publisher in one warning. Received samples that do not decode (no or malformed
+attachment, bad CDR) are dropped and counted in :attr:`WireSubscription.dropped`; each
+subscription logs at most one line per second per reason (with how many were suppressed),
+whatever GIDs the senders use, and tracks sequence numbers for at most
 :data:`MAX_TRACKED_PUBLISHERS` publishers. The graph keeps at most
 :data:`~posekit.transport.zenoh_wire.MAX_GRAPH_TOKENS` liveliness tokens. Exceptions from
 user callbacks are logged, never propagated into zenoh's threads.
@@ -59,14 +61,12 @@ from posekit.transport.zenoh_wire import (
     WireFormatError,
     WireQoS,
     data_key,
-    dds_type_name,
     decode_attachment,
     encode_attachment,
     encode_attachment_legacy,
     endpoint_token,
     entity_gid,
     node_token,
-    topic_chunk,
     type_hash,
 )
 
@@ -605,8 +605,11 @@ class WirePublisher:
 class WireSubscription:
     """Receives a topic's samples, validates and decodes them; announced by an ``MS`` token.
 
-    Subscribes with a wildcard type-hash chunk so that publishers of another definition of
-    the type are noticed (dropped with a logged reason) instead of silently missing.
+    Subscribes on the exact data key, type hash included, as rmw_zenoh does: a publisher of
+    another definition of the type (another hash) never reaches it. Such a publisher is
+    noticed on the graph instead, with one logged line, rather than silently missing (a
+    wildcard hash chunk would also catch its samples, but costs every sample zenoh's key
+    matching: about 1.5 us of CPU per message, see docs/performance.md).
     """
 
     def __init__(
@@ -631,7 +634,6 @@ class WireSubscription:
         self.qos = qos
         self.type_hash = type_hash(ros_type)
         self.key = data_key(owner.domain_id, topic, ros_type)
-        self._match_key = f"{owner.domain_id}/{topic_chunk(topic)}/{dds_type_name(ros_type)}/*"
         self._callback: Callable[..., None] = callback
         #: ``callback(msg)`` instead of ``callback(msg, attachment)``.
         self._message_only = message_only
@@ -639,7 +641,7 @@ class WireSubscription:
         # Keyed by posekit's reason, never by what the sender chose (GID, key expression):
         # at most one line per second per reason, with the count of those suppressed.
         self._warn = RateLimitedLog(lambda line: warn_fn(f"dropping samples on {topic}: {line}"))
-        #: Dropped samples by reason ("attachment", "type_hash", "cdr", "callback").
+        #: Dropped samples by reason ("attachment", "cdr", "callback").
         self.dropped: collections.Counter[str] = collections.Counter()
         self.received = 0
         #: Sequence-number gaps seen per publisher GID (ROS's MESSAGE_LOST), for the
@@ -691,7 +693,7 @@ class WireSubscription:
             if qos.transient_local:
                 self._sub: Any = zext.declare_advanced_subscriber(
                     session,
-                    self._match_key,
+                    self.key,
                     self._on_sample,
                     allowed_origin=origin,
                     history=zext.HistoryConfig(
@@ -707,7 +709,7 @@ class WireSubscription:
             else:
                 # A channel drained by our own thread rather than a callback: see _drain().
                 self._sub = session.declare_subscriber(
-                    self._match_key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY),
+                    self.key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY),
                     allowed_origin=origin,
                 )
                 self.pullable = True
@@ -720,6 +722,23 @@ class WireSubscription:
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
             raise ZenohSessionError(f"cannot subscribe to {self.key}: {exc}") from exc
+        self._mismatch_log = RateLimitedLog(warn_fn)
+        self._stop_watching = owner.graph.watch_publishers(topic, self._on_publisher)
+
+    def _on_publisher(self, info: TokenInfo) -> None:
+        """A publisher announced on our topic: one warning if its samples cannot reach us."""
+        if (info.ros_type, info.type_hash) == (self.ros_type, self.type_hash) or self._destroyed:
+            return
+        # two reasons (another definition, another type), each rate-limited on its own
+        if info.ros_type == self.ros_type:
+            reason = f"a publisher of another definition of {self.ros_type} on {self.topic}"
+            why = (f"announces type hash {info.type_hash}, this subscription's is "
+                   f"{self.type_hash}: its messages do not reach it")
+        else:
+            reason = f"a publisher of another type on {self.topic}"
+            why = (f"publishes {info.ros_type}, this subscription takes {self.ros_type}: its "
+                   "messages do not reach it")
+        self._mismatch_log(reason, f"{info.node_fqn[:160]} {why[:300]}")
 
     def _drain(self) -> None:
         # Everything that arrived since the last wake-up is handled in one go (zenoh's
@@ -927,24 +946,6 @@ class WireSubscription:
         except Exception as exc:  # last line of defence: never raise into zenoh
             self._drop("internal", "?", f"unexpected {type(exc).__name__}: {exc}")
 
-    def _other_key_matches(self, sample: zenoh.Sample, key: str) -> bool:
-        """Whether a sample on ``key`` (not our key expression) carries our type hash.
-
-        A PUT with another type hash is dropped with a warning; a DELETE is ignored.
-        """
-        if sample.kind != _PUT:
-            return False
-        received_hash = key.rpartition("/")[2]
-        if received_hash != self.type_hash:
-            self._drop(
-                "type_hash",
-                key,
-                f"type hash {received_hash} differs from ours ({self.type_hash}) for "
-                f"{self.ros_type}: the publisher uses another definition",
-            )
-            return False
-        return True
-
     def _drop_put(self, sample: zenoh.Sample, reason: str, source: str, detail: str) -> None:
         """:meth:`_drop` for a PUT; a DELETE (no attachment, no payload) is ignored silently."""
         if sample.kind == _PUT:
@@ -954,18 +955,15 @@ class WireSubscription:
         # Hot path (one call per sample): the checks a valid sample passes come first and
         # cost one comparison each; the sample kind is looked at only when one fails (a
         # DELETE has no attachment and no payload, and is ignored without a word).
-        key = str(sample.key_expr)
-        # the wildcard hash chunk matched another definition of the type
-        if key != self.key and not self._other_key_matches(sample, key):
-            return
         raw_att = sample.attachment
         if raw_att is None:
-            self._drop_put(sample, "attachment", key, "no attachment (rmw_zenoh requires one)")
+            self._drop_put(sample, "attachment", self.key,
+                           "no attachment (rmw_zenoh requires one)")
             return
         try:
             att = decode_attachment(raw_att.to_bytes())
         except WireFormatError as exc:
-            self._drop_put(sample, "attachment", key, str(exc))
+            self._drop_put(sample, "attachment", self.key, str(exc))
             return
         try:
             payload = sample.payload.to_bytes()
@@ -1005,6 +1003,7 @@ class WireSubscription:
             return
         self._destroyed = True
         _quiet(self._token.undeclare)
+        self._stop_watching()
         with self._mode:
             inbox, self._pulled_by = self._pulled_by, None
             if inbox is not None:
@@ -1238,30 +1237,64 @@ class ZenohGraph:
     def __init__(self, session: zenoh.Session, domain_id: int) -> None:
         self.cache = GraphCache()
         self._cond = threading.Condition()
+        #: topic -> callbacks told of each publisher announced on it (watch_publishers)
+        self._publisher_watchers: dict[str, list[Callable[[TokenInfo], None]]] = {}
         self._sub = session.liveliness().declare_subscriber(
             f"{LIVELINESS_PREFIX}/{int(domain_id)}/**", self._on_token, history=True
         )
 
     def _on_token(self, sample: zenoh.Sample) -> None:
         key = str(sample.key_expr)
+        if sample.kind == zenoh.SampleKind.PUT:
+            self._add(key)
+            return
         with self._cond:
-            if sample.kind == zenoh.SampleKind.PUT:
-                self.cache.add(key)
-            else:
-                self.cache.remove(key)
+            self.cache.remove(key)
             self._cond.notify_all()
+
+    def _add(self, keyexpr: str) -> None:
+        with self._cond:
+            info = self.cache.add(keyexpr)
+            self._cond.notify_all()
+            watchers = (
+                list(self._publisher_watchers.get(info.topic or "", ()))
+                if info is not None and info.kind == EntityKind.PUBLISHER else []
+            )
+        for watcher in watchers:  # outside the lock: a watcher may log
+            assert info is not None
+            watcher(info)
 
     def add_remote(self, keyexpr: str) -> None:
         """Record a token learnt from a liveliness query."""
-        with self._cond:
-            self.cache.add(keyexpr)
-            self._cond.notify_all()
+        self._add(keyexpr)
 
     def add_local(self, keyexpr: str) -> None:
         """Record one of this session's own tokens now (liveliness echoes it later)."""
+        self._add(keyexpr)
+
+    def watch_publishers(
+        self, topic: str, callback: Callable[[TokenInfo], None]
+    ) -> Callable[[], None]:
+        """Call ``callback(info)`` for each publisher announced on ``topic``.
+
+        Those known now first, then each new token (on zenoh's thread; a token seen again is
+        reported again). Returns the function that stops the calls.
+        """
         with self._cond:
-            self.cache.add(keyexpr)
-            self._cond.notify_all()
+            self._publisher_watchers.setdefault(topic, []).append(callback)
+            known = self.cache.endpoints(topic, EntityKind.PUBLISHER)
+        for info in known:
+            callback(info)
+
+        def stop() -> None:
+            with self._cond:
+                watchers = self._publisher_watchers.get(topic, [])
+                if callback in watchers:
+                    watchers.remove(callback)
+                if not watchers:
+                    self._publisher_watchers.pop(topic, None)
+
+        return stop
 
     def remove_local(self, keyexpr: str) -> None:
         """Forget one of this session's own tokens now."""
