@@ -3,10 +3,10 @@ raw libraries it is built on, in interleaved rounds of the same run.
 
 Run: ``.venv/bin/python benchmarks/transport.py`` (every transport and message, 7 rounds,
 about 12 minutes; with fewer rounds two runs of identical code differed by up to 1.3x on a
-2-core VM, with 7 they agreed within 7 %, see docs/performance.md); ``--transport zenoh`` or ``dds``, ``--messages tf`` or ``image``,
-``--rounds N``, ``--quick`` (one short round); ``--references`` adds, on DDS, the real ROS 2
-rclpy (Fast DDS, needs ``make ros2-ref``) and cyclonedds' own Python API. Figures are
-recorded in docs/performance.md.
+2-core VM, with 7 they agreed within 7 %, see docs/performance.md); ``--transport zenoh``
+or ``dds``, ``--messages tf`` or ``image``, ``--rounds N``, ``--quick`` (one short round);
+``--references`` adds, on DDS, the real ROS 2 rclpy (Fast DDS, needs ``make ros2-ref``) and
+cyclonedds' own Python API. Figures are recorded in docs/performance.md.
 
 Messages: ``tf``, a ``geometry_msgs/TransformStamped`` (100 B of CDR), and ``image``, a
 ``sensor_msgs/Image`` 128x128 rgb8 (49,152 B of pixels, 49,212 B of CDR). Both sides use
