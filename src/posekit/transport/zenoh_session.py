@@ -638,7 +638,7 @@ class WireSubscription:
         #: ``callback(msg)`` instead of ``callback(msg, attachment)``.
         self._message_only = message_only
         warn_fn = warn or _log.warning
-        # Keyed by posekit's reason, never by what the sender chose (GID, key expression):
+        # Keyed by posekit's reason, never by what the sender chose (GID, type hash):
         # at most one line per second per reason, with the count of those suppressed.
         self._warn = RateLimitedLog(lambda line: warn_fn(f"dropping samples on {topic}: {line}"))
         #: Dropped samples by reason ("attachment", "cdr", "callback").
