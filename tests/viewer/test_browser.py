@@ -589,7 +589,9 @@ def test_dynamic_detector_scenario_shows_camera_detections_and_marker_frames(
             timeout=10.0, what="aruco_marker frames",
         )
         assert markers <= {f"aruco_marker_{i}" for i in (2, 4, 5)}
-        width = page.eval_on_selector("#aruco-image", "img => img.naturalWidth")
+        # (0 while the next frame loads: read it between two)
+        width = wait_for(lambda: page.eval_on_selector("#aruco-image", "img => img.naturalWidth"),
+                         what="a decoded aruco_detection_image")
         assert width == 1280
         _camera_frustum_and_detections(page, server)
     finally:

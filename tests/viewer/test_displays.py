@@ -327,13 +327,16 @@ def test_image_display_shows_the_published_pixels_in_its_panel(
     h, w = support.CAMERA_SIZE
     wait_for(lambda: (i := info(page, "Image", "/oak/rgb/color")) and i["frames"] >= 2
              and i["width"] == w and i["height"] == h, what="two frames in the panel")
-    sample = page.eval_on_selector(panel, """img => {
+    # The panel swaps in a new frame ~15 times a second, and while the next one loads the
+    # img has no natural size (chromium): read the pixels back once one is decoded.
+    sample = wait_for(lambda: page.eval_on_selector(panel, """img => {
+        if (!img.complete || img.naturalWidth === 0) return null;
         const c = document.createElement('canvas'); c.width = img.naturalWidth;
         c.height = img.naturalHeight; const g = c.getContext('2d'); g.drawImage(img, 0, 0);
         const d = g.getImageData(0, 0, c.width, c.height).data; const px = [];
         for (let x = 0; x < c.width; x += 7) px.push([d[4 * (5 * c.width + x)],
             d[4 * (5 * c.width + x) + 1], d[4 * (5 * c.width + x) + 2]]);
-        return px; }""")
+        return px; }"""), what="a decoded frame in the panel")
     # Most of the row is the camera colour (a white bar moves across it).
     median = np.median(np.array(sample), axis=0)
     assert np.allclose(median, support.CAMERA_RGB, atol=12), median

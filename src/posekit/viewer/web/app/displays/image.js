@@ -19,11 +19,13 @@ export default {
     info.className = "image-info";
     info.textContent = "waiting for an image…";
     body.append(img, info);
-    let frames = 0;
+    let frames = 0, width = 0, height = 0;  // of the frame last shown (stable while the next loads)
     const size = (o) => { img.style.width = `${o.width}%`; };
     size(options);
     const loader = newestImageLoader(img, (header) => {
       frames += 1;
+      width = img.naturalWidth;
+      height = img.naturalHeight;
       info.textContent = `${header.width}×${header.height} ${header.encoding}  stamp ${header.stamp.toFixed(3)} s`;
     });
     ctx.watchImage(topic, (blob, header) => loader.show(blob, header));
@@ -31,7 +33,7 @@ export default {
       update() {},
       setOptions: size,
       dispose() { loader.dispose(); },
-      info: () => ({ frames, width: img.naturalWidth, height: img.naturalHeight }),
+      info: () => ({ frames, width, height }),
     };
   },
 };
