@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 
 import pytest
 
@@ -322,6 +323,92 @@ def test_message_callbacks_run_alike_through_both_paths(ctx, logs, path: str) ->
     assert errors[0].startswith("Exception in subscription callback on '/t'")
     assert "ValueError: bad message" in errors[0]
     ex.shutdown()
+
+
+def _burst(ctx: Context, count: int, on_msg: Callable[[int], None],
+           depth: int = 1000) -> tuple[Node, SingleThreadedExecutor]:
+    """A node with ``count`` messages queued on /burst for ``on_msg(index)``, in an executor."""
+    node = Node("burst", context=ctx)
+    node.create_subscription(String, "burst", lambda m: on_msg(int(m.data)), depth)
+    pub = node.create_publisher(String, "burst", depth)
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(node)
+    for i in range(count):
+        pub.publish(String(data=str(i)))
+    return node, ex
+
+
+def _run(ex: SingleThreadedExecutor, how: str) -> None:
+    if how == "spin":
+        ex.spin()  # until a callback shuts the executor down
+    else:
+        ex.spin_some()
+
+
+@pytest.mark.parametrize("how", ["spin", "spin_some"])
+def test_queued_messages_yield_to_a_timer_as_it_comes_due(ctx, how: str) -> None:
+    # Queued messages run back to back (as rclpy runs what one wait found ready), but a
+    # timer coming due runs after at most the one message in progress. Each message keeps
+    # the thread busy for 1 ms of wall time and the timer's period is 10 ms, so at most
+    # 10 + 1 messages start between two ticks (a slower machine only lowers the count); a
+    # batch that missed the timer would run 64.
+    events: list[str] = []
+    count = 150
+    ex: list[SingleThreadedExecutor] = []
+
+    def on_msg(index: int) -> None:
+        events.append("m")
+        end = time.perf_counter() + 0.001
+        while time.perf_counter() < end:
+            pass
+        if index == count - 1 and how == "spin":
+            ex[0].shutdown()
+
+    node, executor = _burst(ctx, count, on_msg)
+    ex.append(executor)
+    node.create_timer(0.010, lambda: events.append("T"))
+    _run(executor, how)
+    assert events.count("m") == count
+    runs = "".join(events).split("T")
+    assert len(runs) >= 4, "the timer ran during the burst"
+    assert max(len(r) for r in runs[:-1]) <= 12, [len(r) for r in runs]
+
+
+@pytest.mark.parametrize("how", ["spin", "spin_some"])
+def test_shutdown_in_a_callback_stops_the_messages_queued_behind_it(ctx, how: str) -> None:
+    # (shutdown removes the nodes: what they queued is stale at once)
+    ran: list[int] = []
+    ex: list[SingleThreadedExecutor] = []
+
+    def on_msg(index: int) -> None:
+        ran.append(index)
+        if index == 4:
+            ex[0].shutdown()
+
+    _, executor = _burst(ctx, 50, on_msg)
+    ex.append(executor)
+    _run(executor, how)
+    assert ran == [0, 1, 2, 3, 4]
+
+
+@pytest.mark.parametrize("how", ["spin", "spin_some"])
+def test_a_task_made_by_a_callback_runs_before_the_next_queued_message(ctx, how: str) -> None:
+    # Tasks come first at every look (rclpy's executor yields them before it waits again,
+    # and takes one message of a subscription per wait).
+    order: list[str] = []
+    ex: list[SingleThreadedExecutor] = []
+
+    def on_msg(index: int) -> None:
+        order.append(f"m{index}")
+        if index == 1:  # in the middle of the queued messages
+            ex[0].create_task(lambda: order.append("task"))
+        if index == 3 and how == "spin":
+            ex[0].shutdown()
+
+    _, executor = _burst(ctx, 4, on_msg)
+    ex.append(executor)
+    _run(executor, how)
+    assert order == ["m0", "m1", "task", "m2", "m3"]
 
 
 def test_the_context_holds_executors_and_bound_callbacks_weakly() -> None:

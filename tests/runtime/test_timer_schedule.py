@@ -154,3 +154,25 @@ def test_wall_wait_counts_only_wall_clock_timers(ctx: Context) -> None:
     assert 0.0 < wait <= 10.0
     wall_timer.cancel()
     assert schedule.wall_wait_s() is None
+
+
+def test_quiet_window_ends_at_the_next_wall_timer_and_at_once_with_sim_time(ctx: Context) -> None:
+    # What a batch of queued messages may run through without claiming a timer: until the
+    # next wall-clock timer is due; not at all while a timer runs on an active ROS clock
+    # (a /clock message may make it due at any moment); forever without timers.
+    node = _sim_node(ctx, "q")
+    steady = Clock(clock_type=ClockType.STEADY_TIME)
+    wall_timer = node.create_timer(10.0, lambda: None, clock=steady)
+    schedule = TimerSchedule()
+    assert schedule.quiet_wall_s() is None
+    schedule.set_timers([wall_timer])
+    quiet = schedule.quiet_wall_s()
+    assert quiet is not None
+    assert 9.0 < quiet <= 10.0
+    sim_timer = node.create_timer(10.0, lambda: None)
+    schedule.set_timers([wall_timer, sim_timer])
+    assert schedule.quiet_wall_s() == 0.0
+    sim_timer.cancel()
+    again = schedule.quiet_wall_s()
+    assert again is not None
+    assert 9.0 < again <= quiet

@@ -183,10 +183,23 @@ class TimerSchedule:
 
         Those on an active ROS clock wake up with the /clock messages that move them.
         """
+        return self._wall_s_until_due(sim_time_due_now=False)
+
+    def quiet_wall_s(self) -> float | None:
+        """Wall seconds during which no timer comes due (None: no timer ever does).
+
+        0.0 when one is due now or runs on an active ROS clock: a /clock message, which
+        nothing here sees, may make it due at any moment.
+        """
+        return self._wall_s_until_due(sim_time_due_now=True)
+
+    def _wall_s_until_due(self, *, sim_time_due_now: bool) -> float | None:
         best: int | None = None
         for timer in self._timers:
             clock = timer.clock
             if isinstance(clock, ROSClock) and clock.ros_time_is_active:
+                if sim_time_due_now and not (timer.is_canceled() or timer.destroyed):
+                    return 0.0
                 continue
             remaining = timer.time_until_next_call()
             if remaining is not None and (best is None or remaining < best):
