@@ -26,6 +26,11 @@ Modes, each a publisher process and a subscriber process of the same implementat
   message classes, queue, executor thread, callback).
 * ``transport``: posekit's transport layer alone, the callback run where the transport
   delivers (no executor): the same receive path as ``posekit`` up to the queue.
+* with ``--hop`` on Zenoh: ``hop``, raw but received as an executor receives: zenoh's thread
+  queues the sample in a channel and a Python thread blocked in ``recv()`` takes, decodes
+  and calls back (the thread hand-off every executor pays, rclpy's on rmw_zenoh too: it
+  waits in ``rcl_wait`` for the middleware's thread). ``posekit / hop`` is the cost of the
+  rest.
 * with ``--references`` on DDS: ``rclpy`` (the real Jazzy rclpy on rmw_fastrtps_cpp) and
   ``cyclone`` (cyclonedds' own Python API and serializer, reader taken in a WaitSet loop).
 
@@ -211,8 +216,8 @@ def _posekit_endpoints(transport: str, mode: str, message: str, role: str,
     return publish, None, ctx.shutdown
 
 
-def _zenoh_raw_endpoints(message: str, role: str, endpoint: str,
-                         on_stamp: OnStamp | None) -> tuple[Publish | None, Spin | None, Close]:
+def _zenoh_raw_endpoints(message: str, role: str, endpoint: str, on_stamp: OnStamp | None,
+                         *, hop: bool = False) -> tuple[Publish | None, Spin | None, Close]:
     import itertools
 
     import zenoh
@@ -237,8 +242,24 @@ def _zenoh_raw_endpoints(message: str, role: str, endpoint: str,
             stamp = deserialize(sample.payload.to_bytes(), type_name).header.stamp
             on_stamp(stamp.sec, stamp.nanosec)
 
-        sub = session.declare_subscriber(key, callback)
-        return None, _loop(time.sleep), lambda: (sub.undeclare(), session.close())[1]
+        if not hop:
+            sub = session.declare_subscriber(key, callback)
+            return None, _loop(time.sleep), lambda: (sub.undeclare(), session.close())[1]
+        # the hand-off an executor pays: zenoh's thread queues, this thread takes and decodes
+        channel = session.declare_subscriber(key, zenoh.handlers.FifoChannel(1 << 16))
+
+        def serve(done: Callable[[], bool]) -> None:
+            def watch() -> None:
+                while not done():
+                    time.sleep(0.02)
+                # a DELETE for this session only ends the recv() below (posekit's poke)
+                session.delete(key, allowed_destination=zenoh.Locality.SESSION_LOCAL)
+
+            threading.Thread(target=watch, daemon=True).start()
+            while (sample := channel.recv()).kind == zenoh.SampleKind.PUT:
+                callback(sample)
+
+        return None, serve, lambda: (channel.undeclare(), session.close())[1]
     pub = session.declare_publisher(key, reliability=zenoh.Reliability.RELIABLE,
                                     congestion_control=zenoh.CongestionControl.BLOCK)
     msg, time_cls = _rosbags_message(message)
@@ -394,7 +415,7 @@ def _endpoints(transport: str, mode: str, message: str, role: str, endpoint: str
         return _rclpy_endpoints(message, role, on_stamp)
     if transport == "dds":
         return _cyclone_endpoints(mode, message, role, on_stamp)
-    return _zenoh_raw_endpoints(message, role, endpoint, on_stamp)
+    return _zenoh_raw_endpoints(message, role, endpoint, on_stamp, hop=mode == "hop")
 
 
 def _wait_matched(count: Callable[[], int]) -> None:
@@ -597,15 +618,17 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
               f"{_spread(col(mode, 'latency', 'p50', 1e-3), '.0f'):>24}"
               f"{_spread(col(mode, 'latency', 'p99', 1e-3), '.0f'):>24}"
               f"{_spread(col(mode, 'latency', 'switches'), '.2f'):>22}{short}")
-    for mode in [m for m in modes if m not in ("raw",)]:
-        both = [r for r in rounds if mode in r and "raw" in r]
-        tput = [r["raw"]["throughput"]["rate"] / r[mode]["throughput"]["rate"] for r in both]
-        cpu_ratio = [_cpu_per_msg(r[mode]) / _cpu_per_msg(r["raw"]) for r in both]
-        p50 = [r[mode]["latency"]["p50"] / r["raw"]["latency"]["p50"] for r in both]
-        best_t = (max(col("raw", "throughput", "rate"))
+    pairs = [(mode, "raw") for mode in modes if mode != "raw"]
+    pairs += [("posekit", "hop")] if "hop" in modes else []
+    for mode, base in pairs:
+        both = [r for r in rounds if mode in r and base in r]
+        tput = [r[base]["throughput"]["rate"] / r[mode]["throughput"]["rate"] for r in both]
+        cpu_ratio = [_cpu_per_msg(r[mode]) / _cpu_per_msg(r[base]) for r in both]
+        p50 = [r[mode]["latency"]["p50"] / r[base]["latency"]["p50"] for r in both]
+        best_t = (max(col(base, "throughput", "rate"))
                   / max(col(mode, "throughput", "rate")))
-        best_l = min(col(mode, "latency", "p50")) / min(col("raw", "latency", "p50"))
-        print(f"  {mode} / raw, per round: time per message {_spread(tput, '.2f')}, median "
+        best_l = min(col(mode, "latency", "p50")) / min(col(base, "latency", "p50"))
+        print(f"  {mode} / {base}, per round: time per message {_spread(tput, '.2f')}, median "
               f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}; "
               f"receive CPU per message {_spread(cpu_ratio, '.2f')}")
 
@@ -623,6 +646,8 @@ def main() -> None:
     parser.add_argument("--before", metavar="SRC",
                         help="add mode 'before': posekit imported from SRC, another checkout's "
                              "src directory (e.g. git worktree add /tmp/before <commit>)")
+    parser.add_argument("--hop", action="store_true",
+                        help="Zenoh: add mode 'hop', raw with the executor's thread hand-off")
     parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -646,6 +671,7 @@ def main() -> None:
     for transport in transports:
         modes = ["raw", "posekit"] + ([] if args.no_transport_mode else ["transport"])
         modes += ["before"] if args.before else []
+        modes += ["hop"] if args.hop and transport == "zenoh" else []
         if args.references and transport == "dds":
             modes += ["cyclone", "rclpy"]
         for message in messages:
