@@ -68,6 +68,8 @@ from collections.abc import Callable
 from typing import Any
 
 LATENCY_RATE_HZ = 1000.0
+#: The latency publisher spins (rather than sleeps) for this long before each message.
+PACING_SPIN_S = 0.0003
 IDLE_END_S = 0.6
 #: The first 1/WARM_UP_SHARE of the latency phase's messages are not counted.
 WARM_UP_SHARE = 20
@@ -419,8 +421,10 @@ def _endpoints(transport: str, mode: str, message: str, role: str, endpoint: str
 
 
 def _wait_matched(count: Callable[[], int]) -> None:
+    """Until ``count()`` reaches the subscribers the parent started (BENCH_SUBSCRIBERS)."""
+    expected = int(os.environ.get("BENCH_SUBSCRIBERS", "1"))
     deadline = time.monotonic() + 15
-    while count() < 1 and time.monotonic() < deadline:
+    while count() < expected and time.monotonic() < deadline:
         time.sleep(0.05)
     time.sleep(0.5)  # let reliable delivery settle (the peers' locators, links)
 
@@ -504,7 +508,12 @@ def child_pub(transport: str, mode: str, message: str, endpoint: str, phase: str
         for _ in range(count):
             publish()
             next_at += period
-            while time.perf_counter() < next_at:  # sub-ms pacing: sleep is too coarse
+            # sleep most of the period (the cores stay free for the receivers), then spin
+            # the rest: a sleep alone overshoots by up to 0.1 ms here
+            ahead = next_at - time.perf_counter() - PACING_SPIN_S
+            if ahead > 0:
+                time.sleep(ahead)
+            while time.perf_counter() < next_at:
                 pass
     print(json.dumps({"send_cpu_us": 1e6 * cpu / count}), flush=True)
     # Stay connected until the subscriber is done (the parent closes our stdin then):
@@ -522,14 +531,29 @@ def run_pair(transport: str, mode: str, message: str, phase: str, count: int,
     """One publisher process and one subscriber process of ``mode``: the subscriber's
     figures plus the publisher's CPU per message. Mode ``before`` is ``posekit`` importing
     posekit from ``before_src`` (another checkout's ``src``)."""
+    return run_group(transport, [mode], mode, message, phase, count, domain_id,
+                     before_src)[mode]
+
+
+def run_group(transport: str, sub_modes: list[str], pub_mode: str, message: str, phase: str,
+              count: int, domain_id: int, before_src: str | None = None
+              ) -> dict[str, dict[str, Any]]:
+    """A subscriber process per mode of ``sub_modes`` (started in that order), all receiving
+    the messages of one publisher process of ``pub_mode``: each subscriber's figures plus the
+    publisher's CPU per message."""
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(("ZENOH_", "ROS_", "RMW_", "POSEKIT_", "CYCLONEDDS_"))}
     env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-               RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONUNBUFFERED="1")
-    if mode == "before" and before_src:
-        env["PYTHONPATH"] = os.path.abspath(before_src)
-    python = os.path.join(ROS2_VENV, "bin", "python") if mode == "rclpy" else sys.executable
-    me = [python, os.path.abspath(__file__), "--child"]
+               RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONUNBUFFERED="1",
+               BENCH_SUBSCRIBERS=str(len(sub_modes)))
+
+    def command(mode: str, *args: str) -> tuple[list[str], dict[str, str]]:
+        python = os.path.join(ROS2_VENV, "bin", "python") if mode == "rclpy" else sys.executable
+        own = dict(env)
+        if mode == "before" and before_src:
+            own["PYTHONPATH"] = os.path.abspath(before_src)
+        return [python, os.path.abspath(__file__), "--child", *args], own
+
     router = None
     endpoint = "-"
     if transport == "zenoh":
@@ -538,42 +562,48 @@ def run_pair(transport: str, mode: str, message: str, phase: str, count: int,
         endpoint = f"tcp/127.0.0.1:{free_port()}"
         router = open_router(endpoint)  # the role rmw_zenohd plays
         env.update(POSEKIT_ZENOH_ROUTER=endpoint)
+    subs: dict[str, subprocess.Popen[str]] = {}
+    pub = None
     try:
-        sub = subprocess.Popen([*me, "sub", transport, mode, message, endpoint], env=env,
-                               stdout=subprocess.PIPE, text=True)
-        pub = None
-        try:
+        for mode in sub_modes:
+            argv, own_env = command(mode, "sub", transport, mode, message, endpoint)
+            subs[mode] = sub = subprocess.Popen(argv, env=own_env, stdout=subprocess.PIPE,
+                                                text=True)
             assert sub.stdout is not None
             if sub.stdout.readline().strip() != "ready":
                 raise RuntimeError(f"{transport} {mode} subscriber did not start")
-            pub = subprocess.Popen(
-                [*me, "pub", transport, mode, message, endpoint, phase, str(count)],
-                env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
-            assert pub.stdin is not None
-            assert pub.stdout is not None
-            # the publisher's figures once it has sent everything, the subscriber's once
-            # the stream went idle; then the publisher may disconnect
-            give_up = threading.Timer(300, lambda: [p.kill() for p in (pub, sub) if p])
-            give_up.start()
-            try:
-                pub_line = pub.stdout.readline()
-                line = sub.stdout.readline()
-                pub.stdin.close()
-                pub.wait(timeout=60)
-                sub.wait(timeout=60)
-            finally:
-                give_up.cancel()
-            if not pub_line or not line:
-                raise RuntimeError(f"{transport} {mode}: a child ended without its figures")
-            result = dict(json.loads(line))
-            result.update(json.loads(pub_line))
-            return result
+        argv, own_env = command(pub_mode, "pub", transport, pub_mode, message, endpoint, phase,
+                                str(count))
+        pub = subprocess.Popen(argv, env=own_env, stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, text=True)
+        assert pub.stdin is not None
+        assert pub.stdout is not None
+        # the publisher's figures once it has sent everything, the subscribers' once the
+        # stream went idle; then the publisher may disconnect
+        procs = [pub, *subs.values()]
+        give_up = threading.Timer(300, lambda: [p.kill() for p in procs])
+        give_up.start()
+        try:
+            pub_line = pub.stdout.readline()
+            lines = {mode: sub.stdout.readline() for mode, sub in subs.items()
+                     if sub.stdout is not None}
+            pub.stdin.close()
+            for proc in procs:
+                proc.wait(timeout=60)
         finally:
-            for proc in (pub, sub):
-                if proc is not None and proc.poll() is None:
-                    proc.kill()
-                    proc.wait()
+            give_up.cancel()
+        if not pub_line or not all(lines.values()):
+            raise RuntimeError(f"{transport} {sub_modes}: a child ended without its figures")
+        results = {}
+        for mode, line in lines.items():
+            results[mode] = dict(json.loads(line))
+            results[mode].update(json.loads(pub_line))
+        return results
     finally:
+        for proc in [pub, *subs.values()]:
+            if proc is not None and proc.poll() is None:
+                proc.kill()
+                proc.wait()
         if router is not None:
             router.close()
 
@@ -648,6 +678,9 @@ def main() -> None:
                              "src directory (e.g. git worktree add /tmp/before <commit>)")
     parser.add_argument("--hop", action="store_true",
                         help="Zenoh: add mode 'hop', raw with the executor's thread hand-off")
+    parser.add_argument("--together", action="store_true",
+                        help="latency: every mode's subscriber receives one raw publisher's "
+                             "messages at the same time (paired in time, not in turn)")
     parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -680,7 +713,15 @@ def main() -> None:
             for i in range(rounds_n):
                 order = modes if i % 2 == 0 else modes[::-1]
                 this: dict[str, dict[str, dict[str, Any]]] = {m: {} for m in order}
+                if args.together:  # every mode's subscriber on the same messages at once
+                    domain = 180 + (domain - 179) % 50
+                    group = run_group(transport, order, "raw", message, "latency", sizes[1],
+                                      domain, args.before)
+                    for mode in order:
+                        this[mode]["latency"] = group[mode]
                 for phase, n in (("throughput", sizes[0]), ("latency", sizes[1])):
+                    if phase == "latency" and args.together:
+                        continue
                     for mode in order:
                         if mode == "rclpy" and phase == "throughput":
                             n = min(n, RCLPY_BURST)
