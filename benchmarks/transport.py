@@ -6,7 +6,8 @@ about 12 minutes; with fewer rounds two runs of identical code differed by up to
 2-core VM, with 7 they agreed within 7 %, see docs/performance.md); ``--transport zenoh``
 or ``dds``, ``--messages tf`` or ``image``, ``--rounds N``, ``--quick`` (one short round);
 ``--references`` adds, on DDS, the real ROS 2 rclpy (Fast DDS, needs ``make ros2-ref``) and
-cyclonedds' own Python API. Figures are recorded in docs/performance.md.
+cyclonedds' own Python API; ``--hop`` (Zenoh) and ``--together`` are described below;
+``--before SRC`` adds another checkout. Figures are recorded in docs/performance.md.
 
 Messages: ``tf``, a ``geometry_msgs/TransformStamped`` (100 B of CDR), and ``image``, a
 ``sensor_msgs/Image`` 128x128 rgb8 (49,152 B of pixels, 49,212 B of CDR). Both sides use
@@ -39,9 +40,14 @@ Phases:
 * throughput: the publisher sends a burst back to back; the received rate is
   (received - 1) / (last receive - first receive), measured in the subscriber; the CPU
   time of each process (all threads) per message.
-* latency: one message per millisecond; one-way latency = receive wall clock minus the
-  ``header.stamp`` written just before publishing (same host, same clock). p50 / p99 of
-  all but the first 5 % (warm-up: discovery, reliable repairs of the first samples).
+* latency: one message per millisecond (the publisher sleeps most of each period and spins
+  the last 0.3 ms); one-way latency = receive wall clock minus the ``header.stamp`` written
+  just before publishing (same host, same clock). p50 / p99 of all but the first 5 %
+  (warm-up: discovery, reliable repairs of the first samples). With ``--together`` every
+  mode's subscriber (one process each, started in the round's order) receives the same
+  messages of one ``raw`` publisher at once: the modes are compared over the same seconds,
+  which run to run moves a median latency far more than the code does (a subscriber
+  started later may be served later; the order alternates between rounds).
   ``switches/msg``: the subscriber process's voluntary context switches (all threads,
   counted by the kernel) from the first message to the end, per message: how many times a
   thread went to sleep and was woken for each message that arrives alone. Unlike times, it

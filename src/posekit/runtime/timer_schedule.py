@@ -50,7 +50,9 @@ class TimerSchedule:
         self._timers: list[Timer] = []
         self._heap: list[tuple[int, int, Timer]] = []
         self._scanned: list[Timer] = []  # zero-period driven timers, then all others
-        self._dirty = True
+        #: Whether the schedule was invalidated (or given new timers) since the last look
+        #: (a plain attribute: the executor's message loop reads it once per message).
+        self.changed = True
 
     @property
     def timers(self) -> list[Timer]:
@@ -60,22 +62,17 @@ class TimerSchedule:
     def set_timers(self, timers: list[Timer]) -> None:
         """Schedule ``timers`` (any order) instead of the current ones."""
         self._timers = sorted(timers, key=lambda t: t.seq)
-        self._dirty = True
-
-    @property
-    def changed(self) -> bool:
-        """Whether the schedule was invalidated (or given new timers) since the last look."""
-        return self._dirty
+        self.changed = True
 
     def invalidate(self) -> None:
         """A timer moved or the executor's clocks changed: re-sort at the next look.
 
         Safe to call from any thread.
         """
-        self._dirty = True
+        self.changed = True
 
     def _rebuild(self) -> None:
-        self._dirty = False  # first: a change during the rebuild marks it again
+        self.changed = False  # first: a change during the rebuild marks it again
         heap: list[tuple[int, int, Timer]] = []
         zero: list[Timer] = []
         other: list[Timer] = []
@@ -121,7 +118,7 @@ class TimerSchedule:
         Its callback group is claimed and the call marked (its next call moved on). One thread
         at a time (the executor's lock, or the stepping thread).
         """
-        if self._dirty:
+        if self.changed:
             self._rebuild()
         heap = self._heap
         found: tuple[Timer, int] | None = None
@@ -141,7 +138,7 @@ class TimerSchedule:
             else:  # its group is busy (a re-entrant spin): scan every timer instead
                 best = _scan(self._timers)
                 # Whatever it picks may sit deeper in the heap: re-sort afterwards.
-                self._dirty = True
+                self.changed = True
         if self._scanned:
             extra = _scan(self._scanned)
             if extra is not None and (best is None or (extra.next_call_ns, extra.seq)
@@ -150,7 +147,7 @@ class TimerSchedule:
         if best is None or not best.callback_group.beginning_execution():
             return None
         best.mark_called(found[1] if best is top and found is not None else None)
-        if best is top and not self._dirty:
+        if best is top and not self.changed:
             heapq.heapreplace(self._heap, (best.next_call_ns, best.seq, best))
         return best
 
@@ -160,7 +157,7 @@ class TimerSchedule:
         A timer on an active ROS clock with a period, i.e. the next time a stepped executor must
         stop at; None if there is no such timer.
         """
-        if self._dirty:
+        if self.changed:
             self._rebuild()
         found = self._heap_top()
         best = None if found is None else max(found[0].next_call_ns, now_ns)
