@@ -30,7 +30,7 @@ zenoh = pytest.importorskip("zenoh")
 
 from posekit.transport.zenoh_session import SessionOptions, WireSubscription  # noqa: E402
 from posekit.transport.zenoh_transport import ZenohTransport  # noqa: E402
-from posekit.transport.zenoh_wait import ChannelWaiter  # noqa: E402
+from posekit.transport.zenoh_wait import PROMOTE_AFTER, ChannelWaiter  # noqa: E402
 
 pytestmark = pytest.mark.slow
 
@@ -152,7 +152,9 @@ def test_the_executor_waits_in_the_channel_of_its_first_subscription(sides: Side
 
 
 def test_a_blocked_executor_wakes_for_timers_tasks_and_other_subscriptions(
-        sides: Sides) -> None:
+        sides: Sides, monkeypatch: pytest.MonkeyPatch) -> None:
+    # /second stays a secondary here however much it gets (the promotion has its own test)
+    monkeypatch.setattr("posekit.transport.zenoh_wait.PROMOTE_AFTER", 1 << 30)
     first = Stream(sides, "/first")
     second = Stream(sides, "/second", listener=first.listener)  # a secondary source
     same = Stream(sides, "/first", listener=sides.node(1, "listener2"))  # same key
@@ -193,6 +195,53 @@ def test_a_blocked_executor_wakes_for_timers_tasks_and_other_subscriptions(
         assert same.got == list(range(51))
     finally:
         spinner.stop()
+
+
+def _one_at_a_time(stream: Stream, n: int, until: Any = None) -> int:
+    """Send ``n`` messages, each after the previous was delivered (each wakes the executor
+    on its own); stop early once ``until()`` is true. How many were sent."""
+    for i in range(n):
+        stream.send()
+        assert wait_for(lambda: len(stream.got) == stream.sent, 10)
+        if until is not None and until():
+            return i + 1
+    return n
+
+
+def test_the_subscription_the_samples_come_on_becomes_the_primary(sides: Sides) -> None:
+    # The first subscription is the primary. Samples on another cost two wake-ups each (its
+    # receive thread, then the executor): after PROMOTE_AFTER of them with nothing on the
+    # primary, that one becomes the primary, and back when the traffic moves back.
+    quiet = Stream(sides, "/quiet")
+    busy = Stream(sides, "/busy", listener=quiet.listener)
+    waiter, spinner = _spinning(sides, quiet)
+    try:
+        assert waiter.primary is quiet.wire
+        for stream in (busy, quiet, busy):
+            sent = _one_at_a_time(stream, 3 * PROMOTE_AFTER,
+                                  until=lambda s=stream: waiter.primary is s.wire)
+            assert waiter.primary is stream.wire
+            assert sent <= 2 * PROMOTE_AFTER, sent  # (earlier hand-overs may count too)
+            # its receive thread hands the channel over with the next sample; from then on
+            # the executor waits in that channel, and nothing is lost or reordered
+            _one_at_a_time(stream, 1)
+            assert wait_for(lambda s=stream: waiter.inside_of is s.wire, 5)
+            stream.send(300)
+            quiet.send(20)
+            assert wait_for(lambda: len(busy.got) == busy.sent
+                            and len(quiet.got) == quiet.sent, 20)
+        # Traffic on both: every sample of the primary resets the count, so one sample on
+        # each in turn never moves the primary back and forth.
+        for _ in range(2 * PROMOTE_AFTER):
+            _one_at_a_time(quiet, 1)
+            _one_at_a_time(busy, 1)
+        assert waiter.primary is busy.wire
+        assert busy.got == list(range(busy.sent))
+        assert quiet.got == list(range(quiet.sent))
+        assert busy.threads | quiet.threads == {spinner.thread.ident}
+    finally:
+        spinner.stop()
+    assert waiter.inside_of is None
 
 
 def _count_pokes(sides: Sides, seconds: float) -> int:

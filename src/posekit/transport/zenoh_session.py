@@ -51,7 +51,7 @@ from posekit.msgs.errors import CdrError
 from posekit.msgs.registry import normalize_type_name
 from posekit.runtime.inbox import Inbox
 from posekit.runtime.ratelimit import RateLimitedLog
-from posekit.transport.zenoh_wait import ChannelWaiter
+from posekit.transport.zenoh_wait import ChannelWaiter, PrimaryChannel
 from posekit.transport.zenoh_wire import (
     LIVELINESS_PREFIX,
     Attachment,
@@ -789,7 +789,10 @@ class WireSubscription:
             if data:
                 self._head, self._handed = sample, True
             waiter = self._waiter
+            secondary = data and not self._primary and self._local_ok
         if waiter is not None:
+            if secondary:
+                waiter.note_secondary(self)
             waiter.set_from_receiver()  # this thread holds no lock: it may poke at once
         else:
             inbox.wake()
@@ -855,6 +858,28 @@ class WireSubscription:
                 self._on_sample(sample)
         self._turn.release()
 
+    def promote(self, replacing: PrimaryChannel) -> None:
+        """Become the primary of our waiter instead of ``replacing`` (see ChannelWaiter).
+
+        Called on the executor's thread while it is in no channel. ``replacing`` gives its
+        turn back to its receive thread (what the executor took of it is handled first);
+        ours takes the channel over with its next sample, as a first primary's does.
+        """
+        if not isinstance(replacing, WireSubscription):
+            return
+        old: WireSubscription = replacing
+        first, second = sorted((self, old), key=id)  # one lock order for both
+        with first._mode, second._mode:
+            waiter = self._waiter
+            if (waiter is None or waiter.primary is not old or waiter.inside_of is not None
+                    or old._waiter is not waiter or not old._primary or self._primary
+                    or not self._local_ok or self._destroyed or old._destroyed):
+                return
+            old._primary = False
+            old._give_back_turn()
+            self._primary = True
+            waiter.primary = self
+
     def pending(self) -> bool:
         """Whether a sample waits for :meth:`pull` (the executor's look before it sleeps)."""
         return self._handed
@@ -889,6 +914,10 @@ class WireSubscription:
                 self._on_sample(sample)
                 count += 1
                 taken += self._last_size
+            # data from the primary's channel (a lone DELETE is a poke for a secondary)
+            if self._primary and self._waiter is not None and (
+                    count > 1 or (count and (head is None or head.kind == _PUT))):
+                self._waiter.note_primary()
             return count
 
     # -- the primary's side of ChannelWaiter (PrimaryChannel) -----------------------------

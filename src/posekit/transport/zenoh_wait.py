@@ -17,6 +17,10 @@ timeout, and subscriptions' receive threads), never by an arbitrary caller of :m
 
 Before the primary's receive thread has handed its channel over, and when there is no
 primary, the waiter is a plain :class:`~posekit.runtime.inbox.WakeSignal`.
+
+The first pulled subscription becomes the primary. When the samples come on a secondary
+instead (:data:`PROMOTE_AFTER` of its hand-overs while the executor took nothing from the
+primary's channel), that secondary becomes the primary before the executor next waits.
 """
 
 from __future__ import annotations
@@ -32,6 +36,10 @@ __all__ = ["ChannelWaiter", "PrimaryChannel"]
 #: The helper thread ends after this long with nothing to do (a waiter an inbox dropped
 #: leaves no thread behind).
 _HELPER_IDLE_S = 1.0
+
+#: A secondary subscription that woke the executor this many times (each a second thread
+#: wake-up) while the executor took nothing from the primary's channel becomes the primary.
+PROMOTE_AFTER = 32
 
 
 class PrimaryChannel(Protocol):
@@ -52,6 +60,13 @@ class PrimaryChannel(Protocol):
 
     def poke(self) -> None:
         """Put a DELETE for this session only in the channel (wakes a blocked receive)."""
+
+    def promote(self, replacing: PrimaryChannel) -> None:
+        """Become the waiter's primary instead of ``replacing``.
+
+        Called on the executor's thread outside any channel; does nothing if either is no
+        longer a source of the waiter.
+        """
 
 
 class ChannelWaiter:
@@ -76,6 +91,10 @@ class ChannelWaiter:
         self._poke_asked = False
         self._helper: threading.Thread | None = None
         self._closed = False
+        # Wake-ups by one secondary since the executor last took data from the primary
+        # (counted without a lock: a heuristic, a lost count only delays a promotion).
+        self._busiest: PrimaryChannel | None = None
+        self._secondary_wakes = 0
 
     # -- the Waiter protocol ----------------------------------------------------------
     def set(self) -> None:
@@ -103,6 +122,17 @@ class ChannelWaiter:
         self._signalled = False
         self._plain.clear()
 
+    # -- which subscription is the primary ----------------------------------------------
+    def note_secondary(self, source: PrimaryChannel) -> None:
+        """``source``, a secondary, handed a sample over (its receive thread woke first)."""
+        if source is not self._busiest:
+            self._busiest, self._secondary_wakes = source, 0
+        self._secondary_wakes += 1
+
+    def note_primary(self) -> None:
+        """The executor took samples from the primary's channel."""
+        self._secondary_wakes = 0
+
     def is_set(self) -> bool:
         """Whether signalled."""
         return self._signalled
@@ -114,6 +144,14 @@ class ChannelWaiter:
         other wake-up, and True; the executor looks at the clock itself.
         """
         primary = self.primary
+        busiest = self._busiest
+        if (self._secondary_wakes >= PROMOTE_AFTER and busiest is not None
+                and primary is not None and busiest is not primary):
+            # The traffic is on a secondary: it becomes the primary (one wake-up per
+            # sample), the primary a secondary.
+            self._busiest, self._secondary_wakes = None, 0
+            busiest.promote(primary)
+            primary = self.primary
         if primary is None or self._closed:
             return self._plain.wait(timeout)
         self._poked = False
