@@ -7,7 +7,9 @@ about 12 minutes; with fewer rounds two runs of identical code differed by up to
 or ``dds``, ``--messages tf`` or ``image``, ``--rounds N``, ``--quick`` (one short round);
 ``--references`` adds, on DDS, the real ROS 2 rclpy (Fast DDS, needs ``make ros2-ref``) and
 cyclonedds' own Python API; ``--hop`` (Zenoh) and ``--together`` are described below;
-``--before SRC`` adds another checkout. Figures are recorded in docs/performance.md.
+``--before SRC`` adds another checkout; ``--quiet-first``: posekit's subscriber node first
+subscribes to a topic nothing is published on (a node of several subscriptions). Figures
+are recorded in docs/performance.md.
 
 Messages: ``tf``, a ``geometry_msgs/TransformStamped`` (100 B of CDR), and ``image``, a
 ``sensor_msgs/Image`` 128x128 rgb8 (49,152 B of pixels, 49,212 B of CDR). Both sides use
@@ -197,6 +199,8 @@ def _posekit_endpoints(transport: str, mode: str, message: str, role: str,
                 EndpointInfo(topic, cls, keep_all, node.get_name(), node.get_namespace(),
                              node.get_logger()), callback)
             return None, _loop(time.sleep), lambda: (endpoint.destroy(), ctx.shutdown())[1]
+        if os.environ.get("BENCH_QUIET_FIRST"):  # a subscription nothing is published on
+            node.create_subscription(cls, topic + "_quiet", lambda _msg: None, keep_all)
         node.create_subscription(cls, topic, callback, keep_all)
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
@@ -687,6 +691,9 @@ def main() -> None:
     parser.add_argument("--together", action="store_true",
                         help="latency: every mode's subscriber receives one raw publisher's "
                              "messages at the same time (paired in time, not in turn)")
+    parser.add_argument("--quiet-first", action="store_true",
+                        help="posekit's subscriber node creates a subscription of a silent "
+                             "topic before the measured one")
     parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -697,6 +704,8 @@ def main() -> None:
             child_pub(transport, mode, message, endpoint, rest[0], int(rest[1]))
         return
     messages = [m for m in args.messages.split(",") if m]
+    if args.quiet_first:
+        os.environ["BENCH_QUIET_FIRST"] = "1"  # inherited by the children
     transports = ["zenoh", "dds"] if args.transport == "all" else [args.transport]
     rounds_n = 1 if args.quick else args.rounds
     import platform
