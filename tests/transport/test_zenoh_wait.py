@@ -244,6 +244,54 @@ def test_the_subscription_the_samples_come_on_becomes_the_primary(sides: Sides) 
     assert waiter.inside_of is None
 
 
+def test_promotions_racing_the_node_leaving_and_joining(
+        sides: Sides, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Promotions every few samples (PROMOTE_AFTER 2) while another thread moves the node
+    # out of the executor and back, often while the executor is in a channel that has just
+    # delivered: every sample of both topics arrives once, in order.
+    monkeypatch.setattr("posekit.transport.zenoh_wait.PROMOTE_AFTER", 2)
+    quiet = Stream(sides, "/quiet")
+    busy = Stream(sides, "/busy", listener=quiet.listener)
+    _, spinner = _spinning(sides, quiet)
+    executor = spinner.executor
+    stop = threading.Event()
+
+    def churn() -> None:
+        while not stop.is_set():
+            executor.remove_node(quiet.listener)
+            time.sleep(0.002)
+            executor.add_node(quiet.listener)
+            time.sleep(0.005)
+
+    mover = threading.Thread(target=churn, daemon=True)
+    mover.start()
+    try:
+        for round_ in range(30):
+            stream = busy if round_ % 3 else quiet
+            for _ in range(5):
+                stream.send()
+                time.sleep(0.001)  # mostly one sample per wake-up: hand-overs count up
+            (quiet if stream is busy else busy).send(3)
+    finally:
+        stop.set()
+        mover.join(timeout=5)
+    try:
+        assert not mover.is_alive()
+        assert wait_for(lambda: len(busy.got) == busy.sent and len(quiet.got) == quiet.sent,
+                        20), (len(busy.got), busy.sent, len(quiet.got), quiet.sent)
+        assert busy.got == list(range(busy.sent))
+        assert quiet.got == list(range(quiet.sent))
+        assert busy.wire.lost == quiet.wire.lost == {}  # no sample went missing on the way
+        assert busy.threads | quiet.threads == {spinner.thread.ident}
+        waiter = _waiter(executor)  # (the node left and joined: maybe a new waiter)
+        assert waiter.primary in (quiet.wire, busy.wire)
+        busy.send(40)
+        assert wait_for(lambda: len(busy.got) == busy.sent, 10)
+        assert busy.got == list(range(busy.sent))
+    finally:
+        spinner.stop()
+
+
 def _count_pokes(sides: Sides, seconds: float) -> int:
     """How many pokes the listener's session sends in ``seconds`` (counted at the source)."""
     counted = [0]

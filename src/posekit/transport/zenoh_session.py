@@ -935,10 +935,17 @@ class WireSubscription:
         sample: zenoh.Sample = self._sub.recv()
         return sample
 
-    def took(self, sample: zenoh.Sample | None) -> None:
-        """The executor left the channel with ``sample`` (None: the channel closed)."""
+    def took(self, waiter: ChannelWaiter, sample: zenoh.Sample | None,
+             closed: bool = False) -> None:
+        """The executor left the channel of ``waiter`` with ``sample`` (None: nothing).
+
+        ``closed``: the channel closed (the session did). The executor counts as inside
+        the channel until here: a release meanwhile leaves the turn to this method, which
+        then hands ``sample`` on before the receive thread reads again.
+        """
         with self._mode:
-            if sample is None:
+            waiter.inside_of = None
+            if closed:
                 self.pullable = False  # the session closed: nothing to wait in any more
             if self._primary and self._executor_reads and not self._destroyed:
                 if sample is not None:  # a poke too: pull ignores it as any DELETE

@@ -55,8 +55,13 @@ class PrimaryChannel(Protocol):
     def channel_recv(self) -> Any:
         """Block until the channel holds a sample (GIL released); raises once it is closed."""
 
-    def took(self, sample: Any) -> None:
-        """The executor left the channel with ``sample`` (data for pull, or a poke)."""
+    def took(self, waiter: ChannelWaiter, sample: Any, closed: bool = False) -> None:
+        """The executor left ``waiter``'s wait in the channel.
+
+        ``sample``: data for pull, a poke, or None (nothing taken); ``closed``: the channel
+        closed. Clears ``waiter.inside_of`` under the subscription's lock (with :meth:`enter_wait`,
+        the bracket a release looks at).
+        """
 
     def poke(self) -> None:
         """Put a DELETE for this session only in the channel (wakes a blocked receive)."""
@@ -157,22 +162,21 @@ class ChannelWaiter:
         self._poked = False
         if not primary.enter_wait(self):  # the receive thread still holds the channel
             return self._plain.wait(timeout)
+        sample, closed = None, False
         try:
-            if self._signalled:  # set() before inside_of was: it did not poke
-                return True
-            if timeout is not None:
-                self._arm(time.monotonic() + max(0.0, timeout))
-            try:
-                sample = primary.channel_recv()
-            except (KeyboardInterrupt, SystemExit):
-                raise
-            except Exception:  # the channel closed (session closed): no more blocking in it
-                sample = None
+            if not self._signalled:  # (set() before inside_of was did not poke)
+                if timeout is not None:
+                    self._arm(time.monotonic() + max(0.0, timeout))
+                try:
+                    sample = primary.channel_recv()
+                except (KeyboardInterrupt, SystemExit):
+                    raise
+                except Exception:  # the channel closed (session closed): no more waiting in it
+                    closed = True
         finally:
-            self.inside_of = None
             if timeout is not None:
                 self._deadline = None
-        primary.took(sample)
+            primary.took(self, sample, closed)  # clears inside_of
         return True
 
     # -- the helper thread ------------------------------------------------------------
