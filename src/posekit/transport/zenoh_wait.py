@@ -127,17 +127,6 @@ class ChannelWaiter:
         self._signalled = False
         self._plain.clear()
 
-    # -- which subscription is the primary ----------------------------------------------
-    def note_secondary(self, source: PrimaryChannel) -> None:
-        """``source``, a secondary, handed a sample over (its receive thread woke first)."""
-        if source is not self._busiest:
-            self._busiest, self._secondary_wakes = source, 0
-        self._secondary_wakes += 1
-
-    def note_primary(self) -> None:
-        """The executor took samples from the primary's channel."""
-        self._secondary_wakes = 0
-
     def is_set(self) -> bool:
         """Whether signalled."""
         return self._signalled
@@ -178,6 +167,17 @@ class ChannelWaiter:
                 self._deadline = None
             primary.took(self, sample, closed)  # clears inside_of
         return True
+
+    # -- which subscription is the primary ----------------------------------------------
+    def note_secondary(self, source: PrimaryChannel) -> None:
+        """``source``, a secondary, handed a sample over (its receive thread woke first)."""
+        if source is not self._busiest:
+            self._busiest, self._secondary_wakes = source, 0
+        self._secondary_wakes += 1
+
+    def note_primary(self) -> None:
+        """The executor took samples from the primary's channel."""
+        self._secondary_wakes = 0
 
     # -- the helper thread ------------------------------------------------------------
     def _arm(self, deadline: float) -> None:
