@@ -838,10 +838,14 @@ class WireSubscription:
         the turn back itself when it leaves (:meth:`took`).
         """
         waiter, self._waiter = self._waiter, None
-        if self._primary and waiter is not None and waiter.primary is self:
+        if waiter is None:
+            self._primary = False
+            return None
+        if self._primary and waiter.primary is self:
             waiter.primary = None
         self._primary = False
-        return waiter if waiter is not None and waiter.inside_of is self else None
+        waiter.forget(self)
+        return waiter if waiter.inside_of is self else None
 
     def _give_back_turn(self, last: zenoh.Sample | None = None) -> None:
         """The executor's turn goes back to the drain thread (caller holds ``_mode``).

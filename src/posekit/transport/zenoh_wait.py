@@ -179,6 +179,11 @@ class ChannelWaiter:
         """The executor took samples from the primary's channel."""
         self._secondary_wakes = 0
 
+    def forget(self, source: PrimaryChannel) -> None:
+        """``source`` is no longer a source of this waiter: never promote it."""
+        if self._busiest is source:
+            self._busiest, self._secondary_wakes = None, 0
+
     # -- the helper thread ------------------------------------------------------------
     def _arm(self, deadline: float) -> None:
         with self._cond:
