@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import pytest
@@ -197,7 +197,7 @@ def test_a_blocked_executor_wakes_for_timers_tasks_and_other_subscriptions(
         spinner.stop()
 
 
-def _one_at_a_time(stream: Stream, n: int, until: Any = None) -> int:
+def _one_at_a_time(stream: Stream, n: int, until: Callable[[], bool] | None = None) -> int:
     """Send ``n`` messages, each after the previous was delivered (each wakes the executor
     on its own); stop early once ``until()`` is true. How many were sent."""
     for i in range(n):
