@@ -15,6 +15,7 @@ from rosbags.typesys import Stores, get_typestore
 
 from posekit.msgs import CdrError, UnknownMessageTypeError, from_cdr, to_cdr
 from posekit.msgs.builtin_interfaces import Time
+from posekit.msgs.cdr import cdr_decoder
 from posekit.msgs.geometry_msgs import (
     Quaternion,
     Transform,
@@ -244,6 +245,9 @@ def test_spec_worked_tfmessage_bytes() -> None:
     assert len(expected) == 100
     assert to_cdr(msg) == expected
     assert from_cdr(expected, TFMessage) == msg
+    # a subscription's decoder: the type bound once, by class or by name
+    assert cdr_decoder(TFMessage)(expected) == msg
+    assert cdr_decoder("tf2_msgs/TFMessage")(bytearray(expected)) == msg
 
 
 def test_empty_message_encodings() -> None:
@@ -327,6 +331,8 @@ def test_unknown_types() -> None:
         to_cdr(object())
     with pytest.raises(UnknownMessageTypeError):
         from_cdr(b"\x00\x01\x00\x00", "not a type")
+    with pytest.raises(UnknownMessageTypeError):  # at once, not at the first message
+        cdr_decoder("nope_msgs/msg/Nothing")
 
 
 def test_other_jazzy_types_fall_back_to_rosbags_classes() -> None:
@@ -365,8 +371,14 @@ def test_every_truncation_raises_cdr_error() -> None:
 
 def test_trailing_garbage_and_bad_headers_raise() -> None:
     data = to_cdr(TFMessage())
-    with pytest.raises(CdrError, match="trailing"):
-        from_cdr(data + b"\x00" * 8, TFMessage)
+    decode = cdr_decoder(TFMessage)
+    for long in (data + b"\x00" * 8, bytearray(data + b"\x00" * 8),
+                 memoryview(data + b"\x00" * 8)):
+        with pytest.raises(CdrError, match="8 unexpected trailing bytes"):
+            from_cdr(long, TFMessage)
+        with pytest.raises(CdrError, match="8 unexpected trailing bytes"):
+            decode(long)
+    assert decode(data + b"\x00" * 3) == TFMessage()  # final padding is legal
     for header in (b"\x00\x02\x00\x00", b"\x01\x01\x00\x00", b"\xff\xff\x00\x00"):
         with pytest.raises(CdrError, match="encapsulation"):
             from_cdr(header + data[4:], TFMessage)

@@ -415,3 +415,37 @@ def test_large_messages_are_taken_a_few_at_a_time(sides: Sides) -> None:
     assert max(looks) <= 4, looks  # 3 x 100 KB reach the 256 KB budget
     assert [int(m.data.split()[0]) for _, m in stream.sub.queue] == list(range(10))
     stream.wire.release_pull(inbox)
+
+
+def test_a_sample_whose_handling_fails_is_dropped_and_the_look_goes_on(
+    sides: Sides, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The last line of defence in the executor's look: a sample whose handling raises
+    where it never should is dropped and counted as "internal"; the samples after it in the
+    same look still arrive, in order."""
+    from posekit.runtime.inbox import Inbox
+
+    stream = Stream(sides, "/faulty")
+    wire = stream.wire
+    inbox = Inbox()
+    assert wire.pull_into(inbox)
+    handle = wire._handle
+    calls = [0]
+
+    def faulty(sample: Any) -> None:
+        calls[0] += 1
+        if calls[0] == 3:
+            raise RuntimeError("broken")
+        handle(sample)
+
+    monkeypatch.setattr(wire, "_handle", faulty)
+    stream.send(6)
+    assert wait_for(wire.pending, 10)
+    handled = 0
+    deadline = time.monotonic() + 10
+    while handled < 6 and time.monotonic() < deadline:
+        handled += wire.pull(64)
+    assert handled == 6
+    assert [int(m.data) for _, m in stream.sub.queue] == [0, 1, 3, 4, 5]
+    assert wire.dropped["internal"] == 1
+    wire.release_pull(inbox)

@@ -43,6 +43,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CDR_HEADER_LE",
+    "cdr_decoder",
     "from_cdr",
     "get_typestore",
     "serializable_type",
@@ -90,7 +91,7 @@ class _Codec:
     typename: str
     getsize: Callable[..., int]
     serialize: Callable[..., int]
-    deserialize: Callable[..., tuple[Any, int]]
+    decode: Callable[[bytes | bytearray | memoryview], Any]  # from_cdr with the type bound
     cls: type[Any]
     plan: _Plan | None
     fast_ok: Callable[[Any], bool] | None  # True when every array field is already CDR-ready
@@ -250,7 +251,7 @@ def _codec(typename: str) -> _Codec:
             typename,
             msgdef.getsize_cdr,
             msgdef.serialize_cdr_le,
-            msgdef.deserialize_cdr_le,
+            _make_decoder(typename, msgdef, store),
             msgdef.cls,
             plan,
             _compile_fast_check(plan) if plan is not None else None,
@@ -500,12 +501,28 @@ def from_cdr(data: bytes | bytearray | memoryview, msg_type: str | type[Any]) ->
     """Decode ROS 2 CDR bytes into a message of ``msg_type`` (class or ``pkg/msg/Type``).
 
     Little- and big-endian encapsulations are accepted. Array fields of the result are
-    zero-copy views into ``data``.
+    zero-copy views into ``data``. For a stream of one type, :func:`cdr_decoder` resolves
+    the type once.
 
     Raises:
         CdrError: truncated, corrupted or trailing-garbage input (the message says why).
         UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
     """
+    return _codec_of(msg_type).decode(data)
+
+
+def cdr_decoder(msg_type: str | type[Any]) -> Callable[[bytes | bytearray | memoryview], Any]:
+    """``from_cdr(data, msg_type)`` as a function of ``data`` alone, the type resolved now.
+
+    What a subscription calls per message: same results and errors as :func:`from_cdr`.
+
+    Raises:
+        UnknownMessageTypeError: the type is not a ROS 2 Jazzy message type.
+    """
+    return _codec_of(msg_type).decode
+
+
+def _codec_of(msg_type: str | type[Any]) -> _Codec:
     # (a class is looked up first: a type name is never a key of _class_codecs)
     codec = _class_codecs.get(msg_type)  # type: ignore[arg-type]
     if codec is None:
@@ -513,10 +530,28 @@ def from_cdr(data: bytes | bytearray | memoryview, msg_type: str | type[Any]) ->
         codec = _codecs.get(name) or _codec(name)
         if not isinstance(msg_type, str):
             _class_codecs[msg_type] = codec
-    typename = codec.typename
-    if type(data) is bytes and len(data) >= 4 and data[0] == 0 and data[1] == 1:
-        view = memoryview(data)  # the common case (little endian bytes), checks done
-    else:
+    return codec
+
+
+def _make_decoder(
+    typename: str, msgdef: Any, store: Any
+) -> Callable[[bytes | bytearray | memoryview], Any]:
+    """The ``decode(data)`` of one type's codec: :func:`from_cdr` with the type bound."""
+    deserialize_le, cls = msgdef.deserialize_cdr_le, msgdef.cls
+
+    def trailing(size: int, pos: int) -> CdrError:
+        return CdrError(f"cannot decode {typename}: {size - 4 - pos} unexpected trailing bytes")
+
+    def decode(data: bytes | bytearray | memoryview) -> Any:
+        if type(data) is bytes and len(data) >= 4 and data[0] == 0 and data[1] == 1:
+            # the common case (little endian bytes): the checks below are done
+            try:
+                message, pos = deserialize_le(memoryview(data)[4:], 0, cls, store)
+            except _deser_errors as exc:
+                raise CdrError(f"cannot decode {typename}: {exc}") from exc
+            if pos + 4 + 3 < len(data):  # up to 3 bytes of final padding are legal
+                raise trailing(len(data), pos)
+            return message
         try:
             view = data if isinstance(data, memoryview) else memoryview(data)
         except TypeError as exc:
@@ -530,20 +565,16 @@ def from_cdr(data: bytes | bytearray | memoryview, msg_type: str | type[Any]) ->
                 f"{typename}: unsupported CDR encapsulation {bytes(view[:2]).hex(' ')} "
                 "(expected 00 01 little endian or 00 00 big endian)"
             )
-    store = _store
-    try:
-        if view[1]:
-            message, pos = codec.deserialize(view[4:], 0, codec.cls, store)
-        else:
-            msgdef = store.get_msgdef(typename)
-            message, pos = msgdef.deserialize_cdr_be(view[4:], 0, codec.cls, store)
-    except _deser_errors as exc:
-        raise CdrError(f"cannot decode {typename}: {exc}") from exc
-    if pos + 4 + 3 < len(view):  # up to 3 bytes of final padding are legal
-        raise CdrError(
-            f"cannot decode {typename}: {len(view) - 4 - pos} unexpected trailing bytes"
-        )
-    return message
+        deserialize = deserialize_le if view[1] else msgdef.deserialize_cdr_be
+        try:
+            message, pos = deserialize(view[4:], 0, cls, store)
+        except _deser_errors as exc:
+            raise CdrError(f"cannot decode {typename}: {exc}") from exc
+        if pos + 4 + 3 < len(view):
+            raise trailing(len(view), pos)
+        return message
+
+    return decode
 
 
 def type_hash_rihs01(msg_type: str | type[Any]) -> str:

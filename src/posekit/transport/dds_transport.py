@@ -60,7 +60,7 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
-from posekit.msgs.cdr import from_cdr, to_cdr
+from posekit.msgs.cdr import cdr_decoder, to_cdr
 from posekit.msgs.errors import CdrError
 from posekit.runtime.inbox import Inbox
 from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -304,7 +304,7 @@ class _Subscription(SubscriptionEndpoint):
         self.ros_type = ros_type
         self._sink = sink
         self._sourced = sourced
-        self._msg_type = info.msg_type
+        self._decode = cdr_decoder(info.msg_type)
         self.reader: DataReader[Any] | None = None
         self.gid = b""
         self.alive = True
@@ -446,7 +446,7 @@ class _Subscription(SubscriptionEndpoint):
 
     def _deliver(self, data: bytes, sample_info: Any = None) -> None:
         try:
-            msg = from_cdr(data, self._msg_type)
+            msg = self._decode(data)
         except CdrError as exc:
             self.dropped += 1
             self.warn_once("cdr", f"dropping a sample on '{self.info.topic}' that does not "
