@@ -18,6 +18,11 @@ reports the median and p90 round-trip time per call:
   floor for Python + zenoh on this machine.
 * ``posekit dds``: the zenoh row's nodes on two DDS participants (rmw_cyclonedds's service
   mapping, loopback, domain ``$POSEKIT_BENCH_DOMAIN`` or 178).
+* ``posekit zenoh, in a callback`` / ``posekit dds, in a callback``: both nodes in one
+  context on one transport and one ``SingleThreadedExecutor``; a timer callback makes the
+  calls with ``Client.call`` (which deadlocks in rclpy's single-threaded executor): each
+  request crosses the transport and comes back to the same executor, which serves it while
+  the call waits.
 
 It also prints what a node costs to create on DDS with and without its six parameter
 services (twelve more DDS readers and writers, each announced on ``ros_discovery_info``).
@@ -194,6 +199,63 @@ def _two_contexts(n: int, make_transport: Callable[[], Any]) -> list[float]:
         server_ctx.shutdown()
 
 
+def _one_executor(n: int, transport: Any) -> list[float]:
+    """``Client.call`` inside a callback, the server on another node of the same executor:
+    every request and response crosses the transport, and the calling executor serves the
+    request while it waits."""
+    from posekit.msgs.std_srvs import SetBool
+    from posekit.runtime.context import Context
+    from posekit.runtime.executors import SingleThreadedExecutor
+    from posekit.runtime.node import Node
+
+    context = Context()
+    context.init()
+    try:
+        server = Node("bench_server", context=context, transport=transport)
+        server.create_service(SetBool, "flip", lambda q, r: SetBool.Response(success=not q.data))
+        client_node = Node("bench_client", context=context, transport=transport)
+        client = client_node.create_client(SetBool, "flip")
+        if not client.wait_for_service(timeout_sec=10.0):
+            raise RuntimeError("the server did not appear")
+        ex = SingleThreadedExecutor(context=context)
+        ex.add_node(server)
+        ex.add_node(client_node)
+        times: list[float] = []
+
+        def calls() -> None:
+            timer.cancel()
+            for i in range(n + 50):
+                t0 = time.perf_counter()
+                response = client.call(SetBool.Request(data=bool(i % 2)), timeout_sec=10.0)
+                if response is None or response.success == bool(i % 2):
+                    raise RuntimeError(f"bad response {response!r}")
+                times.append(time.perf_counter() - t0)
+
+        timer = client_node.create_timer(0.001, calls)
+        while not times or len(times) < n + 50:
+            before = len(times)
+            ex.spin_once(timeout_sec=10.0)
+            if len(times) == before:
+                raise RuntimeError("the calls did not run")
+        return times[50:]
+    finally:
+        context.shutdown()
+        transport.close()
+
+
+def posekit_zenoh_in_callback(n: int) -> list[float]:
+    from posekit.transport.zenoh_session import SessionOptions
+    from posekit.transport.zenoh_transport import ZenohTransport
+
+    return _one_executor(n, ZenohTransport(SessionOptions(router_endpoint=_free_endpoint())))
+
+
+def posekit_dds_in_callback(n: int) -> list[float]:
+    from posekit.transport.dds_transport import DdsTransport
+
+    return _one_executor(n, DdsTransport(_dds_options()))
+
+
 def raw_zenoh(n: int) -> list[float]:
     import zenoh
 
@@ -241,14 +303,16 @@ def main() -> None:
     for name, fn in (("posekit inprocess", posekit_inprocess),
                      ("rclpy inprocess", rclpy_inprocess),
                      ("posekit zenoh", posekit_zenoh), ("raw zenoh", raw_zenoh),
-                     ("posekit dds", posekit_dds)):
+                     ("posekit dds", posekit_dds),
+                     ("posekit zenoh, in a callback", posekit_zenoh_in_callback),
+                     ("posekit dds, in a callback", posekit_dds_in_callback)):
         times = fn(n)
         rows[name] = _stats(times) if times else None
     for name, row in rows.items():
         if row is None:
-            print(f"{name:<18} (skipped: no .venv-ros2)")
+            print(f"{name:<29} (skipped: no .venv-ros2)")
         else:
-            print(f"{name:<18} n={row['n']:<5} median {row['median_us']:8.1f} us  "
+            print(f"{name:<29} n={row['n']:<5} median {row['median_us']:8.1f} us  "
                   f"p90 {row['p90_us']:8.1f} us")
     pk, ros = rows["posekit inprocess"], rows["rclpy inprocess"]
     if pk and ros:

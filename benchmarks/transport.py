@@ -51,9 +51,10 @@ Phases:
   which run to run moves a median latency far more than the code does (a subscriber
   started later may be served later; the order alternates between rounds).
   ``switches/msg``: the subscriber process's voluntary context switches (all threads,
-  counted by the kernel) from the first message to the end, per message: how many times a
-  thread went to sleep and was woken for each message that arrives alone. Unlike times, it
-  does not depend on what else the machine runs.
+  counted by the kernel) from the first message to the end, per message, in the burst and
+  at 1 kHz: how many times a thread went to sleep and was woken for each message (at
+  1 kHz, one that arrives alone). At 1 kHz, unlike times, it does not depend on what else
+  the machine runs.
 
 Each round runs every mode once per message and phase, in alternating order from round to
 round, so a burst of load from other processes falls on all modes alike. Ratios are taken
@@ -642,7 +643,7 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
           f"latency: {n_lat} msgs at {LATENCY_RATE_HZ:.0f} Hz; {len(rounds)} round(s): "
           "median (min-max)")
     print(f"{'mode':<10}{'recv msgs/s':>26}{'recv CPU us/msg':>24}{'send CPU us/msg':>24}"
-          f"{'p50 us':>24}{'p99 us':>24}{'switches/msg':>22}")
+          f"{'burst switches/msg':>22}{'p50 us':>24}{'p99 us':>24}{'1 kHz switches/msg':>22}")
 
     def col(mode: str, phase: str, key: str, scale: float = 1.0) -> list[float]:
         return [r[mode][phase][key] * scale for r in rounds
@@ -655,6 +656,7 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
         print(f"{mode:<10}{_spread(col(mode, 'throughput', 'rate'), ',.0f'):>26}"
               f"{_spread(cpu, '.1f'):>24}"
               f"{_spread(col(mode, 'throughput', 'send_cpu_us'), '.1f'):>24}"
+              f"{_spread(col(mode, 'throughput', 'switches'), '.2f'):>22}"
               f"{_spread(col(mode, 'latency', 'p50', 1e-3), '.0f'):>24}"
               f"{_spread(col(mode, 'latency', 'p99', 1e-3), '.0f'):>24}"
               f"{_spread(col(mode, 'latency', 'switches'), '.2f'):>22}{short}")

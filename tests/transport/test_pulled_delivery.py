@@ -271,3 +271,51 @@ def test_an_executor_shutdown_racing_a_context_shutdown(monkeypatch: pytest.Monk
         while any(_dds_threads(f"/race{i}") for i in range(4)) and time.monotonic() < end:
             time.sleep(0.01)
         assert not any(_dds_threads(f"/race{i}") for i in range(4))
+
+
+def test_a_blocking_call_in_a_callback_is_served_by_the_same_executor_over_the_network(
+    two: tuple[Side, Side],
+) -> None:
+    """``Client.call`` inside a timer callback, its server on another node of the same
+    executor: the request goes out over the transport and comes back as network work
+    (a pulled sample, a DDS read condition, a Zenoh query), which the calling executor
+    takes while it waits; every call gets its own response."""
+    from posekit.msgs.std_srvs import SetBool
+
+    _, b = two
+    server_node, client_node = b.node("server"), b.node("client")
+    served_on: set[int] = set()
+
+    def serve(request: Any, response: Any) -> Any:
+        served_on.add(threading.get_ident())
+        response.success = request.data
+        response.message = f"got {request.data}"
+        return response
+
+    server_node.create_service(SetBool, "/flip", serve)
+    client = client_node.create_client(SetBool, "/flip")
+    assert client.wait_for_service(timeout_sec=10)
+    executor = SingleThreadedExecutor(context=b.context)
+    executor.add_node(server_node)
+    executor.add_node(client_node)
+    answers: list[Any] = []
+
+    def tick() -> None:
+        answers.append(client.call(SetBool.Request(data=len(answers) % 2 == 0), timeout_sec=10))
+        if len(answers) == 6:
+            timer.cancel()
+
+    timer = client_node.create_timer(0.01, tick)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    try:
+        deadline = time.monotonic() + 60
+        while len(answers) < 6 and time.monotonic() < deadline:
+            time.sleep(0.01)
+    finally:
+        executor.shutdown()
+        spinner.join(timeout=5)
+    assert [(a.success, a.message) for a in answers] == [
+        (i % 2 == 0, f"got {i % 2 == 0}") for i in range(6)
+    ]
+    assert served_on == {spinner.ident}

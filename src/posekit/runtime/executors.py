@@ -454,26 +454,27 @@ class Executor:
         finally:
             inbox.end_wait()
 
-    def _serve_until(self, future: Future[Any], timeout_sec: float | None) -> None:
+    @runs_callbacks
+    def serve_until_future_complete(
+        self, future: Future[Any], timeout_sec: float | None = None
+    ) -> None:
         """Run ready callbacks until ``future`` is done or ``timeout_sec`` wall seconds passed.
 
-        A blocking call made inside a callback; simulated time never moves meanwhile.
+        posekit's, not rclpy API: what ``Client.call`` does inside one of this executor's
+        callbacks. Unlike :meth:`spin_until_future_complete` it never moves simulated time
+        (a :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` steps only where it
+        spins). It waits as ``spin_once`` does: a response queued for this executor, or the
+        future completed on another thread, ends the wait at once.
         """
+        future.add_done_callback(lambda _f: self.wake())
         end = None if timeout_sec is None or timeout_sec < 0 else time.monotonic() + timeout_sec
         while not future.done() and self._context.ok() and not self._is_shutdown:
-            if self.inbox.sources:
-                self.inbox.pull_sources(self._PULL_BUDGET)
-            work = self._take_ready()
-            if work is not None:
-                self._execute(work)
-                continue
-            wait = 0.01
+            remaining = None
             if end is not None:
                 remaining = end - time.monotonic()
                 if remaining <= 0:
                     return
-                wait = min(wait, remaining)
-            future.wait(wait)
+            self._spin_once_until(remaining, future)
 
     def _run_once(self, timeout_sec: float | None = None) -> None:
         """Wait up to ``timeout_sec`` (None: forever) for one callback and run it."""

@@ -387,7 +387,7 @@ class Client:
         future = self._send(request, direct=True)
         executor = current_executor()
         if executor is not None:  # inside a callback: keep that executor's work going
-            executor._serve_until(future, timeout_sec)
+            executor.serve_until_future_complete(future, timeout_sec)
         else:
             future.wait(timeout_sec)
         if not future.done():
