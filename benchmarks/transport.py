@@ -45,7 +45,10 @@ Phases:
 * latency: one message per millisecond (the publisher sleeps most of each period and spins
   the last 0.3 ms); one-way latency = receive wall clock minus the ``header.stamp`` written
   just before publishing (same host, same clock). p50 / p99 of all but the first 5 %
-  (warm-up: discovery, reliable repairs of the first samples). With ``--together`` every
+  (warm-up: discovery, reliable repairs of the first samples); ``1 kHz CPU us/msg``: the
+  subscriber process's CPU time (all threads) per message, each handled alone, in caches
+  that went cold since the last one (a small message then costs several times its CPU in
+  a burst). With ``--together`` every
   mode's subscriber (one process each, started in the round's order) receives the same
   messages of one ``raw`` publisher at once: the modes are compared over the same seconds,
   which run to run moves a median latency far more than the code does (a subscriber
@@ -628,10 +631,10 @@ def _spread(values: list[float], fmt: str) -> str:
     return f"{format(med, fmt)} ({format(min(values), fmt)}-{format(max(values), fmt)})"
 
 
-def _cpu_per_msg(figures: dict[str, dict[str, Any]]) -> float:
-    """The subscriber process's CPU µs (all threads) per message received in the burst."""
-    tput = figures["throughput"]
-    return float(tput["cpu_s"]) * 1e6 / max(1, int(tput["count"]))
+def _cpu_per_msg(figures: dict[str, dict[str, Any]], phase: str = "throughput") -> float:
+    """The subscriber process's CPU µs (all threads) per message received in ``phase``."""
+    part = figures[phase]
+    return float(part["cpu_s"]) * 1e6 / max(1, int(part["count"]))
 
 
 def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int],
@@ -643,7 +646,8 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
           f"latency: {n_lat} msgs at {LATENCY_RATE_HZ:.0f} Hz; {len(rounds)} round(s): "
           "median (min-max)")
     print(f"{'mode':<10}{'recv msgs/s':>26}{'recv CPU us/msg':>24}{'send CPU us/msg':>24}"
-          f"{'burst switches/msg':>22}{'p50 us':>24}{'p99 us':>24}{'1 kHz switches/msg':>22}")
+          f"{'burst switches/msg':>22}{'p50 us':>24}{'p99 us':>24}{'1 kHz switches/msg':>22}"
+          f"{'1 kHz CPU us/msg':>22}")
 
     def col(mode: str, phase: str, key: str, scale: float = 1.0) -> list[float]:
         return [r[mode][phase][key] * scale for r in rounds
@@ -651,6 +655,7 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
 
     for mode in modes:
         cpu = [_cpu_per_msg(r[mode]) for r in rounds if mode in r]
+        lone_cpu = [_cpu_per_msg(r[mode], "latency") for r in rounds if mode in r]
         counts = {r[mode]["throughput"]["count"] for r in rounds if mode in r}
         short = "" if counts <= {burst} else f"  received {sorted(counts)} of {burst}"
         print(f"{mode:<10}{_spread(col(mode, 'throughput', 'rate'), ',.0f'):>26}"
@@ -659,20 +664,25 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
               f"{_spread(col(mode, 'throughput', 'switches'), '.2f'):>22}"
               f"{_spread(col(mode, 'latency', 'p50', 1e-3), '.0f'):>24}"
               f"{_spread(col(mode, 'latency', 'p99', 1e-3), '.0f'):>24}"
-              f"{_spread(col(mode, 'latency', 'switches'), '.2f'):>22}{short}")
+              f"{_spread(col(mode, 'latency', 'switches'), '.2f'):>22}"
+              f"{_spread(lone_cpu, '.1f'):>22}"
+              f"{short}")
     pairs = [(mode, "raw") for mode in modes if mode != "raw"]
     pairs += [("posekit", "hop")] if "hop" in modes else []
     for mode, base in pairs:
         both = [r for r in rounds if mode in r and base in r]
         tput = [r[base]["throughput"]["rate"] / r[mode]["throughput"]["rate"] for r in both]
         cpu_ratio = [_cpu_per_msg(r[mode]) / _cpu_per_msg(r[base]) for r in both]
+        lone_cpu = [_cpu_per_msg(r[mode], "latency") / _cpu_per_msg(r[base], "latency")
+                    for r in both]
         p50 = [r[mode]["latency"]["p50"] / r[base]["latency"]["p50"] for r in both]
         best_t = (max(col(base, "throughput", "rate"))
                   / max(col(mode, "throughput", "rate")))
         best_l = min(col(mode, "latency", "p50")) / min(col(base, "latency", "p50"))
         print(f"  {mode} / {base}, per round: time per message {_spread(tput, '.2f')}, median "
               f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}; "
-              f"receive CPU per message {_spread(cpu_ratio, '.2f')}")
+              f"receive CPU per message {_spread(cpu_ratio, '.2f')}, at 1 kHz "
+              f"{_spread(lone_cpu, '.2f')}")
 
 
 def main() -> None:
