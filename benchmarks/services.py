@@ -166,6 +166,19 @@ def dds_node_cost(count: int = 10) -> tuple[float, float]:
         context.shutdown()
 
 
+def _timed_calls(client: Any, count: int, times: list[float]) -> None:
+    """``count`` sequential ``Client.call`` round trips of SetBool, each checked and timed
+    (seconds, appended to ``times``)."""
+    from posekit.msgs.std_srvs import SetBool
+
+    for i in range(count):
+        t0 = time.perf_counter()
+        response = client.call(SetBool.Request(data=bool(i % 2)), timeout_sec=10.0)
+        if response is None or response.success == bool(i % 2):
+            raise RuntimeError(f"bad response {response!r}")
+        times.append(time.perf_counter() - t0)
+
+
 def _two_contexts(n: int, make_transport: Callable[[], Any]) -> list[float]:
     from posekit.msgs.std_srvs import SetBool
     from posekit.runtime.context import Context
@@ -186,13 +199,8 @@ def _two_contexts(n: int, make_transport: Callable[[], Any]) -> list[float]:
         client = client_node.create_client(SetBool, "flip")
         if not client.wait_for_service(timeout_sec=10.0):
             raise RuntimeError("the server did not appear")
-        times = []
-        for i in range(n + 50):
-            t0 = time.perf_counter()
-            response = client.call(SetBool.Request(data=bool(i % 2)), timeout_sec=10.0)
-            if response is None or response.success == bool(i % 2):
-                raise RuntimeError(f"bad response {response!r}")
-            times.append(time.perf_counter() - t0)
+        times: list[float] = []
+        _timed_calls(client, n + 50, times)
         return times[50:]
     finally:
         client_ctx.shutdown()
@@ -224,12 +232,7 @@ def _one_executor(n: int, transport: Any) -> list[float]:
 
         def calls() -> None:
             timer.cancel()
-            for i in range(n + 50):
-                t0 = time.perf_counter()
-                response = client.call(SetBool.Request(data=bool(i % 2)), timeout_sec=10.0)
-                if response is None or response.success == bool(i % 2):
-                    raise RuntimeError(f"bad response {response!r}")
-                times.append(time.perf_counter() - t0)
+            _timed_calls(client, n + 50, times)
 
         timer = client_node.create_timer(0.001, calls)
         while not times or len(times) < n + 50:

@@ -350,10 +350,17 @@ class Client:
             self._pending[request_id] = future
 
         def on_response(response: Any) -> None:
-            if direct or self._node.executor is None:
+            # (on the transport's thread, which must never block)
+            if direct:  # call(): only the caller's wait holds this future
                 self._complete((request_id, response))
-            else:
+            elif self._node.executor is not None:
                 self._queued.enqueue((request_id, response))
+            else:
+                # No executor: the future's done-callbacks, user code, run on a thread of
+                # their own (one may make a blocking call that this thread must answer)
+                threading.Thread(target=self._complete, args=((request_id, response),),
+                                 name=f"posekit response {self._srv_name}",
+                                 daemon=True).start()
 
         introspection = self._introspection
         if introspection is not None:

@@ -217,6 +217,7 @@ class ServiceClientEndpoint(ABC):
                      header: RequestHeader | None = None) -> None:
         """Send ``request`` to one server; ``on_response(response)`` at most once.
 
+        ``on_response`` may run on the transport's own receive thread: it must not block.
         The server learns ``header`` (this client's gid and the request's number); when None
         the endpoint numbers the request itself.
         """

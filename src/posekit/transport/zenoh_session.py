@@ -1122,7 +1122,11 @@ class WireServiceServer:
         self._destroyed = False
         session = owner.session
         try:
-            self._queryable = session.declare_queryable(self.key, self._on_query, complete=True)
+            # _on_query only decodes and queues: run it on zenoh's own thread, without the
+            # hop through a Python thread of its own that zenoh-python's default adds
+            self._queryable = session.declare_queryable(
+                self.key, zenoh.handlers.Callback(self._on_query, indirect=False), complete=True
+            )
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
             raise ZenohSessionError(f"cannot declare a service on {self.key}: {exc}") from exc
@@ -1262,7 +1266,9 @@ class WireServiceClient:
 
         self._session.get(
             self.key,
-            on_reply,
+            # on_reply runs on zenoh's own thread: zenoh-python's default would start a
+            # Python thread for every query (about 0.3 ms of each call on this machine)
+            zenoh.handlers.Callback(on_reply, indirect=False),
             target=zenoh.QueryTarget.ALL_COMPLETE,
             consolidation=zenoh.ConsolidationMode.LATEST,
             payload=payload,
