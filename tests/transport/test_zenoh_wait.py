@@ -449,3 +449,37 @@ def test_a_sample_whose_handling_fails_is_dropped_and_the_look_goes_on(
     assert [int(m.data) for _, m in stream.sub.queue] == [0, 1, 3, 4, 5]
     assert wire.dropped["internal"] == 1
     wire.release_pull(inbox)
+
+
+def _helper_threads() -> list[threading.Thread]:
+    return [t for t in threading.enumerate() if t.name == "posekit-zenoh wait"]
+
+
+def test_a_service_request_wakes_the_executor_in_the_channel_from_zenohs_thread(
+    sides: Sides,
+) -> None:
+    """A request (or a response) reaches the executor through zenoh's own thread, which
+    holds no posekit lock: it pokes the executor's channel at once, as a subscription's
+    receive thread does, so the waiter's helper thread is never started for it."""
+    from posekit.msgs.std_srvs import SetBool
+
+    stream = Stream(sides, "/busy")
+    stream.listener.create_service(
+        SetBool, "/flip", lambda q, r: SetBool.Response(success=not q.data, message="ok")
+    )
+    client = sides.node(0, "caller").create_client(SetBool, "/flip")
+    assert client.wait_for_service(timeout_sec=10)
+    waiter, spinner = _spinning(sides, stream)
+    try:
+        stream.send()
+        assert wait_for(lambda: waiter.inside_of is stream.wire, 10)
+        assert wait_for(lambda: not _helper_threads(), 5)  # (none left by the set-up)
+        answers = [client.call(SetBool.Request(data=i % 2 == 0), timeout_sec=10)
+                   for i in range(5)]
+        assert [(a.success, a.message) for a in answers] == [
+            (i % 2 == 1, "ok") for i in range(5)
+        ]
+        assert not _helper_threads()
+        assert wait_for(lambda: waiter.inside_of is stream.wire, 5)  # waiting there again
+    finally:
+        spinner.stop()

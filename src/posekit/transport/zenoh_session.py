@@ -51,7 +51,7 @@ from posekit.msgs.errors import CdrError
 from posekit.msgs.registry import normalize_type_name
 from posekit.runtime.inbox import Inbox
 from posekit.runtime.ratelimit import RateLimitedLog
-from posekit.transport.zenoh_wait import ChannelWaiter, PrimaryChannel
+from posekit.transport.zenoh_wait import ChannelWaiter, PrimaryChannel, on_receive_thread
 from posekit.transport.zenoh_wire import (
     LIVELINESS_PREFIX,
     Attachment,
@@ -1125,7 +1125,9 @@ class WireServiceServer:
             # _on_query only decodes and queues: run it on zenoh's own thread, without the
             # hop through a Python thread of its own that zenoh-python's default adds
             self._queryable = session.declare_queryable(
-                self.key, zenoh.handlers.Callback(self._on_query, indirect=False), complete=True
+                self.key, zenoh.handlers.Callback(on_receive_thread(self._on_query),
+                                                  indirect=False),
+                complete=True,
             )
             self._token = session.liveliness().declare_token(self.token_key)
         except Exception as exc:
@@ -1268,7 +1270,7 @@ class WireServiceClient:
             self.key,
             # on_reply runs on zenoh's own thread: zenoh-python's default would start a
             # Python thread for every query (about 0.3 ms of each call on this machine)
-            zenoh.handlers.Callback(on_reply, indirect=False),
+            zenoh.handlers.Callback(on_receive_thread(on_reply), indirect=False),
             target=zenoh.QueryTarget.ALL_COMPLETE,
             consolidation=zenoh.ConsolidationMode.LATEST,
             payload=payload,

@@ -13,7 +13,9 @@ on the primary's key, routed to this session only (``Locality.SESSION_LOCAL``, n
 the network); every posekit subscription ignores DELETE samples. A zenoh channel is bounded,
 so a poke waits while it is full: pokes are therefore sent only by threads that hold no lock
 the executor could need to empty it (the waiter's own helper thread, which also keeps the
-timeout, and subscriptions' receive threads), never by an arbitrary caller of :meth:`set`.
+timeout, subscriptions' receive threads, and zenoh's own thread in the handlers marked
+:func:`on_receive_thread`: a service's queries, a client's replies), never by an arbitrary
+caller of :meth:`set`.
 
 Before the primary's receive thread has handed its channel over, and when there is no
 primary, the waiter is a plain :class:`~posekit.runtime.inbox.WakeSignal`.
@@ -27,11 +29,14 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Any, Protocol
+from collections.abc import Callable
+from typing import Any, Protocol, TypeVar
 
 from posekit.runtime.inbox import WakeSignal
 
-__all__ = ["ChannelWaiter", "PrimaryChannel"]
+__all__ = ["ChannelWaiter", "PrimaryChannel", "on_receive_thread"]
+
+_T = TypeVar("_T")
 
 #: The helper thread ends after this long with nothing to do (a waiter an inbox dropped
 #: leaves no thread behind).
@@ -40,6 +45,27 @@ _HELPER_IDLE_S = 1.0
 #: A secondary subscription that woke the executor this many times (each a second thread
 #: wake-up) while the executor took nothing from the primary's channel becomes the primary.
 PROMOTE_AFTER = 32
+
+
+_receiving = threading.local()
+
+
+def on_receive_thread(handler: Callable[[_T], None]) -> Callable[[_T], None]:
+    """``handler`` marked as run by zenoh's own thread, holding no lock of posekit's.
+
+    A :meth:`ChannelWaiter.set` made inside it (a request or a response queued for an
+    executor that waits in a channel) pokes at once, as a subscription's receive thread
+    does, instead of through the helper thread.
+    """
+
+    def marked(arg: _T) -> None:
+        _receiving.active = True
+        try:
+            handler(arg)
+        finally:
+            _receiving.active = False
+
+    return marked
 
 
 class PrimaryChannel(Protocol):
@@ -103,7 +129,13 @@ class ChannelWaiter:
 
     # -- the Waiter protocol ----------------------------------------------------------
     def set(self) -> None:
-        """Signal; a blocked executor is poked by the helper thread (any caller, any lock)."""
+        """Signal; a blocked executor is poked by the helper thread (any caller, any lock).
+
+        Inside a handler marked :func:`on_receive_thread` the poke is sent at once.
+        """
+        if getattr(_receiving, "active", False):
+            self.set_from_receiver()
+            return
         self._signalled = True
         self._plain.set()
         if self.inside_of is not None and not self._poked:
