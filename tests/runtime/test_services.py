@@ -146,6 +146,25 @@ def test_blocking_call_inside_a_callback_does_not_deadlock(ctx) -> None:
     assert results == [SetBool.Response(success=False, message="set to False")]
 
 
+def test_without_an_executor_the_response_completes_the_future_when_the_server_answers(
+    ctx,
+) -> None:
+    """In process, the response completes the future of a client node in no executor on
+    the thread that ran the server's callback, before that executor's spin_once returns."""
+    server, client_node = Node("server", context=ctx), Node("client", context=ctx)
+    _set_bool_server(server)
+    client = client_node.create_client(SetBool, "set_flag")
+    ex = SingleThreadedExecutor(context=ctx)
+    ex.add_node(server)
+    done_on: list[int] = []
+    future = client.call_async(SetBool.Request(data=True))
+    future.add_done_callback(lambda _f: done_on.append(threading.get_ident()))
+    ex.spin_once(timeout_sec=5.0)
+    assert future.done()
+    assert future.result() == SetBool.Response(success=True, message="set to True")
+    assert done_on == [threading.get_ident()]
+
+
 def test_blocking_call_without_any_executor_returns_none_after_the_timeout(ctx) -> None:
     server, client_node = Node("server", context=ctx), Node("client", context=ctx)
     _set_bool_server(server)  # never spun: nobody runs the server's callback

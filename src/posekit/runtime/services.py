@@ -10,7 +10,10 @@ executor instead).
 A client's ``call_async(request)`` returns a :class:`~posekit.runtime.task.Future`. The
 response is queued for the client's node's executor, which completes the future there (as
 rclpy does), so under :class:`~posekit.runtime.sim_executor.SimulatedTimeExecutor` a request,
-its handling and its response happen in a reproducible order. ``call(request)`` blocks:
+its handling and its response happen in a reproducible order. For a client node in no
+executor the response completes the future where it arrives (over a network transport on a
+thread of its own: done-callbacks never hold the transport's receive thread).
+``call(request)`` blocks:
 
 * in a thread that is not spinning the node's executor, it waits for another thread (or
   the transport) to complete the future; when the node has no executor at all, the
@@ -355,12 +358,15 @@ class Client:
                 self._complete((request_id, response))
             elif self._node.executor is not None:
                 self._queued.enqueue((request_id, response))
-            else:
-                # No executor: the future's done-callbacks, user code, run on a thread of
-                # their own (one may make a blocking call that this thread must answer)
+            elif self._node.transport.crosses_processes:
+                # No executor, a network transport's receive thread: the future's
+                # done-callbacks, user code, run on a thread of their own (one may make a
+                # blocking call whose response this thread must deliver)
                 threading.Thread(target=self._complete, args=((request_id, response),),
                                  name=f"posekit response {self._srv_name}",
                                  daemon=True).start()
+            else:  # in process: on the thread that ran the server's callback
+                self._complete((request_id, response))
 
         introspection = self._introspection
         if introspection is not None:
