@@ -271,4 +271,3 @@ def test_an_executor_shutdown_racing_a_context_shutdown(monkeypatch: pytest.Monk
         while any(_dds_threads(f"/race{i}") for i in range(4)) and time.monotonic() < end:
             time.sleep(0.01)
         assert not any(_dds_threads(f"/race{i}") for i in range(4))
-
