@@ -88,6 +88,14 @@ def test_unwritable_output_paths(capsys: pytest.CaptureFixture[str],
     assert "cannot read recording" in one_line_error(capsys, "posekit plot odometry")
 
 
+def test_the_command_list_keeps_names_and_texts_apart(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["--help"]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("  ")]
+    names = sorted(g if c is None else f"{g} {c}" for g, c in _COMMANDS)
+    assert sorted(line[2:].split("  ")[0] for line in lines) == names  # two spaces at least
+    assert len({len(line) - len(line[2:].split("  ", 1)[1].lstrip()) for line in lines}) == 1
+
+
 def test_groups_list_their_verbs(capsys: pytest.CaptureFixture[str]) -> None:
     for group in ("topic", "node", "tf", "bag", "plot", "param", "service", "action"):
         assert main([group]) == 0

@@ -64,19 +64,22 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
 }
 
 
+def _table(rows: list[tuple[str, str]]) -> list[str]:
+    """``  name  text`` lines, the texts in one column two spaces after the longest name."""
+    width = max(len(name) for name, _ in rows) + 2
+    return [f"  {name:<{width}}{text}" for name, text in rows]
+
+
 def _usage() -> str:
-    lines = ["usage: posekit COMMAND [ARGS...]", "", "commands:"]
-    for (group, command), (_, text) in sorted(_COMMANDS.items(), key=lambda kv: kv[0][0]):
-        name = group if command is None else f"{group} {command}"
-        lines.append(f"  {name:<16}{text}")
-    return "\n".join(lines) + "\n"
+    rows = [(group if command is None else f"{group} {command}", text)
+            for (group, command), (_, text) in sorted(_COMMANDS.items(), key=lambda kv: kv[0][0])]
+    return "\n".join(["usage: posekit COMMAND [ARGS...]", "", "commands:", *_table(rows)]) + "\n"
 
 
 def _group_usage(group: str) -> str:
     verbs = [(command, text) for (g, command), (_, text) in _COMMANDS.items()
              if g == group and command is not None]
-    lines = [f"usage: posekit {group} VERB [ARGS...]", "", "verbs:"]
-    lines += [f"  {command:<10}{text}" for command, text in sorted(verbs)]
+    lines = [f"usage: posekit {group} VERB [ARGS...]", "", "verbs:", *_table(sorted(verbs))]
     lines += ["", f"Call `posekit {group} <verb> -h` for more detailed usage."]
     return "\n".join(lines) + "\n"
 
