@@ -235,7 +235,7 @@ def _one_executor(n: int, transport: Any) -> list[float]:
             _timed_calls(client, n + 50, times)
 
         timer = client_node.create_timer(0.001, calls)
-        while not times or len(times) < n + 50:
+        while len(times) < n + 50:
             before = len(times)
             ex.spin_once(timeout_sec=10.0)
             if len(times) == before:
