@@ -185,3 +185,46 @@ def test_a_lifespan_becomes_the_writers_lifespan_policy() -> None:
     reader = endpoint_qos(qos_profile_rosout_default, b"", writer=False)
     assert Policy.Lifespan not in reader
     assert Policy.Lifespan not in endpoint_qos(LATCHED, b"", writer=True)
+
+
+def test_the_graph_thread_reads_what_discovery_announced_and_sleeps_when_idle(
+        two: tuple[Context, Context]) -> None:
+    """The graph is read again only when discovery data arrives or sync_graph asks, and a
+    participant that leaves takes its endpoints out of the graph (its instances dispose)."""
+    a, b = two
+    watcher = Node("watcher", context=a, transport="dds")
+    transport = watcher.transport
+    peer = Node("peer", context=b, transport="dds")
+    peer.create_publisher(String, "/only_peer", 10)
+    deadline = time.monotonic() + 15
+    while watcher.count_publishers("/only_peer") != 1:
+        assert time.monotonic() < deadline, "the peer's publisher was never discovered"
+        transport.sync_graph(0.5)  # type: ignore[attr-defined]
+    reads: list[float] = []
+    checks: list[float] = []
+    refresh = transport._refresh  # type: ignore[attr-defined]
+    check = transport._check_incompatible_qos  # type: ignore[attr-defined]
+
+    def counted_refresh() -> None:
+        reads.append(time.monotonic())
+        refresh()
+
+    def counted_check() -> None:
+        checks.append(time.monotonic())
+        check()
+
+    transport._refresh = counted_refresh  # type: ignore[attr-defined]
+    transport._check_incompatible_qos = counted_check  # type: ignore[attr-defined]
+    transport.sync_graph(0.2)  # type: ignore[attr-defined]  # asks for one read
+    # two of the loop's one-second timeouts with nothing announced
+    deadline = time.monotonic() + 10
+    while len(checks) < 3:
+        assert time.monotonic() < deadline, "the graph thread stopped going round"
+        time.sleep(0.05)
+    assert 1 <= len(reads) <= 2, f"an idle graph was read {len(reads)} times"
+    assert not transport._wake.read()  # type: ignore[attr-defined]  # sync's wake handled
+    b.try_shutdown()  # the peer's participant and all its endpoints leave
+    deadline = time.monotonic() + 15
+    while watcher.count_publishers("/only_peer") != 0 or "/peer" in transport.get_node_names():  # type: ignore[attr-defined]
+        assert time.monotonic() < deadline, "the peer's endpoints stayed in the graph"
+        time.sleep(0.05)

@@ -45,6 +45,7 @@ from cyclonedds.builtin import (
     BuiltinTopicDcpsSubscription,
 )
 from cyclonedds.core import (
+    DDSException,
     DDSStatus,
     GuardCondition,
     InstanceState,
@@ -619,11 +620,13 @@ class DdsTransport(Transport):
         self._waitset = WaitSet(self.participant)
         self._wake = GuardCondition(self.participant)
         self._waitset.attach(self._wake)
-        self._conditions = [
-            ReadCondition(r, SampleState.NotRead | ViewState.Any | InstanceState.Any)
-            for r in (*self._builtin.values(), self._disc_reader)
-        ]
-        for cond in self._conditions:
+        #: Each builtin reader's samples not read yet (what _refresh reads), and
+        #: ros_discovery_info's: all wake the graph thread.
+        self._not_read = {
+            name: ReadCondition(reader, SampleState.NotRead | ViewState.Any | InstanceState.Any)
+            for name, reader in (*self._builtin.items(), ("discovery", self._disc_reader))
+        }
+        for cond in self._not_read.values():
             self._waitset.attach(cond)
         self._publish_graph()
         self._thread = threading.Thread(target=self._graph_loop, name="posekit-dds-graph",
@@ -908,13 +911,23 @@ class DdsTransport(Transport):
 
     # -- graph -----------------------------------------------------------------------
     def _graph_loop(self) -> None:
+        """Apply discovery's news when it arrives, or when :meth:`sync_graph` asks.
+
+        The wait set holds the builtin readers' and ``ros_discovery_info``'s not-read
+        conditions and the ``_wake`` guard. The one-second timeout only checks the
+        endpoints' incompatible-QoS statuses, which wake no condition: an idle graph costs
+        no reading (a read converts every sample's QoS in Python, holding the GIL).
+        """
         while not self._closed:
             try:
-                self._waitset.wait(duration(seconds=1))
+                triggered = self._waitset.wait(duration(seconds=1))
                 if self._closed:
                     return
                 self._check_incompatible_qos()
-                self._refresh()
+                if triggered:
+                    # untrigger before reading: a sync_graph() during the read comes round again
+                    self._wake.set(False)
+                    self._refresh()
             except Exception as exc:  # keep the graph alive whatever a peer announces
                 if self._closed:
                     return
@@ -926,30 +939,38 @@ class DdsTransport(Transport):
             publishers = list(self._publishers)
             subscriptions = list(self._subscriptions)
         for pub in publishers:
-            if pub.alive and pub.writer.take_status(DDSStatus.OfferedIncompatibleQos):
+            if _took_status(pub, pub.writer, DDSStatus.OfferedIncompatibleQos):
                 pub.report_incompatible()
         for sub in subscriptions:
             reader = sub.reader
-            if sub.alive and reader is not None and reader.take_status(
-                    DDSStatus.RequestedIncompatibleQos):
+            if reader is not None and _took_status(sub, reader,
+                                                   DDSStatus.RequestedIncompatibleQos):
                 sub.report_incompatible(reader)
 
     def _refresh(self) -> None:
+        """Apply what discovery announced since the last call (the graph thread's, alone).
+
+        Reads only the builtin samples not read before (each reader's not-read condition), so
+        a call costs what changed, not the whole graph: reading a builtin sample converts its
+        QoS in Python. A disposed or unregistered endpoint or participant arrives as a sample
+        whose instance is no longer alive.
+        """
         changed = False
-        with QOS_CONVERSION_LOCK:
-            participants = self._builtin["participant"].read(N=100000)
-        alive_parts = {
-            s.key.bytes for s in participants
-            if int(s.sample_info.instance_state) == _ALIVE
-        }
-        endpoints: dict[bytes, tuple[EntityKind, Any]] = {}
-        for kind, reader in ((EntityKind.PUBLISHER, self._builtin["publication"]),
-                             (EntityKind.SUBSCRIPTION, self._builtin["subscription"])):
-            with QOS_CONVERSION_LOCK:
-                samples = reader.read(N=100000)
-            for s in samples:
+        not_read = self._not_read
+        participants = _read_not_read(self._builtin["participant"], not_read["participant"])
+        alive_parts = self._participants
+        if participants:
+            alive_parts = set(alive_parts)
+            for s in participants:
                 if int(s.sample_info.instance_state) == _ALIVE:
-                    endpoints[s.key.bytes] = (kind, s)
+                    alive_parts.add(s.key.bytes)
+                else:
+                    alive_parts.discard(s.key.bytes)
+        endpoints = self._endpoints
+        for kind, name in ((EntityKind.PUBLISHER, "publication"),
+                           (EntityKind.SUBSCRIPTION, "subscription")):
+            endpoints = _with_endpoints(
+                endpoints, kind, _read_not_read(self._builtin[name], not_read[name]))
         announced: list[ParticipantEntities] = []
         for data, sample_info in ddspy_take(self._disc_reader._ref, _ANY, 100000) or []:
             if not sample_info.valid_data:
@@ -1135,6 +1156,55 @@ def drain_reader(ref: int, deliver: Callable[[bytes, Any], None],
                 deliver(data, sample_info)
         if len(batch) < _TAKE_BATCH:
             return
+
+
+def _read_not_read(reader: BuiltinDataReader, condition: ReadCondition) -> list[Any]:
+    """Every sample of builtin ``reader`` that ``condition`` (not read) selects, now read.
+
+    In batches: a read allocates room for as many samples as it may return, and one for
+    100,000 took 0.5 ms with nothing to read.
+    """
+    samples: list[Any] = []
+    while True:
+        with QOS_CONVERSION_LOCK:
+            batch = reader.read(N=_TAKE_BATCH, condition=condition)
+        samples += batch
+        if len(batch) < _TAKE_BATCH:
+            return samples
+
+
+def _with_endpoints(endpoints: dict[bytes, tuple[EntityKind, Any]], kind: EntityKind,
+                    samples: list[Any]) -> dict[bytes, tuple[EntityKind, Any]]:
+    """``endpoints`` with builtin ``samples`` of ``kind`` applied, as a new dict if any.
+
+    New so that readers of the transport's dict need no copy. Alive instances go in (or
+    replace what was there), the others go out.
+    """
+    if not samples:
+        return endpoints
+    endpoints = dict(endpoints)
+    for s in samples:
+        if int(s.sample_info.instance_state) == _ALIVE:
+            endpoints[s.key.bytes] = (kind, s)
+        else:
+            endpoints.pop(s.key.bytes, None)
+    return endpoints
+
+
+def _took_status(endpoint: _Publisher | _Subscription, entity: Any, status: int) -> bool:
+    """Whether ``entity`` had ``status`` raised (now taken); False once the endpoint is gone.
+
+    An endpoint destroyed on another thread between the ``alive`` check and the take has
+    its entity deleted: that is not an error of the graph thread.
+    """
+    if not endpoint.alive:
+        return False
+    try:
+        return bool(entity.take_status(status))
+    except DDSException:
+        if endpoint.alive:
+            raise
+        return False
 
 
 def _delete(entity: Any) -> None:
