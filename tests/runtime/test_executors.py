@@ -114,6 +114,40 @@ def test_spin_returns_on_shutdown() -> None:
     assert not context.ok()
 
 
+@pytest.mark.parametrize("kind", ["single", "multi"])
+def test_shutdown_just_before_the_wait_is_announced_still_ends_spin(
+        ctx, monkeypatch: pytest.MonkeyPatch, kind: str) -> None:
+    """shutdown() on another thread after the spinning thread's last check of the flag but
+    before it announced its wait (``Inbox.prepare_wait`` clears the wake-up): the flag must be
+    looked at again after the announcement, or the wake-up is lost and spin() never returns."""
+    from posekit.runtime.inbox import Inbox
+
+    node = Node("n", context=ctx)
+    ex = (SingleThreadedExecutor if kind == "single" else MultiThreadedExecutor)(context=ctx)
+    ex.add_node(node)
+    prepare_wait = Inbox.prepare_wait
+    interleaved = threading.Event()
+
+    def shutdown_lands_first(inbox: Inbox) -> None:
+        if inbox is ex.inbox and not interleaved.is_set():
+            interleaved.set()
+            ex._is_shutdown = True  # what shutdown() does first ...
+            ex.wake()  # ... and last
+        prepare_wait(inbox)
+
+    monkeypatch.setattr(Inbox, "prepare_wait", shutdown_lands_first)
+    thread = threading.Thread(target=ex.spin, daemon=True)
+    thread.start()
+    thread.join(timeout=5.0)
+    stuck = thread.is_alive()
+    if stuck:  # release it before failing
+        monkeypatch.undo()
+        ex.wake()
+        thread.join(timeout=5.0)
+    assert interleaved.is_set()
+    assert not stuck, "spin() missed a shutdown that came before its wait"
+
+
 def test_spin_runs_callbacks_and_calls_a_subclass_own_spin_once(ctx) -> None:
     """spin() runs spin_once's steps itself, unless a subclass overrides spin_once (rclpy's
     Executor.spin calls self.spin_once(): code that overrides it must keep working)."""

@@ -435,8 +435,12 @@ class Executor:
                         if work is not None:
                             return work
                 # Order matters: announce waiting, then look for work (Inbox.prepare_wait).
+                # A shutdown that woke this thread before the announcement cleared the
+                # wake-up is part of that look: its flag is set before it wakes.
                 inbox.prepare_wait()
-                if condition is not None and condition():
+                if self._is_shutdown or not self._context.ok() or (
+                    condition is not None and condition()
+                ):
                     return None
                 work = self._take_ready()
                 if work is not None:
