@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
@@ -227,4 +229,47 @@ def test_the_graph_thread_reads_what_discovery_announced_and_sleeps_when_idle(
     deadline = time.monotonic() + 15
     while watcher.count_publishers("/only_peer") != 0 or "/peer" in transport.get_node_names():  # type: ignore[attr-defined]
         assert time.monotonic() < deadline, "the peer's endpoints stayed in the graph"
+        time.sleep(0.05)
+
+
+def test_an_announcement_taken_before_its_participant_is_read_stays_on_the_graph(
+        two: tuple[Context, Context], monkeypatch: pytest.MonkeyPatch) -> None:
+    """A read of the graph reads the participants first, then takes ros_discovery_info: a
+    participant discovered in between has its nodes' announcement taken before its builtin
+    sample is read. The announcement must wait for it (it is not sent again)."""
+    import posekit.transport.dds_transport as dds
+
+    a, b = two
+    watcher = Node("watcher", context=a, transport="dds")
+    transport = watcher.transport
+    participants_reader = transport._builtin["participant"]  # type: ignore[attr-defined]
+    hold = threading.Event()
+    hold.set()
+    read_not_read = dds._read_not_read
+
+    def late_participants(reader: Any, condition: Any) -> list[Any]:
+        if reader is participants_reader and hold.is_set():
+            return []  # the peer's builtin sample "not arrived yet"
+        return read_not_read(reader, condition)
+
+    decoded: list[bytes] = []
+    decode = dds.decode_participant_entities
+
+    def recording_decode(data: bytes) -> Any:
+        entities = decode(data)
+        decoded.append(entities.gid)
+        return entities
+
+    monkeypatch.setattr(dds, "_read_not_read", late_participants)
+    monkeypatch.setattr(dds, "decode_participant_entities", recording_decode)
+    peer = Node("peer", context=b, transport="dds")
+    peer_gid = peer.transport.gid  # type: ignore[attr-defined]
+    deadline = time.monotonic() + 15
+    while peer_gid not in decoded:
+        assert time.monotonic() < deadline, "the peer's announcement never arrived"
+        time.sleep(0.02)
+    hold.clear()  # now the participant sample is read
+    deadline = time.monotonic() + 10
+    while "/peer" not in transport.get_node_names():  # type: ignore[attr-defined]
+        assert time.monotonic() < deadline, "the peer's announcement was dropped"
         time.sleep(0.05)

@@ -959,13 +959,16 @@ class DdsTransport(Transport):
         not_read = self._not_read
         participants = _read_not_read(self._builtin["participant"], not_read["participant"])
         alive_parts = self._participants
+        departed: set[bytes] = set()
         if participants:
             alive_parts = set(alive_parts)
             for s in participants:
                 if int(s.sample_info.instance_state) == _ALIVE:
                     alive_parts.add(s.key.bytes)
+                    departed.discard(s.key.bytes)
                 else:
                     alive_parts.discard(s.key.bytes)
+                    departed.add(s.key.bytes)
         endpoints = self._endpoints
         for kind, name in ((EntityKind.PUBLISHER, "publication"),
                            (EntityKind.SUBSCRIPTION, "subscription")):
@@ -980,11 +983,13 @@ class DdsTransport(Transport):
             except CdrError as exc:
                 self._warn_graph("ignoring an undecodable ros_discovery_info sample", str(exc))
         with self._lock:
+            # A participant's announcement may be taken before its builtin sample is read
+            # (it arrived in between): it stays until the participant is seen to leave.
             for part in announced:
-                if self._remote.get(part.gid) != part:
+                if part.gid not in departed and self._remote.get(part.gid) != part:
                     self._remote[part.gid] = part
                     changed = True
-            for gid in [g for g in self._remote if g not in alive_parts]:
+            for gid in departed & self._remote.keys():
                 del self._remote[gid]
                 changed = True
             if alive_parts != self._participants or endpoints.keys() != self._endpoints.keys():
