@@ -192,7 +192,8 @@ def test_a_lifespan_becomes_the_writers_lifespan_policy() -> None:
 def test_the_graph_thread_reads_what_discovery_announced_and_sleeps_when_idle(
         two: tuple[Context, Context]) -> None:
     """The graph is read again only when discovery data arrives or sync_graph asks, and a
-    participant that leaves takes its endpoints out of the graph (its instances dispose)."""
+    participant that leaves takes its endpoints out of the graph (its instances dispose)
+    and leaves nothing behind in the builtin readers."""
     a, b = two
     watcher = Node("watcher", context=a, transport="dds")
     transport = watcher.transport
@@ -230,6 +231,13 @@ def test_the_graph_thread_reads_what_discovery_announced_and_sleeps_when_idle(
     while watcher.count_publishers("/only_peer") != 0 or "/peer" in transport.get_node_names():  # type: ignore[attr-defined]
         assert time.monotonic() < deadline, "the peer's endpoints stayed in the graph"
         time.sleep(0.05)
+    # What the graph has seen is taken from the builtin readers: Cyclone keeps no sample of
+    # a peer that left (read samples stayed for good, and every re-read converted them)
+    from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState
+
+    for name, reader in transport._builtin.items():  # type: ignore[attr-defined]
+        seen = ReadCondition(reader, SampleState.Read | ViewState.Any | InstanceState.Any)
+        assert reader.read(N=1000, condition=seen) == [], name
 
 
 def test_an_announcement_taken_before_its_participant_is_read_stays_on_the_graph(
@@ -245,12 +253,12 @@ def test_an_announcement_taken_before_its_participant_is_read_stays_on_the_graph
     participants_reader = transport._builtin["participant"]  # type: ignore[attr-defined]
     hold = threading.Event()
     hold.set()
-    read_not_read = dds._read_not_read
+    take_new = dds._take_new
 
     def late_participants(reader: Any, condition: Any) -> list[Any]:
         if reader is participants_reader and hold.is_set():
             return []  # the peer's builtin sample "not arrived yet"
-        return read_not_read(reader, condition)
+        return take_new(reader, condition)
 
     decoded: list[bytes] = []
     decode = dds.decode_participant_entities
@@ -260,7 +268,7 @@ def test_an_announcement_taken_before_its_participant_is_read_stays_on_the_graph
         decoded.append(entities.gid)
         return entities
 
-    monkeypatch.setattr(dds, "_read_not_read", late_participants)
+    monkeypatch.setattr(dds, "_take_new", late_participants)
     monkeypatch.setattr(dds, "decode_participant_entities", recording_decode)
     peer = Node("peer", context=b, transport="dds")
     peer_gid = peer.transport.gid  # type: ignore[attr-defined]
