@@ -620,7 +620,7 @@ class DdsTransport(Transport):
         self._waitset = WaitSet(self.participant)
         self._wake = GuardCondition(self.participant)
         self._waitset.attach(self._wake)
-        #: Each builtin reader's samples not read yet (what _refresh reads), and
+        #: Each builtin reader's samples not taken yet (what _refresh takes), and
         #: ros_discovery_info's: all wake the graph thread.
         self._not_read = {
             name: ReadCondition(reader, SampleState.NotRead | ViewState.Any | InstanceState.Any)
@@ -916,7 +916,7 @@ class DdsTransport(Transport):
         The wait set holds the builtin readers' and ``ros_discovery_info``'s not-read
         conditions and the ``_wake`` guard. The one-second timeout only checks the
         endpoints' incompatible-QoS statuses, which wake no condition: an idle graph costs
-        no reading (a read converts every sample's QoS in Python, holding the GIL).
+        nothing (each builtin sample's QoS is converted in Python, holding the GIL).
         """
         while not self._closed:
             try:
@@ -948,7 +948,7 @@ class DdsTransport(Transport):
                 sub.report_incompatible(reader)
 
     def _refresh(self) -> None:
-        """Apply what discovery announced since the last call (the graph thread's, alone).
+        """Apply what discovery announced since the last call (only the graph thread calls).
 
         Takes only the builtin samples that arrived since (each reader's not-read condition),
         so a call costs what changed, not the whole graph: each builtin sample has its QoS
@@ -983,8 +983,8 @@ class DdsTransport(Transport):
             except CdrError as exc:
                 self._warn_graph("ignoring an undecodable ros_discovery_info sample", str(exc))
         with self._lock:
-            # A participant's announcement may be taken before its builtin sample is read
-            # (it arrived in between): it stays until the participant is seen to leave.
+            # A participant's announcement may be taken before its builtin sample (it arrived
+            # in between): it stays until the participant is seen to leave.
             for part in announced:
                 if part.gid not in departed and self._remote.get(part.gid) != part:
                     self._remote[part.gid] = part
