@@ -377,8 +377,12 @@ class Executor:
         a look per message cost about 15 % more CPU per Zenoh ``tf`` message
         (docs/performance.md).
         """
-        self._execute(work)
-        if work[0] != _MESSAGE or not len(self.inbox) or self._tasks:
+        kind, entity, payload = work
+        if kind != _MESSAGE:
+            self._execute(work)
+            return
+        self._call(entity, payload)
+        if not len(self.inbox) or self._tasks:
             return
         window = self._schedule.quiet_wall_s()
         if window is None:

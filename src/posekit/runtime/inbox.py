@@ -240,7 +240,10 @@ class Inbox:
 
     def pull_sources(self, budget: int) -> int:
         """Let every pulled source hand up to ``budget`` samples over; how many in all."""
-        return sum(source.pull(budget) for source in self.sources)
+        sources = self.sources
+        if len(sources) == 1:  # the common case, without a generator per wake-up
+            return sources[0].pull(budget)
+        return sum(source.pull(budget) for source in sources)
 
     def sources_pending(self) -> bool:
         """Whether a pulled source still holds samples for :meth:`pull_sources`."""
