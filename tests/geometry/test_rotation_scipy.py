@@ -10,7 +10,7 @@ import transforms3d.euler as t3e
 import transforms3d.quaternions as t3q
 from scipy.spatial.transform import Rotation as SciRot
 
-from posekit.geometry import EULER_SEQUENCES, Rotation
+from posekit.geometry import EULER_SEQUENCES, Rotation, ShapeError
 
 N = 10_000
 TOL = 1e-12
@@ -206,3 +206,100 @@ def test_quaternion_ops_match_transforms3d(quats):
         ref_axis, ref_angle = t3q.quat2axangle(wxyz)
         ref = Rotation.from_axis_angle(ref_axis, ref_angle)
         assert ref.approx_equal(Rotation.from_axis_angle(axis, angle), atol=TOL)
+
+
+def test_mrp_matches_scipy(quats):
+    ours = Rotation.from_quat(quats).as_mrp()
+    ref = SciRot.from_quat(quats).as_mrp()
+    assert np.abs(ours - ref).max() < TOL
+    assert np.linalg.norm(ours, axis=1).max() <= 1.0 + TOL  # the shorter way round
+    mrps = np.random.default_rng(3).normal(scale=2.0, size=(N, 3))
+    assert same_rotation_quats(Rotation.from_mrp(mrps).as_quat(),
+                               SciRot.from_mrp(mrps).as_quat()) < TOL
+    single = Rotation.from_mrp(mrps[0])
+    assert single.single
+    assert same_rotation_quats(single.as_quat()[None],
+                               SciRot.from_mrp(mrps[0]).as_quat()[None]) < TOL
+    assert np.allclose(Rotation.from_quat(quats[0]).as_mrp(), SciRot.from_quat(quats[0]).as_mrp())
+
+
+@pytest.mark.parametrize("n", [0.0, 1.0, -1.0, 2.0, 0.5, -0.25, 3.7])
+def test_power_matches_scipy(n, quats):
+    ours = (Rotation.from_quat(quats[:1000]) ** n).as_quat()
+    ref = (SciRot.from_quat(quats[:1000]) ** n).as_quat()
+    assert same_rotation_quats(ours, ref) < 1e-10
+    single = Rotation.from_quat(quats[0]) ** n
+    assert single.single
+    ref = SciRot.from_quat(quats[0]) ** n
+    assert same_rotation_quats(single.as_quat()[None], ref.as_quat()[None]) < 1e-10
+
+
+def test_mean_matches_scipy(quats):
+    rng = np.random.default_rng(5)
+    for size in (1, 2, 7, 1000):
+        chunk = quats[:size]
+        weights = rng.uniform(0.0, 3.0, size)
+        for w in (None, weights):
+            ours = Rotation.from_quat(chunk).mean(w)
+            ref = SciRot.from_quat(chunk).mean(w)
+            assert ours.single
+            assert same_rotation_quats(ours.as_quat()[None], ref.as_quat()[None]) < 1e-9
+    # a spread of yaws about 40 degrees: the mean is 40 degrees
+    yaws = Rotation.from_euler("z", [[30], [40], [50]], degrees=True)
+    assert yaws.mean().approx_equal(Rotation.from_euler("z", 40, degrees=True), atol=1e-12)
+    with pytest.raises(ValueError, match="non-negative"):
+        yaws.mean([1.0, -1.0, 1.0])
+    with pytest.raises(ShapeError):
+        yaws.mean([1.0, 1.0])
+
+
+def test_align_vectors_matches_scipy():
+    rng = np.random.default_rng(7)
+    for n in (2, 3, 10, 500):
+        b = rng.normal(size=(n, 3))
+        truth = SciRot.random(rng=rng)
+        a = truth.apply(b) + rng.normal(scale=0.01, size=(n, 3))
+        weights = rng.uniform(0.1, 2.0, n)
+        for w in (None, weights):
+            ours, ours_rssd = Rotation.align_vectors(a, b, w)
+            ref, ref_rssd = SciRot.align_vectors(a, b, w)
+            assert ours.single
+            assert same_rotation_quats(ours.as_quat()[None], ref.as_quat()[None]) < 1e-9
+            assert ours_rssd == pytest.approx(ref_rssd, rel=1e-6, abs=1e-9)
+    # a mirror image: the best proper rotation flips the smallest singular direction
+    b = rng.normal(size=(20, 3))
+    a = b * np.array([1.0, 1.0, -1.0])
+    ours, ours_rssd = Rotation.align_vectors(a, b)
+    ref, ref_rssd = SciRot.align_vectors(a, b)
+    assert same_rotation_quats(ours.as_quat()[None], ref.as_quat()[None]) < 1e-9
+    assert ours_rssd == pytest.approx(ref_rssd, rel=1e-9)
+    # one pair: the smallest rotation between the directions, as scipy
+    for a, b in (([1, 0, 0], [0, 1, 0]), ([0, 0, 2], [0, 0, 1]), ([1, 2, 3], [-3, 1, 0.5])):
+        ours, ours_rssd = Rotation.align_vectors(a, b)
+        ref, ref_rssd = SciRot.align_vectors(a, b)
+        assert same_rotation_quats(ours.as_quat()[None], ref.as_quat()[None]) < 1e-9
+        assert ours_rssd == pytest.approx(ref_rssd, abs=1e-9)
+    # opposite directions: half a turn taking b onto a
+    turned, _ = Rotation.align_vectors([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+    assert np.allclose(turned.apply([1.0, 0.0, 0.0]), [-1.0, 0.0, 0.0])
+    with pytest.raises(ShapeError):
+        Rotation.align_vectors([[1, 0, 0]], [[0, 1, 0], [1, 0, 0]])
+    with pytest.raises(ValueError, match="zero vector"):
+        Rotation.align_vectors([0, 0, 0], [1, 0, 0])
+
+
+@pytest.mark.parametrize("angles", [90, [90], [[90]], [[10], [20]], [[1.0, 2.0]], (5.0, 6.0)])
+def test_one_and_two_axis_angle_shapes_follow_scipy(angles):
+    seq = "z" if np.asarray(angles).size in (1,) or np.asarray(angles).shape[-1] == 1 else "zx"
+    ours = Rotation.from_euler(seq, angles, degrees=True)
+    ref = SciRot.from_euler(seq, angles, degrees=True)
+    assert ours.single == ref.single
+    assert ours.as_quat().shape == ref.as_quat().shape
+    assert np.allclose(ours.as_quat(), ref.as_quat())
+
+
+def test_one_axis_angles_of_shape_n_are_refused_as_by_scipy():
+    with pytest.raises(ValueError, match="last dimension"):
+        SciRot.from_euler("z", [10, 20], degrees=True)
+    with pytest.raises(ShapeError, match=r"\(N, 1\)"):
+        Rotation.from_euler("z", [10, 20], degrees=True)

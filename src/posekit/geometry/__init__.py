@@ -6,6 +6,7 @@ functions that build messages, so ``import posekit.geometry`` loads numpy alone.
 * :class:`Rotation` - SO(3), scipy-like (one or a batch), plus ROS ``from_rpy``/``as_rpy``
   and the lecture's world/body composition helpers.
 * :class:`Transform` - SE(3) ``T_a_b`` with ``T_a_c = T_a_b * T_b_c``.
+* :class:`Slerp` - scipy's interpolation through key rotations at key times.
 * :class:`Pose2D` - SE(2) with exact ``exp``/``log`` for arc odometry.
 * :mod:`posekit.geometry.scalar` - the same maths as functions on plain float tuples.
 * :func:`wrap_angle` - posekit's one angle-wrapping convention ([-π, π], in-range values
@@ -43,6 +44,7 @@ from posekit.geometry.errors import (
 )
 from posekit.geometry.rotation import Rotation, compose_body, compose_world
 from posekit.geometry.se2 import Pose2D
+from posekit.geometry.slerp import Slerp
 from posekit.geometry.transform import Transform
 
 __all__ = [
@@ -55,6 +57,7 @@ __all__ = [
     "Pose2D",
     "Rotation",
     "ShapeError",
+    "Slerp",
     "Transform",
     "UnknownSequenceError",
     "ZeroAxisError",

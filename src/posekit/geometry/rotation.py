@@ -350,6 +350,24 @@ class Rotation:
         return cls._many(vk.from_rotvec(p))
 
     @classmethod
+    def from_mrp(cls, mrp: npt.ArrayLike) -> Rotation:
+        """From Modified Rodrigues Parameters ``axis * tan(angle / 4)``, ``(3,)`` or ``(N, 3)``.
+
+        As scipy: any finite vector is a rotation (norm 1 is half a turn).
+        """
+        p = parse_rows(mrp, 3, "MRP")
+        rows = np.array([p]) if isinstance(p, tuple) else p
+        check_finite_array(rows, "MRP")
+        n2 = np.einsum("ij,ij->i", rows, rows)
+        q = np.empty((len(rows), 4))
+        q[:, :3] = 2.0 * rows / (1.0 + n2)[:, None]
+        q[:, 3] = (1.0 - n2) / (1.0 + n2)
+        q = vk.normalize(q)
+        if isinstance(p, tuple):
+            return cls._single(tuple(q[0].tolist()))
+        return cls._many(q)
+
+    @classmethod
     def from_axis_angle(
         cls, axis: npt.ArrayLike, angle: npt.ArrayLike, degrees: bool = False
     ) -> Rotation:
@@ -534,6 +552,16 @@ class Rotation:
             out = vk.to_rotvec(self._qs)
         return np.degrees(out) if degrees else out
 
+    def as_mrp(self) -> F64:
+        """Modified Rodrigues Parameters ``axis * tan(angle / 4)``, ``(3,)`` or ``(N, 3)``.
+
+        With the angle in [0, π] (the shorter way round: norm at most 1), as scipy.
+        """
+        q = self._rows()
+        sign = np.where(q[:, 3] < 0.0, -1.0, 1.0)
+        out = sign[:, None] * q[:, :3] / (1.0 + sign * q[:, 3])[:, None]
+        return out[0] if self._q is not None else out
+
     def as_axis_angle(self, degrees: bool = False) -> tuple[F64, float | F64]:
         """``(unit axis, angle)`` with angle in [0, π]; the identity reports axis (1, 0, 0)."""
         if self._q is not None:
@@ -587,6 +615,108 @@ class Rotation:
         assert self._qs is not None
         q = self._qs * np.array((-1.0, -1.0, -1.0, 1.0))
         return Rotation._many(q)
+
+    def __pow__(self, n: float, modulus: None = None) -> Rotation:
+        """The rotation(s) ``n`` times over: the same axis, ``n`` times the angle.
+
+        As scipy: the angle is that of :meth:`as_rotvec` (in [0, π]); ``n = -1`` is
+        :meth:`inv`, ``n = 0`` the identity.
+        """
+        if modulus is not None:
+            raise NotImplementedError("modular exponentiation is not defined for rotations")
+        n = float(n)
+        if n == 0.0:
+            return Rotation.identity(None if self._q is not None else len(self))
+        if n == 1.0:
+            return self
+        if n == -1.0:
+            return self.inv()
+        return Rotation.from_rotvec(n * self.as_rotvec())
+
+    def mean(self, weights: npt.ArrayLike | None = None) -> Rotation:
+        """The chordal L2 mean of the rotation(s), as scipy's ``mean``.
+
+        The rotation whose matrix is nearest to theirs in the weighted sum of squared
+        Frobenius distances.
+
+        Args:
+            weights: ``(N,)`` non-negative weights (default: equal).
+
+        Raises:
+            ShapeError: weights of another length than the batch.
+            ValueError: a negative weight.
+        """
+        q = self._rows()
+        if weights is None:
+            w = np.ones(len(q))
+        else:
+            w = np.asarray(weights, dtype=np.float64).reshape(-1)
+            if w.shape != (len(q),):
+                raise ShapeError(f"{w.size} weights for {len(q)} rotations")
+            if (w < 0.0).any():
+                raise ValueError("weights must be non-negative")
+        # The eigenvector of the largest eigenvalue of sum(w q q^T) (Markley et al., 2007).
+        _, vectors = np.linalg.eigh(np.einsum("i,ij,ik->jk", w, q, q))
+        return Rotation.from_quat(vectors[:, -1])
+
+    @classmethod
+    def align_vectors(
+        cls, a: npt.ArrayLike, b: npt.ArrayLike, weights: npt.ArrayLike | None = None
+    ) -> tuple[Rotation, float]:
+        """The rotation ``R`` that best takes vectors ``b`` onto vectors ``a`` (scipy's).
+
+        Minimises ``sum(w_i * |a_i - R b_i|^2)`` (Kabsch: one SVD); a single pair gives the
+        smallest rotation taking the direction of ``b`` to that of ``a``.
+
+        Args:
+            a: ``(3,)`` or ``(N, 3)`` vectors in the target frame.
+            b: the same number of vectors in the source frame.
+            weights: ``(N,)`` non-negative weights (default: equal).
+
+        Returns:
+            ``(R, rssd)``: the single rotation and the root of the weighted sum of squared
+            distances left.
+
+        Raises:
+            ShapeError: ``a`` and ``b`` (or the weights) of different lengths.
+            ValueError: a negative weight; a single pair with a zero vector.
+        """
+        pa, pb = parse_rows(a, 3, "vectors a"), parse_rows(b, 3, "vectors b")
+        va = np.array([pa]) if isinstance(pa, tuple) else np.asarray(pa)
+        vb = np.array([pb]) if isinstance(pb, tuple) else np.asarray(pb)
+        if va.shape != vb.shape:
+            raise ShapeError(f"vectors a {va.shape} and b {vb.shape} differ in shape")
+        check_finite_array(va, "vectors a")
+        check_finite_array(vb, "vectors b")
+        w = np.ones(len(va)) if weights is None else np.asarray(weights, np.float64).reshape(-1)
+        if w.shape != (len(va),):
+            raise ShapeError(f"{w.size} weights for {len(va)} vector pairs")
+        if (w < 0.0).any():
+            raise ValueError("weights must be non-negative")
+        if len(va) == 1:  # the smallest rotation between the two directions
+            na, nb = np.linalg.norm(va[0]), np.linalg.norm(vb[0])
+            if na == 0.0 or nb == 0.0:
+                raise ValueError("cannot align a zero vector")
+            ua, ub = va[0] / na, vb[0] / nb
+            axis = np.cross(ub, ua)
+            s, c = np.linalg.norm(axis), float(np.dot(ub, ua))
+            if s > 1e-12:
+                rotation = cls.from_rotvec(axis / s * math.atan2(s, c))
+            elif c > 0.0:
+                rotation = cls.identity()
+            else:  # opposite: half a turn about any axis normal to b
+                normal = np.cross(ub, np.eye(3)[int(np.argmin(np.abs(ub)))])
+                rotation = cls.from_rotvec(normal / np.linalg.norm(normal) * math.pi)
+            residual = w[0] * float(np.sum((va[0] - rotation.apply(vb[0])) ** 2))
+            return rotation, math.sqrt(max(residual, 0.0))
+        h = np.einsum("i,ij,ik->jk", w, va, vb)
+        u, sigma, vt = np.linalg.svd(h)
+        d = np.sign(np.linalg.det(u @ vt)) or 1.0
+        matrix = u @ np.diag([1.0, 1.0, d]) @ vt
+        rotation = cls.from_matrix(matrix, atol=1e-6)
+        residual = float(np.einsum("i,ij->", w, va**2) + np.einsum("i,ij->", w, vb**2))
+        residual -= 2.0 * float(sigma[0] + sigma[1] + d * sigma[2])
+        return rotation, math.sqrt(max(residual, 0.0))
 
     def apply(self, vectors: npt.ArrayLike, inverse: bool = False) -> F64:
         """Rotate vector(s): ``(3,)`` or ``(N, 3)``; the lecture's ``p' = q p q⁻¹``.
@@ -673,15 +803,17 @@ def _pad_euler_sequence(seq: str, angles: npt.ArrayLike) -> tuple[str, npt.Array
         padded += next(ch for ch in axes if ch != padded[-1])
     arr = np.asarray(angles, dtype=np.float64)
     k = len(seq)
-    if k == 1 and arr.ndim == 0:
-        return padded, (float(arr), 0.0, 0.0)
+    # As scipy (1.17): one rotation takes a scalar or (k,), N rotations (N, k); so a batch
+    # of one-axis angles is (N, 1), and (N,) with N != 1 is refused (older scipy read it as
+    # N rotations).
+    if k == 1 and arr.shape in ((), (1,)):
+        return padded, (float(arr.reshape(-1)[0]), 0.0, 0.0)
     if k == 2 and arr.shape == (2,):
         return padded, (float(arr[0]), float(arr[1]), 0.0)
-    if k == 1 and arr.ndim == 1:
-        arr = arr[:, None]
     if arr.ndim != 2 or arr.shape[1] != k:
+        single = "() or (1,)" if k == 1 else "(2,)"
         raise ShapeError(
-            f"Euler sequence {seq!r} takes angles of shape {'() or (N,)' if k == 1 else '(2,)'}"
-            f" or (N, {k}), got {arr.shape}"
+            f"Euler sequence {seq!r} takes angles of shape {single} for one rotation or "
+            f"(N, {k}) for N, got {arr.shape}"
         )
     return padded, np.concatenate([arr, np.zeros((len(arr), 3 - k))], axis=1)
