@@ -203,3 +203,21 @@ def test_a_launch_with_no_clock_publishes_no_clock(routed: World) -> None:
     assert "/imu/data" in listing, listing  # the simulation's topics are visible
     assert "/clock" not in listing, listing
     assert sim.popen.poll() is None
+
+
+def test_param_list_answers_for_every_node_while_a_simulation_runs(routed: World) -> None:
+    # Oracle: the graph another process sees. The clock node is a node there, but it serves
+    # no parameters (no executor spins it), so param list neither waits on it nor names it.
+    _simulation(routed)
+    nodes = routed.cli("node", "list").finish(60, "node list").split()
+    assert "/posekit_sim_clock" in nodes
+    assert "/world_simulation" in nodes
+    services = routed.cli("service", "list").finish(60, "service list").split()
+    assert "/world_simulation/list_parameters" in services
+    assert not [s for s in services if s.startswith("/posekit_sim_clock/")], services
+    params = routed.cli("param", "list")
+    text = params.finish(60, "param list")
+    assert params.popen.returncode == 0, params.describe()
+    headers = [line[:-1] for line in text.splitlines() if not line.startswith(" ")]
+    assert headers == sorted(set(nodes) - {"/posekit_sim_clock"}), params.describe()
+    assert "  use_sim_time" in text.splitlines()

@@ -124,7 +124,10 @@ def _list(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> Non
         nodes = [absolute_node_name(ns.node_name)]
         _wait_for_node(session, nodes[0], ns.include_hidden_nodes, _SERVICE_WAIT_S)
     else:
-        nodes = _nodes(session, ns.include_hidden_nodes)
+        # as ros2 param list: only the nodes that serve list_parameters (not the tools, say)
+        served = {name for name, _types in session.node.get_service_names_and_types()}
+        nodes = [n for n in _nodes(session, ns.include_hidden_nodes)
+                 if f"{n}/list_parameters" in served]
     pattern = re.compile(ns.filter[0]) if ns.filter else None
     for node in nodes:
         try:
