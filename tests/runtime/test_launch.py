@@ -117,3 +117,77 @@ def test_start_publish_clock_switch() -> None:
     finally:
         quiet.shutdown()
         loud.shutdown()
+
+
+RUN_PARAMS = """\
+/r/*:
+  ros__parameters:
+    value: 3.0
+    gain: 5
+/talker:
+  ros__parameters:
+    value: 9.0
+"""
+
+#: What the reference reports: a node created as ``Node("talker")`` in a process started
+#: with these ROS arguments (``ros2 run`` hands its ``--ros-args`` to the process).
+ROS_RUN_PROBE = """
+import json, sys
+import rclpy
+from rclpy.node import Node
+rclpy.init(args=["probe", *json.loads(sys.argv[1])])
+node = Node("talker")
+print(json.dumps({
+    "fqn": node.get_fully_qualified_name(),
+    "value": node.declare_parameter("value", 1.0).value,
+    "gain": node.declare_parameter("gain", 1).value,
+    "out": node.resolve_topic_name("out"),
+    "warn_only": int(node.get_logger().get_effective_level()),
+}))
+rclpy.shutdown()
+"""
+
+
+class RunProbe(RosNode):
+    """The reference probe's node: hard-codes its name, declares two parameters."""
+
+    def __init__(self) -> None:
+        super().__init__("talker")
+        self.value = self.declare_parameter("value", 1.0).value
+        self.gain = self.declare_parameter("gain", 1).value
+
+
+def test_start_gives_every_node_the_runs_ros_arguments_as_ros2_run_does(tmp_path) -> None:
+    import json
+    import subprocess
+
+    from _support.dds import free_domain
+    from _support.ros2 import ros2_env, ros2_python
+    from posekit.runtime.arguments import parse_arguments
+    from posekit.runtime.logging import LoggingSeverity, set_logger_level
+
+    params = tmp_path / "run.yaml"
+    params.write_text(RUN_PARAMS)
+    args = ["--ros-args", "-r", "__ns:=/r", "-r", "__node:=mover", "-r", "out:=/elsewhere",
+            "--params-file", str(params), "-p", "gain:=7", "--log-level", "r.mover:=warn"]
+    reference = subprocess.run(
+        [str(ros2_python()), "-c", ROS_RUN_PROBE, json.dumps(args)],
+        env=ros2_env(free_domain()), capture_output=True, text=True, timeout=60,
+        stdin=subprocess.DEVNULL)
+    assert reference.returncode == 0, reference.stderr
+    expected = json.loads(reference.stdout)
+    # the launch's own name and parameter are what the run's arguments override
+    run = start(LaunchDescription([Node(RunProbe, name="launch_name",
+                                        parameters=[{"value": 0.5}])]),
+                arguments=parse_arguments(args))
+    try:
+        node = run.nodes[0]
+        assert isinstance(node, RunProbe)
+        ours = {"fqn": node.get_fully_qualified_name(), "value": node.value,
+                "gain": node.gain, "out": node.resolve_topic_name("out"),
+                "warn_only": int(node.get_logger().get_effective_level())}
+    finally:
+        run.shutdown()
+        set_logger_level("r.mover", LoggingSeverity.UNSET)
+    assert ours == expected
+    assert expected["fqn"] == "/r/mover"  # the probe really exercised the arguments

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from posekit.launch.description import LaunchDescription, LaunchDescriptionError
+from posekit.runtime.arguments import RosArguments
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor, MultiThreadedExecutor, SingleThreadedExecutor
 from posekit.runtime.logging import get_logger
@@ -91,6 +92,7 @@ def start(
     publish_clock: bool | None = None,
     own_clock: bool = True,
     transport: str | None = None,
+    arguments: RosArguments | None = None,
 ) -> LaunchRun:
     """Create every node of ``description`` and add them to one executor.
 
@@ -105,7 +107,9 @@ def start(
     not follow ``/clock``), so only outside observers need it.
 
     ``own_clock=False``: see the module docstring. ``transport``: the transport name given to
-    a context this function initialises.
+    a context this function initialises. ``arguments``: parsed ``--ros-args`` given to every
+    node of the run, as a process's ROS arguments reach its nodes (``posekit run``): they win
+    over the description's names, parameters and remappings; their log levels are set here.
     """
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
@@ -132,9 +136,11 @@ def start(
         except BaseException:
             run.shutdown()
             raise
-    arguments = description.arguments(launch_arguments)
+    if arguments is not None:
+        arguments.apply_log_levels()
+    configuration = description.arguments(launch_arguments)
     for entry in description.nodes:
-        params = entry.resolved_parameters(arguments)
+        params = entry.resolved_parameters(configuration)
         if sim_time:
             params.setdefault("use_sim_time", True)
         with node_defaults(
@@ -143,6 +149,7 @@ def start(
             parameters=params,
             remappings=list(entry.remappings),
             context=ctx,
+            arguments=arguments,
         ):
             created = entry.factory()()
         nodes = _collect_nodes(created)

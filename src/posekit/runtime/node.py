@@ -7,9 +7,11 @@ the QoS argument is a :class:`QoSProfile` or an int depth. Every node declares
 
 Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context
 (``sys.argv`` by default, as rclpy; see :mod:`posekit.runtime.arguments`), the
-:func:`node_defaults` scope (used by posekit.launch), ``cli_args``, then the constructor's
+:func:`node_defaults` scope (used by posekit.launch: its parameters, then its ROS arguments,
+the ``--ros-args`` of ``posekit run``), ``cli_args``, then the constructor's
 ``parameter_overrides``. Remap rules are tried in this order (the first match wins): the
-constructor's ``remappings``, ``cli_args``, the scope, the global arguments.
+constructor's ``remappings``, ``cli_args``, the scope's ROS arguments, the scope's
+remappings, the global arguments.
 """
 
 from __future__ import annotations
@@ -74,6 +76,9 @@ class NodeDefaults:
     parameters: dict[str, Any] = field(default_factory=dict)
     remappings: list[RemapRule] = field(default_factory=list)
     context: Context | None = None
+    #: ROS arguments for the nodes of the scope, as a process's ``--ros-args`` reach its
+    #: nodes (parameters matched by fully qualified name, remaps, ``__node``/``__ns``).
+    arguments: RosArguments | None = None
 
 
 _defaults: contextvars.ContextVar[NodeDefaults | None] = contextvars.ContextVar(
@@ -89,14 +94,17 @@ def node_defaults(
     parameters: Mapping[str, Any] | None = None,
     remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
     context: Context | None = None,
+    arguments: RosArguments | None = None,
 ) -> Iterator[NodeDefaults]:
     """Nodes created in this block get this name/namespace/parameters/remaps/context.
 
     This is how a launch description configures node classes whose ``__init__`` hard-codes
     ``super().__init__("name")`` (ROS does the same with ``--ros-args`` of the process).
+    ``arguments`` (parsed ``--ros-args``) apply after the other defaults and win over them.
     """
     value = NodeDefaults(
-        name, namespace, dict(parameters or {}), parse_remap_rules(remappings), context
+        name, namespace, dict(parameters or {}), parse_remap_rules(remappings), context,
+        arguments,
     )
     token = _defaults.set(value)
     try:
@@ -134,12 +142,15 @@ def _merged_overrides(
 ) -> dict[str, Any]:
     """A node's parameter overrides (name -> value) from every source, the last one winning.
 
-    Weakest first: the global arguments, the launch scope, the node's cli_args, then the
-    constructor's ``parameter_overrides``. ``fqn`` is the node's fully qualified name.
+    Weakest first: the global arguments, the launch scope (its parameters, then its ROS
+    arguments), the node's cli_args, then the constructor's ``parameter_overrides``. ``fqn``
+    is the node's fully qualified name.
     """
     overrides: dict[str, Any] = glob.parameters_for(fqn)
     if scope is not None:
         overrides.update(scope.parameters)
+        if scope.arguments is not None:
+            overrides.update(scope.arguments.parameters_for(fqn))
     overrides.update(local.parameters_for(fqn))
     if isinstance(parameter_overrides, Mapping):
         overrides.update(parameter_overrides)
@@ -182,6 +193,8 @@ class Node:
         glob = self._context.arguments if use_global_arguments else RosArguments()
         rules: list[RemapRule] = parse_remap_rules(remappings) + local.remaps
         if scope is not None:
+            if scope.arguments is not None:
+                rules += scope.arguments.remaps
             rules += scope.remappings
         rules += glob.remaps
 
