@@ -34,6 +34,8 @@ from posekit.runtime.names import (
     RemapRule,
     normalize_namespace,
     parse_remap_rules,
+    remap_node_name,
+    remap_node_namespace,
     resolve_service_name,
     resolve_topic_name,
     validate_node_name,
@@ -113,22 +115,6 @@ def node_defaults(
         _defaults.reset(token)
 
 
-def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | None, str | None]:
-    """The node name and namespace remaps for ``node_name``.
-
-    The first matching rule of each kind wins, as in rcl.
-    """
-    name = ns = None
-    for rule in rules:
-        if rule.node is not None and rule.node != node_name:
-            continue
-        if name is None and rule.from_name in ("__node", "__name"):
-            name = rule.to_name
-        elif ns is None and rule.from_name == "__ns":
-            ns = rule.to_name
-    return name, ns
-
-
 def _no_callback() -> None:
     """Placeholder timer callback a Rate replaces with its own."""
 
@@ -198,13 +184,15 @@ class Node:
             rules += scope.remappings
         rules += glob.remaps
 
-        name_remap, ns_remap = _special_remaps(rules, node_name)
+        # rcl's order: the name first, then the namespace by rules for the new name
+        name_remap = remap_node_name(rules, node_name)
         if scope is not None and scope.name:
             node_name = scope.name
         if scope is not None and scope.namespace is not None and namespace is None:
             namespace = scope.namespace
         if name_remap:
             node_name = name_remap
+        ns_remap = remap_node_namespace(rules, node_name)
         if ns_remap:
             namespace = ns_remap
         self._name = validate_node_name(node_name)
