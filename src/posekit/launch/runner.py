@@ -139,14 +139,18 @@ def start(
     if arguments is not None:
         arguments.apply_log_levels()
     configuration = description.arguments(launch_arguments)
-    for entry in description.nodes:
-        params = entry.resolved_parameters(configuration)
-        if sim_time:
-            params.setdefault("use_sim_time", True)
+    try:  # every entry's parameter files read before any node exists
+        matched = [entry.resolved_parameters(configuration) for entry in description.nodes]
+    except BaseException:
+        run.shutdown()
+        raise
+    for entry, entry_parameters in zip(description.nodes, matched, strict=True):
         with node_defaults(
             name=entry.name,
             namespace=entry.namespace,
-            parameters=params,
+            # the entry's own parameters (files matched by node name) win over this default
+            parameters={"use_sim_time": True} if sim_time else {},
+            matched_parameters=entry_parameters,
             remappings=list(entry.remappings),
             context=ctx,
             arguments=arguments,

@@ -81,6 +81,10 @@ class NodeDefaults:
     #: ROS arguments for the nodes of the scope, as a process's ``--ros-args`` reach its
     #: nodes (parameters matched by fully qualified name, remaps, ``__node``/``__ns``).
     arguments: RosArguments | None = None
+    #: Parameter entries (``(node name pattern, values)``, rcl's order) applied to a node of
+    #: the scope whose fully qualified name matches: a launch entry's parameter files and
+    #: dicts, as launch_ros hands them to rcl (``--params-file``). After ``parameters``.
+    matched_parameters: RosArguments | None = None
 
 
 _defaults: contextvars.ContextVar[NodeDefaults | None] = contextvars.ContextVar(
@@ -97,16 +101,19 @@ def node_defaults(
     remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
     context: Context | None = None,
     arguments: RosArguments | None = None,
+    matched_parameters: RosArguments | None = None,
 ) -> Iterator[NodeDefaults]:
     """Nodes created in this block get this name/namespace/parameters/remaps/context.
 
     This is how a launch description configures node classes whose ``__init__`` hard-codes
     ``super().__init__("name")`` (ROS does the same with ``--ros-args`` of the process).
-    ``arguments`` (parsed ``--ros-args``) apply after the other defaults and win over them.
+    ``parameters`` reach every node of the block; ``matched_parameters`` the nodes whose
+    fully qualified name an entry's pattern matches (``/**``, ``/ns/*``, ``/ns/name``), after
+    ``parameters``; ``arguments`` (parsed ``--ros-args``) apply last and win over both.
     """
     value = NodeDefaults(
         name, namespace, dict(parameters or {}), parse_remap_rules(remappings), context,
-        arguments,
+        arguments, matched_parameters,
     )
     token = _defaults.set(value)
     try:
@@ -128,13 +135,15 @@ def _merged_overrides(
 ) -> dict[str, Any]:
     """A node's parameter overrides (name -> value) from every source, the last one winning.
 
-    Weakest first: the global arguments, the launch scope (its parameters, then its ROS
-    arguments), the node's cli_args, then the constructor's ``parameter_overrides``. ``fqn``
-    is the node's fully qualified name.
+    Weakest first: the global arguments, the launch scope (its parameters, its matched
+    parameters, then its ROS arguments), the node's cli_args, then the constructor's
+    ``parameter_overrides``. ``fqn`` is the node's fully qualified name.
     """
     overrides: dict[str, Any] = glob.parameters_for(fqn)
     if scope is not None:
         overrides.update(scope.parameters)
+        if scope.matched_parameters is not None:
+            overrides.update(scope.matched_parameters.parameters_for(fqn))
         if scope.arguments is not None:
             overrides.update(scope.arguments.parameters_for(fqn))
     overrides.update(local.parameters_for(fqn))
