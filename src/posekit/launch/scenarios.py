@@ -16,7 +16,7 @@ clock with ``realtime``) and returns a :class:`ScenarioResult`.
 
 Parameters (``--param name:=value``): a plain ``name`` goes to every node of the scenario
 that declares it (``world``, ``k_rho``, ``wheel_separation`` ...); ``node.name`` targets one
-node (``random_mover.publish_rate:=4``). A name no node declares raises
+node (``random_mover.publish_rate:=4.0``). A name no node declares raises
 :class:`ScenarioError` listing the known ones. :func:`scenario_node` applies this routing
 to one launch entry.
 
