@@ -254,6 +254,26 @@ def test_launch_file_folder_is_importable_and_options_apply(
     assert {s for _, s in ticks} == {7}
 
 
+def test_isolated_launch_file_cannot_follow_a_clock(
+    launch_file: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code, _, err = run_cli(capsys, str(launch_file), "use_sim_time:=true")
+    assert code == 2
+    assert err == ("posekit launch: use_sim_time:=true follows a running simulation's /clock, "
+                   "which an isolated launch cannot hear (drop --isolated)\n")
+
+
+def test_a_world_marks_a_launch_as_its_own_clock_source() -> None:
+    from posekit.demos.scenarios import include_scenario
+    from posekit.launch import CLOCK_SOURCE, LaunchDescription, Node
+    from posekit.robot.nodes.world_simulation import WorldSimulation
+
+    assert getattr(WorldSimulation, CLOCK_SOURCE) is True
+    assert LaunchDescription([*include_scenario("empty_world")]).has_clock_source()
+    assert not LaunchDescription([*include_scenario("robot_control_demo/random_mover"),
+                                  Node("posekit.robot.nodes:EkfNode")]).has_clock_source()
+
+
 def test_launch_file_show_args_and_one_line_errors(
     launch_file: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -372,6 +372,24 @@ def _wait_for_clock(run: Any, prog: str = "posekit launch") -> None:
             sys.stderr.flush()
 
 
+def _own_clock(description: Any, params: dict[str, Any], network: str | None) -> bool | None:
+    """Whether a launch file's run owns its sim clock (None: decide from the graph).
+
+    As ``ros2 launch`` of nodes next to a running Gazebo: a launch with no world of its own
+    follows the ``/clock`` already on the network, and with ``use_sim_time:=true`` follows
+    the one to come; a launch that runs a world owns the clock (and is refused while
+    another simulation publishes one). Isolated, there is no other clock to follow.
+    """
+    if description.has_clock_source():
+        return True
+    if network is None:
+        if params.get("use_sim_time") is True:
+            raise _UsageError("use_sim_time:=true follows a running simulation's /clock, "
+                              "which an isolated launch cannot hear (drop --isolated)")
+        return True
+    return False if params.get("use_sim_time") is True else None
+
+
 def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], transport: str,
                  network: str | None) -> int:
     from posekit.launch import (
@@ -405,13 +423,20 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
         run = start(description, sim_time=True,
                     real_time_factor=1.0 if ns.realtime or ns.viewer else None,
                     launch_arguments=params, transport=transport,
-                    publish_clock=False if ns.no_clock else None)
+                    publish_clock=False if ns.no_clock else None,
+                    own_clock=_own_clock(description, params, network))
     except LaunchDescriptionError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
         return 2
     if ns.plot:
         recorder_node = run.node("odometry_recorder")
-    _run_started(ns, run)
+    if run.follows_clock:
+        sys.stderr.write(f"posekit launch: {path} runs no world of its own: its nodes follow "
+                         "the running simulation's /clock\n")
+        sys.stderr.flush()
+        _run_started(ns, run, before=_wait_for_clock)
+    else:
+        _run_started(ns, run)
     if recorder_node is not None:
         from posekit.robot.plot import PlotError, plot_odometry
 

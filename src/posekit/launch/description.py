@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from posekit.runtime.arguments import RosArguments
 
 __all__ = [
+    "CLOCK_SOURCE",
     "DeclareLaunchArgument",
     "LaunchConfiguration",
     "LaunchDescription",
@@ -36,6 +37,13 @@ __all__ = [
 
 class LaunchDescriptionError(ValueError):
     """A launch description or launch file is malformed."""
+
+
+#: The class attribute (set True) of a node class that simulates the world, posekit's
+#: ``WorldSimulation``: a launch that runs one steps simulated time itself and owns
+#: ``/clock``, the role Gazebo has in ROS. A launch of other nodes only can follow the
+#: ``/clock`` of a simulation already running (:meth:`LaunchDescription.has_clock_source`).
+CLOCK_SOURCE = "posekit_clock_source"
 
 
 _executables: dict[tuple[str, str], Callable[[], Any] | str] = {}
@@ -188,6 +196,18 @@ class Node:
             return resolve_factory(target)
         raise LaunchDescriptionError("Node needs package_or_callable or package+executable")
 
+    def is_clock_source(self) -> bool:
+        """Whether this entry runs a node class marked as a clock source (:data:`CLOCK_SOURCE`).
+
+        A factory that is not such a class (a function, a class without the mark) is not;
+        an entry that does not resolve is not either (creating its node reports that).
+        """
+        try:
+            factory = self.factory()
+        except LaunchDescriptionError:
+            return False
+        return getattr(factory, CLOCK_SOURCE, False) is True
+
     def resolved_parameters(self, arguments: Mapping[str, Any]) -> RosArguments:
         """The parameter entries of ``parameters``, launch configurations substituted.
 
@@ -245,6 +265,10 @@ class LaunchDescription:
     def nodes(self) -> list[Node]:
         """The node entries."""
         return [e for e in self.entities if isinstance(e, Node)]
+
+    def has_clock_source(self) -> bool:
+        """Whether the description runs a world of its own (see :data:`CLOCK_SOURCE`)."""
+        return any(entry.is_clock_source() for entry in self.nodes)
 
     def arguments(self, given: Mapping[str, Any] | None = None) -> dict[str, Any]:
         """Declared defaults overridden by ``given``."""

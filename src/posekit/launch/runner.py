@@ -29,7 +29,7 @@ from posekit.runtime.executors import Executor, MultiThreadedExecutor, SingleThr
 from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.parameters import parse_parameter_value
-from posekit.runtime.sim_executor import SimulatedTimeExecutor
+from posekit.runtime.sim_executor import SimulatedTimeExecutor, graph_clock_publishers
 from posekit.runtime.time_source import CLOCK_TOPIC
 
 __all__ = [
@@ -48,6 +48,9 @@ class LaunchRun:
     executor: Executor
     nodes: list[Node] = field(default_factory=list)
     created: list[Any] = field(default_factory=list)
+    #: True when the nodes follow the ``/clock`` of a simulation elsewhere (sim time that
+    #: this run does not own: a wall-clock executor; see :func:`start`'s ``own_clock``).
+    follows_clock: bool = False
 
     def node(self, name: str) -> Node:
         """The node called ``name`` (or fully qualified ``/ns/name``)."""
@@ -90,7 +93,7 @@ def start(
     context: Context | None = None,
     multithreaded: bool = False,
     publish_clock: bool | None = None,
-    own_clock: bool = True,
+    own_clock: bool | None = True,
     transport: str | None = None,
     arguments: RosArguments | None = None,
 ) -> LaunchRun:
@@ -106,7 +109,12 @@ def start(
     run shut down). The run's own nodes get the time from the executor either way (they do
     not follow ``/clock``), so only outside observers need it.
 
-    ``own_clock=False``: see the module docstring. ``transport``: the transport name given to
+    ``own_clock=False``: see the module docstring; ``own_clock=None`` (sim time) decides as
+    ``ros2 launch`` of nodes next to a running Gazebo would behave: a description with no
+    clock source of its own (:meth:`LaunchDescription.has_clock_source`) follows a
+    ``/clock`` already published on the context's transport, and owns the clock otherwise
+    (a description that runs a world then meets :class:`ClockConflictError` when another
+    simulation publishes ``/clock``). ``transport``: the transport name given to
     a context this function initialises. ``arguments``: parsed ``--ros-args`` given to every
     node of the run, as a process's ROS arguments reach its nodes (``posekit run``): they win
     over the description's names, parameters and remappings; their log levels are set here.
@@ -117,6 +125,9 @@ def start(
     if not ctx.ok():
         # A launch's nodes get their arguments from the description.
         ctx.init(args=[], transport=transport)
+    if own_clock is None:
+        own_clock = not sim_time or description.has_clock_source() or not (
+            graph_clock_publishers(ctx.transport()))
     owns_clock = sim_time and own_clock
     if owns_clock:
         ctx.transport().own_topic(CLOCK_TOPIC)
@@ -129,7 +140,7 @@ def start(
         executor = MultiThreadedExecutor(context=ctx)
     else:
         executor = SingleThreadedExecutor(context=ctx)
-    run = LaunchRun(ctx, executor)
+    run = LaunchRun(ctx, executor, follows_clock=sim_time and not own_clock)
     if isinstance(executor, SimulatedTimeExecutor):
         try:  # before any node exists: a refused run never shows a node to other processes
             executor.claim_clock(ctx.transport())
@@ -179,7 +190,7 @@ def launch(
     context: Context | None = None,
     shutdown: bool = True,
     publish_clock: bool | None = None,
-    own_clock: bool = True,
+    own_clock: bool | None = True,
     transport: str | None = None,
 ) -> LaunchRun:
     """Start ``description`` and run it for ``duration`` seconds; returns the run.
