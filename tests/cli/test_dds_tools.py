@@ -8,10 +8,13 @@ reader).
 from __future__ import annotations
 
 import io
+import json
 import re
 import sys
 import textwrap
+import threading
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -128,3 +131,165 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
     assert numbers == sorted(numbers)
     assert len(set(numbers)) == len(numbers)
     assert all(x == pytest.approx(0.5 * round(x / 0.5)) for x in xs)
+
+
+ROS_INFO_NODE = textwrap.dedent("""
+    import json, sys, time
+    import rclpy
+    from std_msgs.msg import String
+    from std_srvs.srv import SetBool
+    rclpy.init()
+    node = rclpy.create_node("ros_info", namespace="/robot")
+    node.create_publisher(String, "chatter", 10)
+    node.create_subscription(String, "/cmd", lambda m: None, 10)
+    node.create_service(SetBool, "flip", lambda q, r: r)
+    node.create_client(SetBool, "/remote_flip")
+    rclpy.spin_once(node, timeout_sec=0.2)
+    # what ros2node's get_node_info asks rclpy for, for this node: the oracle
+    by_node = {
+        "Subscribers": node.get_subscriber_names_and_types_by_node,
+        "Publishers": node.get_publisher_names_and_types_by_node,
+        "Service Servers": node.get_service_names_and_types_by_node,
+        "Service Clients": node.get_client_names_and_types_by_node,
+    }
+    print(json.dumps({title: sorted([n, sorted(t)] for n, t in get("ros_info", "/robot"))
+                      for title, get in by_node.items()}), flush=True)
+    deadline = time.monotonic() + float(sys.argv[1])
+    while time.monotonic() < deadline:
+        rclpy.spin_once(node, timeout_sec=0.1)
+    rclpy.shutdown()
+""")
+
+POSEKIT_INFO_NODE = textwrap.dedent("""
+    import sys, time
+    from posekit import rclpy
+    from posekit.msgs.posekit_interfaces import NavigateToPose
+    from posekit.msgs.std_msgs import String
+    from posekit.msgs.std_srvs import SetBool
+    from posekit.rclpy.action import ActionClient, ActionServer
+    from posekit.rclpy.node import Node
+    rclpy.init()
+    node = Node("pk_info", namespace="/robot")
+    node.create_publisher(String, "chatter", 10)
+    node.create_subscription(String, "/cmd", lambda m: None, 10)
+    node.create_service(SetBool, "flip", lambda q, r: r)
+    node.create_client(SetBool, "/remote_flip")
+    ActionServer(node, NavigateToPose, "navigate", lambda goal: NavigateToPose.Result())
+    ActionClient(node, NavigateToPose, "/elsewhere")
+    print("ready", flush=True)
+    deadline = time.monotonic() + float(sys.argv[1])
+    while time.monotonic() < deadline:
+        rclpy.spin_once(node, timeout_sec=0.1)
+""")
+
+
+def _sections(text: str) -> dict[str, list[list[Any]]]:
+    """``node info``'s output as {section title: [[name, [types]], ...]}."""
+    sections: dict[str, list[list[Any]]] = {}
+    current: list[list[Any]] = []
+    for line in text.splitlines()[1:]:
+        if line.startswith("  ") and not line.startswith("    "):
+            current = sections.setdefault(line.strip().rstrip(":"), [])
+        elif line.strip():
+            name, _, types = line.strip().partition(": ")
+            current.append([name, sorted(types.split(", "))])
+    return sections
+
+
+def test_node_info_lists_a_real_rclpy_node_and_a_posekit_node_over_dds(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    domain = dds_domain(monkeypatch)
+    ros_node = Proc([str(ros2_python()), "-c", ROS_INFO_NODE, "60"], env=ros2_env(domain))
+    pk_node = Proc([sys.executable, "-c", POSEKIT_INFO_NODE, "60"], env=posekit_env(domain))
+    try:
+        oracle = json.loads(ros_node.wait_line(lambda line: line.startswith("{"), 30,
+                                               "the rclpy node's own graph view"))
+        pk_node.wait_line(lambda line: line.startswith("ready"), 30, "the posekit node")
+        ros_info = _cli(domain, "node", "info", "/robot/ros_info", "--include-hidden",
+                        "--transport", "dds")
+        pk_info = _cli(domain, "node", "info", "/robot/pk_info", "--transport", "dds")
+        ros_text = ros_info.finish(30, "node info of the rclpy node")
+        pk_text = pk_info.finish(30, "node info of the posekit node")
+    finally:
+        ros_node.kill()
+        pk_node.kill()
+    assert ros_info.popen.returncode == 0, ros_info.describe()
+    assert ros_text.startswith("/robot/ros_info\n")
+    sections = _sections(ros_text)
+    for title, expected in oracle.items():
+        assert sections[title] == expected, (title, ros_text)
+    assert sections["Action Servers"] == sections["Action Clients"] == []
+    assert pk_info.popen.returncode == 0, pk_info.describe()
+    parameter_services = "".join(
+        f"    /robot/pk_info/{name}: rcl_interfaces/srv/{kind}\n" for name, kind in (
+            ("describe_parameters", "DescribeParameters"),
+            ("get_parameter_types", "GetParameterTypes"),
+            ("get_parameters", "GetParameters"), ("list_parameters", "ListParameters"),
+            ("set_parameters", "SetParameters"),
+            ("set_parameters_atomically", "SetParametersAtomically")))
+    assert pk_text == (
+        "/robot/pk_info\n"
+        "  Subscribers:\n    /cmd: std_msgs/msg/String\n"
+        "  Publishers:\n    /parameter_events: rcl_interfaces/msg/ParameterEvent\n"
+        "    /robot/chatter: std_msgs/msg/String\n    /rosout: rcl_interfaces/msg/Log\n"
+        "  Service Servers:\n    /robot/flip: std_srvs/srv/SetBool\n" + parameter_services +
+        "  Service Clients:\n    /remote_flip: std_srvs/srv/SetBool\n"
+        "  Action Servers:\n    /robot/navigate: posekit_interfaces/action/NavigateToPose\n"
+        "  Action Clients:\n    /elsewhere: posekit_interfaces/action/NavigateToPose\n"
+    ), pk_info.describe()
+
+
+def test_node_lookups_wait_for_a_node_discovered_late(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``node info`` and ``param list NODE`` wait for a node that is not on the graph yet.
+
+    The node is created only after the tool's first graph sync returned, which is when the
+    tools used to decide (and say "not found").
+    """
+    from posekit.cli import node_cmd, param_cmd
+    from posekit.runtime.executors import SingleThreadedExecutor
+    from posekit.runtime.node import Node
+
+    dds_domain(monkeypatch)
+    tool_context, node_context = dds_context(), dds_context()
+    tool_transport = tool_context.transport()
+    synced = threading.Event()
+    real_sync = tool_transport.sync_graph
+
+    def sync_then_tell(timeout: float = 2.0) -> int:
+        generation = real_sync(timeout)
+        synced.set()
+        return generation
+
+    monkeypatch.setattr(tool_transport, "sync_graph", sync_then_tell)
+    results: dict[str, tuple[int, str, str]] = {}
+
+    def run_tool(name: str, main: Any, argv: list[str]) -> None:
+        out, err = io.StringIO(), io.StringIO()
+        results[name] = (main(argv, context=tool_context, out=out, err=err),
+                         out.getvalue(), err.getvalue())
+
+    executor = SingleThreadedExecutor(context=node_context)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    try:
+        for name, main, node_name in (("info", node_cmd.main_info, "talker"),
+                                      ("param", param_cmd.main_list, "listener")):
+            synced.clear()
+            tool = threading.Thread(target=run_tool, args=(name, main, [f"/late/{node_name}"]))
+            tool.start()
+            assert synced.wait(30), "the tool never synced its graph"
+            # the node appears once the tool has looked
+            node = Node(node_name, namespace="/late", context=node_context)
+            node.declare_parameter("rate", 2.0)
+            executor.add_node(node)
+            tool.join(60)
+            assert not tool.is_alive()
+    finally:
+        executor.shutdown()
+        spinner.join(5)
+        node_context.try_shutdown()
+        tool_context.try_shutdown()
+    code, out, err = results["info"]
+    assert (code, err) == (0, ""), out
+    assert out.startswith("/late/talker\n  Subscribers:\n")
+    assert results["param"] == (0, "  rate\n  use_sim_time\n", "")

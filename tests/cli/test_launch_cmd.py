@@ -174,6 +174,36 @@ def test_run_maps_lecture_executables(capsys: pytest.CaptureFixture[str]) -> Non
     assert "tf2_echo source_frame target_frame" in via_run[1].out
 
 
+@pytest.mark.parametrize(("args", "error"), [
+    # every --ros-args form is accepted: what stops this run is only the isolated bus
+    (["--ros-args", "-r", "__ns:=/r", "-r", "a:=b", "-r", "__node:=x", "--log-level", "warn",
+      "-p", "publish_rate:=4.0"], "runs against a running world"),
+    (["--ros-args", "--bogus"], "--ros-args: Found unknown ROS arguments: ['--bogus']"),
+    (["--ros-args", "-p", "rate"], "--ros-args: Couldn't parse parameter override rule: "
+                                   "'-p rate'"),
+    (["--ros-args", "--params-file", "/nonexistent/p.yaml"],
+     "--ros-args: Couldn't parse params file: '--params-file /nonexistent/p.yaml'"),
+    (["--no-such-option"], "unrecognized arguments: --no-such-option"),
+])
+def test_run_errors_are_one_line_naming_posekit_run(
+        args: list[str], error: str, capsys: pytest.CaptureFixture[str]) -> None:
+    code = run_cmd.main(["robot_control_demo", "random_mover", *args])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.count("\n") == 1, err
+    assert err.startswith("posekit run: "), err
+    assert error in err
+
+
+def test_run_of_a_tool_refuses_ros_args_in_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    code = run_cmd.main(["tf2_ros", "tf2_echo", "odom", "base_link", "--ros-args", "-p",
+                         "use_sim_time:=true"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err == ("posekit run: tf2_ros tf2_echo is 'posekit tf echo', which takes no "
+                   "--ros-args (see its --help for its options)\n")
+
+
 LAUNCH_FILE = """
 from posekit.launch import DeclareLaunchArgument, LaunchConfiguration, LaunchDescription, Node
 from sibling_node import make_node  # a module next to the launch file
@@ -222,6 +252,26 @@ def test_launch_file_folder_is_importable_and_options_apply(
     ticks = sys.modules["sibling_node"].TICKS
     assert [t for t, _ in ticks] == [int(k * 0.5e9) for k in range(1, 5)]  # 2 Hz for 2 s
     assert {s for _, s in ticks} == {7}
+
+
+def test_isolated_launch_file_cannot_follow_a_clock(
+    launch_file: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code, _, err = run_cli(capsys, str(launch_file), "use_sim_time:=true")
+    assert code == 2
+    assert err == ("posekit launch: use_sim_time:=true follows a running simulation's /clock, "
+                   "which an isolated launch cannot hear (drop --isolated)\n")
+
+
+def test_a_world_marks_a_launch_as_its_own_clock_source() -> None:
+    from posekit.demos.scenarios import include_scenario
+    from posekit.launch import CLOCK_SOURCE, LaunchDescription, Node
+    from posekit.robot.nodes.world_simulation import WorldSimulation
+
+    assert getattr(WorldSimulation, CLOCK_SOURCE) is True
+    assert LaunchDescription([*include_scenario("empty_world")]).has_clock_source()
+    assert not LaunchDescription([*include_scenario("robot_control_demo/random_mover"),
+                                  Node("posekit.robot.nodes:EkfNode")]).has_clock_source()
 
 
 def test_launch_file_show_args_and_one_line_errors(

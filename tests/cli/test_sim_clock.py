@@ -203,3 +203,85 @@ def test_a_launch_with_no_clock_publishes_no_clock(routed: World) -> None:
     assert "/imu/data" in listing, listing  # the simulation's topics are visible
     assert "/clock" not in listing, listing
     assert sim.popen.poll() is None
+
+
+def test_param_list_answers_for_every_node_while_a_simulation_runs(routed: World) -> None:
+    # Oracle: the graph another process sees. The clock node is a node there, but it serves
+    # no parameters (no executor spins it), so param list neither waits on it nor names it.
+    _simulation(routed)
+    nodes = routed.cli("node", "list").finish(60, "node list").split()
+    assert "/posekit_sim_clock" in nodes
+    assert "/world_simulation" in nodes
+    services = routed.cli("service", "list").finish(60, "service list").split()
+    assert "/world_simulation/list_parameters" in services
+    assert not [s for s in services if s.startswith("/posekit_sim_clock/")], services
+    params = routed.cli("param", "list")
+    text = params.finish(60, "param list")
+    assert params.popen.returncode == 0, params.describe()
+    headers = [line[:-1] for line in text.splitlines() if not line.startswith(" ")]
+    assert headers == sorted(set(nodes) - {"/posekit_sim_clock"}), params.describe()
+    assert "  use_sim_time" in text.splitlines()
+
+
+TICKER = """
+import json
+from posekit.rclpy.node import Node
+
+
+class Ticker(Node):
+    def __init__(self):
+        super().__init__("ticker")
+        self.create_timer(0.5, self.tick)
+
+    def tick(self):
+        print(json.dumps({"now": self.get_clock().now().nanoseconds}), flush=True)
+"""
+
+OWN_LAUNCH = """
+from pathlib import Path
+from posekit.launch import LaunchDescription, Node
+{imports}
+
+def generate_launch_description():
+    return LaunchDescription([{world}Node(f"{{Path(__file__).with_name('ticker.py')}}:Ticker")])
+"""
+
+
+def _own_launch(routed: World, name: str, *, world: bool = False) -> str:
+    (routed.tmp / "ticker.py").write_text(TICKER)
+    path = routed.tmp / name
+    path.write_text(OWN_LAUNCH.format(
+        imports="from posekit.demos.scenarios import include_scenario" if world else "",
+        world='*include_scenario("empty_world"), ' if world else ""))
+    return str(path)
+
+
+def test_a_launch_of_nodes_follows_the_running_simulation_clock(routed: World) -> None:
+    # Oracle: the follower's clock (sim time, far below the wall clock, increasing) and the
+    # graph (one /clock publisher: the simulation's).
+    sim = _simulation(routed)
+    nodes = routed.cli("launch", _own_launch(routed, "nodes.launch.py"), "--realtime",
+                       "--zenoh")
+    nodes.wait_stderr("its nodes follow the running simulation's /clock", 30,
+                      "the launch to follow the simulation")
+    _wait_for(lambda: len(_records(nodes, "now")) >= 4, 30, "4 sim-time ticks", nodes, sim)
+    ticks = [r["now"] for r in _records(nodes, "now")]
+    assert all(0 < t < SIM_TIME_CEILING_NS for t in ticks), ticks
+    assert ticks == sorted(ticks)
+    info = routed.cli("topic", "info", "/clock").finish(30, "topic info /clock")
+    assert re.search(r"Publisher count: 1\b", info), info
+    # The same with use_sim_time:=true said explicitly.
+    explicit = routed.cli("launch", _own_launch(routed, "explicit.launch.py"),
+                          "use_sim_time:=true", "--zenoh")
+    _wait_for(lambda: len(_records(explicit, "now")) >= 2, 30, "sim-time ticks", explicit)
+    assert all(0 < r["now"] < SIM_TIME_CEILING_NS for r in _records(explicit, "now"))
+    # A launch with a world of its own would be a second clock source: refused, one line.
+    second = routed.cli("launch", _own_launch(routed, "world.launch.py", world=True),
+                        "--zenoh", "--until-sim-time", "1")
+    second.finish(60, "the launch with a world")
+    assert second.popen.returncode != 0
+    err = "".join(second.err).strip()
+    assert err.count("\n") == 0, err
+    assert "another clock source already publishes /clock (/posekit_sim_clock)" in err
+    assert sim.popen.poll() is None
+    assert nodes.popen.poll() is None, nodes.describe()

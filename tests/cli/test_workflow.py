@@ -212,3 +212,24 @@ def test_a_demo_without_a_world_waits_and_says_what_is_missing(joined: World) ->
     text = info.finish(30, "topic info /clock")
     assert "Publisher count: 1" not in text, info.describe()
     assert demo.popen.poll() is None, demo.describe()
+
+
+def test_run_gives_its_node_the_ros_args_of_the_command_line(joined: World) -> None:
+    # Oracle: rcl's rules for a process's --ros-args (checked against the real rclpy in
+    # tests/runtime/test_launch.py), seen from other processes: the node's name, its
+    # parameters (the file's wildcard section, then -p) and its remapped topic.
+    params = joined.tmp / "mover.yaml"
+    params.write_text("/r/*:\n  ros__parameters:\n    publish_rate: 4.0\n    seed: 99\n"
+                      "/other/mover:\n  ros__parameters:\n    publish_rate: 9.0\n")
+    demo = joined.cli("run", "robot_control_demo", "random_mover", "--ros-args",
+                      "-r", "__ns:=/r", "-r", "__node:=mover", "-r", "cmd_vel:=/r_cmd",
+                      "--params-file", str(params), "-p", "seed:=7", "--log-level", "warn")
+    demo.wait_stderr("no /clock yet", 40, "the demo's node to be up (waiting for a world)")
+    dump = joined.cli("param", "dump", "/r/mover", "--timeout", "10")
+    dumped = yaml.safe_load(dump.finish(30, "param dump"))
+    assert dumped == {"/r/mover": {"ros__parameters": {
+        "publish_rate": 4.0, "seed": 7, "use_sim_time": True}}}, dump.describe()
+    info = joined.cli("node", "info", "/r/mover").finish(30, "node info")
+    assert "    /r_cmd: geometry_msgs/msg/TwistStamped\n" in info, info
+    assert "    /r/odometry/filtered: nav_msgs/msg/Odometry\n" in info, info
+    assert demo.popen.poll() is None, demo.describe()

@@ -57,8 +57,6 @@ DEVIATIONS: dict[str, dict[str, str]] = {
         "not a mapping": "raise RuntimeError",
     },
     "parameters": {
-        # an integer override of a DOUBLE parameter is taken as a float; rclpy raises
-        "declare int override of a double": "1.0",
         # a YAML mapping stays text; rclpy puts the dict into the string field
         "from string mapping": "(4, '{a: 1}')",
     },

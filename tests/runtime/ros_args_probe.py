@@ -151,6 +151,14 @@ run("remap-priv", ["prog", "--ros-args", "-r", "~/priv:=pub"])
 run("remap-to-priv", ["prog", "--ros-args", "-r", "chatter:=~/mine"])
 run("remap-after-rename", ["prog", "--ros-args", "-r", "__node:=x", "-r", "x:chatter:=q"])
 run("remap-ns-rel", ["prog", "--ros-args", "-r", "__ns:=rel"])
+# rcl remaps the namespace with rules for the node's new name, not its old one
+run("remap-ns-after-rename", ["prog", "--ros-args", "-r", "__node:=n2", "-r", "n2:__ns:=/foo"])
+run("remap-ns-old-name-after-rename",
+    ["prog", "--ros-args", "-r", "__node:=n2", "-r", "talker:__ns:=/foo", "-r", "__ns:=/ns1"])
+run("remap-ns-new-name-before-rename",
+    ["prog", "--ros-args", "-r", "n2:__ns:=/foo", "-r", "__ns:=/ns1", "-r", "__node:=n2"])
+run("remap-ns-after-rename-local", ["prog", "--ros-args", "-r", "n2:__ns:=/foo"],
+    cli_args=["--ros-args", "-r", "__node:=n2", "-r", "__ns:=/ns1"])
 run("remap-bad-node", ["prog", "--ros-args", "-r", "__node:=1bad"])
 run("remap-bad-topic", ["prog", "--ros-args", "-r", "chatter:=bad name"])
 run("remap-rostopic", ["prog", "--ros-args", "-r", "rostopic://chatter:=x"])

@@ -40,9 +40,16 @@ def test_declare_value_declares_and_returns_the_winning_value(ctx) -> None:
         declare_value(node, "k_alpha", 3.0)
 
 
-def test_dict_overrides_and_int_to_double(ctx) -> None:
-    node = Node("ctl", context=ctx, parameter_overrides={"k_rho": 1, "name": "bot"})
-    p = node.declare_parameter("k_rho", 0.5)
+def test_dict_overrides_and_an_int_is_no_double(ctx) -> None:
+    # rclpy's rule and text (tests/rclpy/differential/parameters.py runs it on both)
+    node = Node("ctl", context=ctx, parameter_overrides={"k_rho": 1, "name": "bot",
+                                                         "k_alpha": 1.0})
+    with pytest.raises(InvalidParameterTypeException) as raised:
+        node.declare_parameter("k_rho", 0.5)
+    assert str(raised.value) == ("Trying to set parameter 'k_rho' to '1' of type 'INTEGER', "
+                                 "expecting type 'DOUBLE': k_rho")
+    assert not node.has_parameter("k_rho")
+    p = node.declare_parameter("k_alpha", 0.5)
     assert p.value == 1.0
     assert isinstance(p.value, float)
     assert node.declare_parameter("name", "default").value == "bot"

@@ -57,6 +57,19 @@ def test_clock_topic_is_published_each_step(ctx) -> None:
     assert observer.get_clock().now().nanoseconds == 11_000_000_000
 
 
+def test_the_clock_node_advertises_no_service_nobody_would_answer(ctx) -> None:
+    # posekit_sim_clock is on no executor: a parameter service of its own would never be
+    # answered (`param list` waited 10 s on it). The nodes an executor spins keep theirs.
+    ticker = Node("ticker", context=ctx)
+    ex = SimulatedTimeExecutor(context=ctx, publish_clock=True)
+    ex.add_node(ticker)
+    ex.run_until(0.5)
+    assert "/posekit_sim_clock" in ticker.transport.get_node_names()
+    assert ticker.get_service_names_and_types_by_node("posekit_sim_clock", "/") == []
+    assert ("/ticker/list_parameters", ["rcl_interfaces/srv/ListParameters"]) in \
+        ticker.get_service_names_and_types_by_node("ticker", "/")
+
+
 def _scenario(seed: int) -> list[tuple]:
     """Two sensors with seeded noise, a filter node re-publishing, a controller; returns
     every delivered message with the receiving node and sim time."""

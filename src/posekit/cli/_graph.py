@@ -30,6 +30,7 @@ __all__ = [
     "subscriptions_info",
     "sync_graph",
     "topic_types",
+    "wait_for_node",
     "wait_for_topic_type",
 ]
 
@@ -101,6 +102,32 @@ def graph_entities(session: Any) -> list[Any]:
 def node_names(session: Any) -> list[str]:
     """Fully qualified node names on the session's transport (duplicates kept), sorted."""
     return sorted(session.node.transport.get_node_names())
+
+
+#: The shortest first graph sync of :func:`wait_for_node`: what a fresh participant needs to
+#: hear from the peers already running (a shorter ``--timeout`` still gets this much).
+_FIRST_SYNC_S = 2.0
+
+
+def wait_for_node(session: Any, node_fqn: str, timeout: float) -> bool:
+    """Whether the node ``node_fqn`` (``/ns/name``) is on the graph, waiting for it if needed.
+
+    The graph of a network transport completes over time: DDS discovery may report itself
+    settled before a remote participant (and so its nodes) was found. So the graph is synced
+    and asked again until the node is listed or ``timeout`` seconds have passed (the first
+    sync may take up to :data:`_FIRST_SYNC_S` s even when ``timeout`` is shorter). Returns
+    at once when the node is there. Every command that names a node looks it up here.
+    """
+    start = time.monotonic()
+    deadline = start + max(0.0, timeout)
+    sync_graph(session, max(_FIRST_SYNC_S, timeout))
+    while node_fqn not in node_names(session):
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            return False
+        session.spin_for(min(0.1, remaining))
+        sync_graph(session, max(0.0, min(1.0, deadline - time.monotonic())))
+    return True
 
 
 def empty_graph_hint(session: Any) -> str:

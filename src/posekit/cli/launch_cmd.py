@@ -48,8 +48,8 @@ class _Parser(argparse.ArgumentParser):
         raise _UsageError(message)
 
 
-def _parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="posekit launch", description=__doc__,
+def _parser(prog: str = "posekit launch") -> argparse.ArgumentParser:
+    parser = _Parser(prog=prog, description=__doc__,
                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("words", nargs="*", metavar="TARGET [name:=value ...]",
                         help="scenario, FILE.py or PACKAGE FILE.launch.py, then name:=value "
@@ -119,7 +119,8 @@ def network_transport(ns: argparse.Namespace) -> str | None:
     if problem and explicit:
         raise _UsageError(problem.removeprefix("posekit launch: "))
     if problem:
-        sys.stderr.write(f"posekit launch: running isolated (not visible to other processes): "
+        prog = getattr(ns, "prog", "posekit launch")
+        sys.stderr.write(f"{prog}: running isolated (not visible to other processes): "
                          f"{problem.removeprefix('posekit launch: ')}\n")
         return None
     return chosen
@@ -200,16 +201,22 @@ def _scenario_arguments(name: str, params: dict[str, Any], seed: int) -> list[tu
     return out
 
 
-def main(argv: Sequence[str]) -> int:
-    """Run ``posekit launch``; returns the exit code."""
+def main(argv: Sequence[str], *, prog: str = "posekit launch",
+         ros_arguments: Any = None) -> int:
+    """Run ``posekit launch``; returns the exit code.
+
+    ``prog`` names the command in its messages (``posekit run`` runs through here);
+    ``ros_arguments`` (a parsed :class:`~posekit.runtime.arguments.RosArguments`) reach every
+    node the launch starts, as a process's ``--ros-args`` reach its nodes.
+    """
     try:
-        return _main(list(argv))
+        return _main(list(argv), prog, ros_arguments)
     except _UsageError as exc:
-        sys.stderr.write(f"posekit launch: {exc}\n")
+        sys.stderr.write(f"{prog}: {exc}\n")
         return 2
 
 
-def _main(argv: list[str]) -> int:
+def _main(argv: list[str], prog: str = "posekit launch", ros_arguments: Any = None) -> int:
     if "--list" in argv:
         import posekit.demos.scenarios  # registers every scenario
         from posekit.launch.scenarios import get_scenario, scenario_names
@@ -217,7 +224,8 @@ def _main(argv: list[str]) -> int:
         for name in scenario_names():
             sys.stdout.write(f"{name:<38}{get_scenario(name).description}\n")
         return 0
-    ns = _parser().parse_intermixed_args(argv)
+    ns = _parser(prog).parse_intermixed_args(argv)
+    ns.prog, ns.ros_arguments = prog, ros_arguments
     from posekit.cli._extras import require
     from posekit.demos.scenarios import SCENARIO_EXTRAS
 
@@ -243,6 +251,8 @@ def _main(argv: list[str]) -> int:
     if len(words) == 1 and (words[0].endswith(".py") or Path(words[0]).is_file()) and (
         Path(words[0]).is_file() or not words[0].endswith(".launch.py")
     ):
+        if ros_arguments is not None:
+            raise _UsageError("--ros-args apply to the nodes of posekit run")
         return _launch_file(ns, words[0], params, transport, network)
 
     import posekit.demos.scenarios  # noqa: F401 - registers every scenario
@@ -256,7 +266,7 @@ def _main(argv: list[str]) -> int:
             return 0
         return _launch_scenario(ns, name, params, transport, network)
     except ScenarioError as exc:
-        sys.stderr.write(f"posekit launch: {exc}\n")
+        sys.stderr.write(f"{prog}: {exc}\n")
         return 2
 
 
@@ -277,6 +287,9 @@ def _launch_scenario(ns: argparse.Namespace, name: str, params: dict[str, Any],
                                     f"runs a simulation; '{name}' follows a running world's "
                                     "clock")
         return _follow(ns, name, params, seed, transport)
+    if ns.ros_arguments is not None:
+        raise ScenarioError(f"--ros-args apply to the nodes of posekit run; '{name}' runs a "
+                            "simulation (pass its parameters as name:=value)")
     servers: list[Any] = []
     try:
         # A viewer is for watching: pace the run to the wall clock.
@@ -310,8 +323,8 @@ def _follow(ns: argparse.Namespace, name: str, params: dict[str, Any], seed: int
     """A demo against a running world: its nodes follow that world's /clock."""
     from posekit.launch.scenarios import start_scenario
 
-    run = start_scenario(name, params, seed, transport=transport)
-    _run_started(ns, run, before=_wait_for_clock)
+    run = start_scenario(name, params, seed, transport=transport, arguments=ns.ros_arguments)
+    _run_started(ns, run, before=lambda started: _wait_for_clock(started, ns.prog))
     return 0
 
 
@@ -342,7 +355,7 @@ def _run_started(ns: argparse.Namespace, run: Any,
 CLOCK_HINT_AFTER_S = 5.0
 
 
-def _wait_for_clock(run: Any) -> None:
+def _wait_for_clock(run: Any, prog: str = "posekit launch") -> None:
     """Spin until the first node's clock moves; after a few seconds say what is missing."""
     import time
 
@@ -353,10 +366,28 @@ def _wait_for_clock(run: Any) -> None:
         run.executor.spin_once(timeout_sec=0.1)
         if not hinted and time.monotonic() - start > CLOCK_HINT_AFTER_S:
             hinted = True
-            sys.stderr.write("posekit launch: no /clock yet: these nodes follow a running "
+            sys.stderr.write(f"{prog}: no /clock yet: these nodes follow a running "
                              "world's sim time; start one in another terminal (posekit launch "
                              "empty_world --realtime) on the same network\n")
             sys.stderr.flush()
+
+
+def _own_clock(description: Any, params: dict[str, Any], network: str | None) -> bool | None:
+    """Whether a launch file's run owns its sim clock (None: decide from the graph).
+
+    As ``ros2 launch`` of nodes next to a running Gazebo: a launch with no world of its own
+    follows the ``/clock`` already on the network, and with ``use_sim_time:=true`` follows
+    the one to come; a launch that runs a world owns the clock (and is refused while
+    another simulation publishes one). Isolated, there is no other clock to follow.
+    """
+    if description.has_clock_source():
+        return True
+    if network is None:
+        if params.get("use_sim_time") is True:
+            raise _UsageError("use_sim_time:=true follows a running simulation's /clock, "
+                              "which an isolated launch cannot hear (drop --isolated)")
+        return True
+    return False if params.get("use_sim_time") is True else None
 
 
 def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], transport: str,
@@ -392,13 +423,20 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
         run = start(description, sim_time=True,
                     real_time_factor=1.0 if ns.realtime or ns.viewer else None,
                     launch_arguments=params, transport=transport,
-                    publish_clock=False if ns.no_clock else None)
+                    publish_clock=False if ns.no_clock else None,
+                    own_clock=_own_clock(description, params, network))
     except LaunchDescriptionError as exc:
         sys.stderr.write(f"posekit launch: {exc}\n")
         return 2
     if ns.plot:
         recorder_node = run.node("odometry_recorder")
-    _run_started(ns, run)
+    if run.follows_clock:
+        sys.stderr.write(f"posekit launch: {path} runs no world of its own: its nodes follow "
+                         "the running simulation's /clock\n")
+        sys.stderr.flush()
+        _run_started(ns, run, before=_wait_for_clock)
+    else:
+        _run_started(ns, run)
     if recorder_node is not None:
         from posekit.robot.plot import PlotError, plot_odometry
 

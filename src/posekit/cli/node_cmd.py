@@ -4,7 +4,7 @@
 * ``info NODE [--include-hidden]``: the node's subscribers, publishers, service servers and
   clients, action servers and clients (``    /name: type``), every section printed, an empty
   one as an empty line, as ``ros2 node info`` prints them. ``Unable to find node 'NODE'`` and
-  exit 1 for a node not on the graph.
+  exit 1 for a node not on the graph within 5 s (a node discovered late is waited for).
 
 Over Zenoh the graph is every ``NN`` liveliness token of the domain: posekit processes and
 real ROS 2 nodes running rmw_zenoh alike. Hidden nodes (a name starting with ``_``, such as
@@ -27,6 +27,7 @@ from posekit.cli._graph import (
     node_names,
     session_for,
     sync_graph,
+    wait_for_node,
 )
 
 __all__ = ["main", "main_info", "main_list", "node_names"]
@@ -68,6 +69,9 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     return 0
 
 
+#: How long ``node info`` waits for the named node to appear on the graph.
+INFO_WAIT_S = 5.0
+
 INFO_NONUNIQUE_WARNING = (
     "There are {count} nodes in the graph with the exact name \"{name}\". You are seeing "
     "information about only one of them.\n"
@@ -89,7 +93,7 @@ def main_info(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     add_transport_args(parser)
     ns = parser.parse_args(list(argv))
     with session_for(ns, context) as session:
-        sync_graph(session)
+        wait_for_node(session, ns.node_name, INFO_WAIT_S)
         names = [n for n in node_names(session) if ns.include_hidden or not is_hidden_name(n)]
         found = node_interfaces(session, ns.node_name) if ns.node_name in names else None
         hint = empty_graph_hint(session)

@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-import time
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
@@ -47,8 +46,7 @@ def absolute_node_name(name: str) -> str:
 
 # -- graph and service helpers -------------------------------------------------------------
 def _nodes(session: Any, include_hidden: bool) -> list[str]:
-    from posekit.cli.node_cmd import node_names
-    from posekit.cli.topic_cmd import is_hidden_name, sync_graph
+    from posekit.cli._graph import is_hidden_name, node_names, sync_graph
 
     sync_graph(session, 2.0)
     own = session.node.get_fully_qualified_name()
@@ -59,11 +57,13 @@ def _nodes(session: Any, include_hidden: bool) -> list[str]:
 
 
 def _wait_for_node(session: Any, node: str, include_hidden: bool, timeout: float) -> None:
-    deadline = time.monotonic() + max(0.0, timeout)
-    while node not in _nodes(session, include_hidden):
-        if time.monotonic() >= deadline:
-            raise _CliError("Node not found")
-        session.spin_for(0.1)
+    """Return once ``node`` is on the graph (waiting up to ``timeout`` s), else "Node not found"."""
+    from posekit.cli._graph import is_hidden_name, wait_for_node
+
+    hidden = is_hidden_name(node) and not include_hidden
+    if hidden or not wait_for_node(session, node, timeout) or \
+            node == session.node.get_fully_qualified_name():
+        raise _CliError("Node not found")
 
 
 def _call(session: Any, node: str, suffix: str, srv_type: type, request: Any) -> Any:
@@ -120,12 +120,14 @@ def _timeout_arg(parser: argparse.ArgumentParser) -> None:
 def _list(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> None:
     from posekit.msgs.rcl_interfaces import DescribeParameters, ListParameters
 
-    nodes = _nodes(session, ns.include_hidden_nodes)
     if ns.node_name:
-        wanted = absolute_node_name(ns.node_name)
-        if wanted not in nodes:
-            raise _CliError("Node not found")
-        nodes = [wanted]
+        nodes = [absolute_node_name(ns.node_name)]
+        _wait_for_node(session, nodes[0], ns.include_hidden_nodes, _SERVICE_WAIT_S)
+    else:
+        # as ros2 param list: only the nodes that serve list_parameters (not the tools, say)
+        served = {name for name, _types in session.node.get_service_names_and_types()}
+        nodes = [n for n in _nodes(session, ns.include_hidden_nodes)
+                 if f"{n}/list_parameters" in served]
     pattern = re.compile(ns.filter[0]) if ns.filter else None
     for node in nodes:
         try:

@@ -13,6 +13,7 @@ Example::
 from __future__ import annotations
 
 from posekit.launch.description import (
+    CLOCK_SOURCE,
     DeclareLaunchArgument,
     LaunchConfiguration,
     LaunchDescription,
@@ -23,6 +24,7 @@ from posekit.launch.description import (
 from posekit.launch.runner import LaunchRun, launch, load_launch_file, main, run_launch_file, start
 
 __all__ = [
+    "CLOCK_SOURCE",
     "DeclareLaunchArgument",
     "LaunchConfiguration",
     "LaunchDescription",

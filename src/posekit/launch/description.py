@@ -18,9 +18,13 @@ import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from posekit.runtime.arguments import RosArguments
 
 __all__ = [
+    "CLOCK_SOURCE",
     "DeclareLaunchArgument",
     "LaunchConfiguration",
     "LaunchDescription",
@@ -33,6 +37,13 @@ __all__ = [
 
 class LaunchDescriptionError(ValueError):
     """A launch description or launch file is malformed."""
+
+
+#: The class attribute (set True) of a node class that simulates the world, posekit's
+#: ``WorldSimulation``: a launch that runs one steps simulated time itself and owns
+#: ``/clock``, the role Gazebo has in ROS. A launch of other nodes only can follow the
+#: ``/clock`` of a simulation already running (:meth:`LaunchDescription.has_clock_source`).
+CLOCK_SOURCE = "posekit_clock_source"
 
 
 _executables: dict[tuple[str, str], Callable[[], Any] | str] = {}
@@ -114,24 +125,23 @@ class DeclareLaunchArgument:
     description: str = ""
 
 
-def _parameters_from(item: Mapping[str, Any] | str | Path, node_name: str | None) -> dict[str, Any]:
+def _parameter_entries(item: Mapping[str, Any] | str | Path,
+                       dict_key: str) -> list[tuple[str, dict[str, Any]]]:
+    """``(node name pattern, {name: value})`` entries of one ``parameters=`` item.
+
+    A dict is one entry under ``dict_key`` (nested mappings flattened to ``a.b``). A file is
+    read as rcl reads ``--params-file`` (what launch_ros passes): sections by node name,
+    made absolute and matched against each node's fully qualified name with wildcards when
+    the node is created, values typed by rcl's rules.
+    """
     if isinstance(item, Mapping):
-        return dict(item)
-    path = Path(item)
+        return [(dict_key, _flatten(item))]
+    from posekit.runtime.arguments import RCLError, load_parameter_file
+
     try:
-        import yaml
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise LaunchDescriptionError(f"reading {path} needs PyYAML: {exc}") from exc
-    data = yaml.safe_load(path.read_text()) or {}
-    out: dict[str, Any] = {}
-    for key, section in data.items():
-        if not isinstance(section, Mapping):
-            continue
-        name = key.strip("/").split("/")[-1]
-        if key in ("/**", "**") or node_name is None or name == node_name:
-            params = section.get("ros__parameters", {})
-            out.update(_flatten(params))
-    return out
+        return load_parameter_file(item)
+    except RCLError as exc:
+        raise LaunchDescriptionError(f"parameter file {item}: {exc}") from None
 
 
 def _flatten(params: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
@@ -155,7 +165,10 @@ class Node:
         name: overrides the node name(s) the factory chooses.
         namespace: namespace for the node(s).
         parameters: dicts and/or YAML parameter files (``node: ros__parameters: ...``),
-            merged in order; values may be :class:`LaunchConfiguration`.
+            applied in order; a dict reaches the entry's node(s), a file's sections the nodes
+            whose fully qualified name they match (``/**``, ``/*``, ``/ns/*``, ``/ns/name``;
+            ``name`` is ``/name``), as ``--params-file`` does; values may be
+            :class:`LaunchConfiguration`.
         remappings: ``[("from", "to"), ...]`` or ``["from:=to"]``.
     """
 
@@ -183,14 +196,40 @@ class Node:
             return resolve_factory(target)
         raise LaunchDescriptionError("Node needs package_or_callable or package+executable")
 
-    def resolved_parameters(self, arguments: Mapping[str, Any]) -> dict[str, Any]:
-        """Merged parameters with launch configurations substituted."""
+    def is_clock_source(self) -> bool:
+        """Whether this entry runs a node class marked as a clock source (:data:`CLOCK_SOURCE`).
+
+        A factory that is not such a class (a function, a class without the mark) is not;
+        an entry that does not resolve is not either (creating its node reports that).
+        """
+        try:
+            factory = self.factory()
+        except LaunchDescriptionError:
+            return False
+        return getattr(factory, CLOCK_SOURCE, False) is True
+
+    def resolved_parameters(self, arguments: Mapping[str, Any]) -> RosArguments:
+        """The parameter entries of ``parameters``, launch configurations substituted.
+
+        In order, merged as rcl merges several ``--params-file`` (launch_ros passes each item
+        as one): ``RosArguments.parameters_for(fqn)`` gives a node's values. As launch_ros
+        writes a dict into its file, a dict's section is the node's fully qualified name when
+        both ``name`` and ``namespace`` are given, else ``/**``.
+        """
+        from posekit.runtime.arguments import RosArguments
+        from posekit.runtime.names import normalize_namespace
+
         items: Iterable[Mapping[str, Any] | str | Path]
         items = [self.parameters] if isinstance(self.parameters, Mapping) else self.parameters
-        merged: dict[str, Any] = {}
+        dict_key = "/**"
+        if self.name and self.namespace:
+            dict_key = f"{normalize_namespace(self.namespace).rstrip('/')}/{self.name}"
+        out = RosArguments()
         for item in items:
-            merged.update(_parameters_from(item, self.name))
-        return {k: _substitute(v, arguments) for k, v in merged.items()}
+            for pattern, values in _parameter_entries(item, dict_key):
+                out.add_parameters(pattern, {k: _substitute(v, arguments)
+                                             for k, v in values.items()})
+        return out
 
 
 def _substitute(value: Any, arguments: Mapping[str, Any]) -> Any:
@@ -226,6 +265,10 @@ class LaunchDescription:
     def nodes(self) -> list[Node]:
         """The node entries."""
         return [e for e in self.entities if isinstance(e, Node)]
+
+    def has_clock_source(self) -> bool:
+        """Whether the description runs a world of its own (see :data:`CLOCK_SOURCE`)."""
+        return any(entry.is_clock_source() for entry in self.nodes)
 
     def arguments(self, given: Mapping[str, Any] | None = None) -> dict[str, Any]:
         """Declared defaults overridden by ``given``."""

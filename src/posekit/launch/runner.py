@@ -23,12 +23,13 @@ from pathlib import Path
 from typing import Any
 
 from posekit.launch.description import LaunchDescription, LaunchDescriptionError
+from posekit.runtime.arguments import RosArguments
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor, MultiThreadedExecutor, SingleThreadedExecutor
 from posekit.runtime.logging import get_logger
 from posekit.runtime.node import Node, node_defaults
 from posekit.runtime.parameters import parse_parameter_value
-from posekit.runtime.sim_executor import SimulatedTimeExecutor
+from posekit.runtime.sim_executor import SimulatedTimeExecutor, graph_clock_publishers
 from posekit.runtime.time_source import CLOCK_TOPIC
 
 __all__ = [
@@ -47,6 +48,9 @@ class LaunchRun:
     executor: Executor
     nodes: list[Node] = field(default_factory=list)
     created: list[Any] = field(default_factory=list)
+    #: True when the nodes follow the ``/clock`` of a simulation elsewhere (sim time that
+    #: this run does not own: a wall-clock executor; see :func:`start`'s ``own_clock``).
+    follows_clock: bool = False
 
     def node(self, name: str) -> Node:
         """The node called ``name`` (or fully qualified ``/ns/name``)."""
@@ -89,8 +93,9 @@ def start(
     context: Context | None = None,
     multithreaded: bool = False,
     publish_clock: bool | None = None,
-    own_clock: bool = True,
+    own_clock: bool | None = True,
     transport: str | None = None,
+    arguments: RosArguments | None = None,
 ) -> LaunchRun:
     """Create every node of ``description`` and add them to one executor.
 
@@ -104,8 +109,15 @@ def start(
     run shut down). The run's own nodes get the time from the executor either way (they do
     not follow ``/clock``), so only outside observers need it.
 
-    ``own_clock=False``: see the module docstring. ``transport``: the transport name given to
-    a context this function initialises.
+    ``own_clock=False``: see the module docstring; ``own_clock=None`` (sim time) decides as
+    ``ros2 launch`` of nodes next to a running Gazebo would behave: a description with no
+    clock source of its own (:meth:`LaunchDescription.has_clock_source`) follows a
+    ``/clock`` already published on the context's transport, and owns the clock otherwise
+    (a description that runs a world then meets :class:`ClockConflictError` when another
+    simulation publishes ``/clock``). ``transport``: the transport name given to
+    a context this function initialises. ``arguments``: parsed ``--ros-args`` given to every
+    node of the run, as a process's ROS arguments reach its nodes (``posekit run``): they win
+    over the description's names, parameters and remappings; their log levels are set here.
     """
     if not isinstance(description, LaunchDescription):
         raise LaunchDescriptionError(f"expected a LaunchDescription, got {description!r}")
@@ -113,6 +125,9 @@ def start(
     if not ctx.ok():
         # A launch's nodes get their arguments from the description.
         ctx.init(args=[], transport=transport)
+    if own_clock is None:
+        own_clock = not sim_time or description.has_clock_source() or not (
+            graph_clock_publishers(ctx.transport()))
     owns_clock = sim_time and own_clock
     if owns_clock:
         ctx.transport().own_topic(CLOCK_TOPIC)
@@ -125,24 +140,31 @@ def start(
         executor = MultiThreadedExecutor(context=ctx)
     else:
         executor = SingleThreadedExecutor(context=ctx)
-    run = LaunchRun(ctx, executor)
+    run = LaunchRun(ctx, executor, follows_clock=sim_time and not own_clock)
     if isinstance(executor, SimulatedTimeExecutor):
         try:  # before any node exists: a refused run never shows a node to other processes
             executor.claim_clock(ctx.transport())
         except BaseException:
             run.shutdown()
             raise
-    arguments = description.arguments(launch_arguments)
-    for entry in description.nodes:
-        params = entry.resolved_parameters(arguments)
-        if sim_time:
-            params.setdefault("use_sim_time", True)
+    if arguments is not None:
+        arguments.apply_log_levels()
+    configuration = description.arguments(launch_arguments)
+    try:  # every entry's parameter files read before any node exists
+        matched = [entry.resolved_parameters(configuration) for entry in description.nodes]
+    except BaseException:
+        run.shutdown()
+        raise
+    for entry, entry_parameters in zip(description.nodes, matched, strict=True):
         with node_defaults(
             name=entry.name,
             namespace=entry.namespace,
-            parameters=params,
+            # the entry's own parameters (files matched by node name) win over this default
+            parameters={"use_sim_time": True} if sim_time else {},
+            matched_parameters=entry_parameters,
             remappings=list(entry.remappings),
             context=ctx,
+            arguments=arguments,
         ):
             created = entry.factory()()
         nodes = _collect_nodes(created)
@@ -168,7 +190,7 @@ def launch(
     context: Context | None = None,
     shutdown: bool = True,
     publish_clock: bool | None = None,
-    own_clock: bool = True,
+    own_clock: bool | None = True,
     transport: str | None = None,
 ) -> LaunchRun:
     """Start ``description`` and run it for ``duration`` seconds; returns the run.

@@ -16,7 +16,7 @@ clock with ``realtime``) and returns a :class:`ScenarioResult`.
 
 Parameters (``--param name:=value``): a plain ``name`` goes to every node of the scenario
 that declares it (``world``, ``k_rho``, ``wheel_separation`` ...); ``node.name`` targets one
-node (``random_mover.publish_rate:=4``). A name no node declares raises
+node (``random_mover.publish_rate:=4.0``). A name no node declares raises
 :class:`ScenarioError` listing the known ones. :func:`scenario_node` applies this routing
 to one launch entry.
 
@@ -46,6 +46,7 @@ from typing import Any
 
 from posekit.launch.description import LaunchDescription, Node
 from posekit.launch.runner import LaunchRun, start
+from posekit.runtime.arguments import RosArguments
 from posekit.runtime.context import Context
 from posekit.runtime.logging import LogRecord, add_sink, remove_sink
 from posekit.runtime.parameters import ParameterException
@@ -191,6 +192,7 @@ def start_scenario(
     publish_clock: bool | None = None,
     extra_nodes: Sequence[Node] = (),
     transport: str | None = None,
+    arguments: RosArguments | None = None,
 ) -> LaunchRun:
     """Build and start scenario ``name`` in a fresh context; nothing has run yet.
 
@@ -203,7 +205,8 @@ def start_scenario(
     run get the time from the executor directly either way.
     ``transport`` names the context's transport (default: the in-process bus, or
     $POSEKIT_TRANSPORT); ``"inprocess+zenoh"`` keeps in-process delivery and makes the run
-    visible to other processes.
+    visible to other processes. ``arguments``: parsed ``--ros-args`` for every node of the
+    run (see :func:`~posekit.launch.runner.start`).
 
     A :attr:`Scenario.follows_clock` scenario (a demo against a running world) gets a
     wall-clock executor instead, its nodes following ``/clock`` from another process; its
@@ -228,6 +231,7 @@ def start_scenario(
             publish_clock=publish_clock,
             own_clock=not scenario.follows_clock,
             transport=transport,
+            arguments=arguments,
         )
     except (ParameterException, ValueError, TypeError, ClockConflictError) as exc:
         raise ScenarioError(f"scenario '{name}' cannot start: {exc}") from exc

@@ -43,7 +43,7 @@ from __future__ import annotations
 import math
 import re
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -293,12 +293,17 @@ class RosArguments:
     enclave: str | None = None
     unparsed: list[str] = field(default_factory=list)
 
-    def _add_parameter(self, node: str, name: str, value: Any) -> None:
-        for pattern, values in self.parameters:
+    def add_parameters(self, node: str, values: Mapping[str, Any]) -> None:
+        """Add overrides for the nodes ``node`` names (a pattern, ``/**`` for every node).
+
+        rcl's merge, as for one more ``--params-file`` entry: values for a pattern already
+        present update it in place (keeping its place in the order), a new pattern goes last.
+        """
+        for pattern, known in self.parameters:
             if pattern == node:
-                values[name] = value
+                known.update(values)
                 return
-        self.parameters.append((node, {name: value}))
+        self.parameters.append((node, dict(values)))
 
     def parameters_for(self, fully_qualified_name: str) -> dict[str, Any]:
         """The overrides for the node ``/ns/name`` (entries applied in order)."""
@@ -369,7 +374,7 @@ def _parse_param(spec: str, out: RosArguments) -> None:
         node = "/" + node_name  # as rcl: matches that name in the root namespace only
     if not lhs:
         raise RCLError("expected a parameter name before :=")
-    out._add_parameter(node, lhs, parse_parameter_value(value))
+    out.add_parameters(node, {lhs: parse_parameter_value(value)})
 
 
 def _apply_flag(flag: str, value: str, out: RosArguments) -> None:
@@ -380,8 +385,7 @@ def _apply_flag(flag: str, value: str, out: RosArguments) -> None:
         out.remaps.append(_parse_remap(value))
     elif flag == "--params-file":
         for node, values in load_parameter_file(value):
-            for name, v in values.items():
-                out._add_parameter(node, name, v)
+            out.add_parameters(node, values)
     elif flag == "--log-level":
         out.log_levels.append(_parse_level(value))
     elif flag in ("-e", "--enclave"):

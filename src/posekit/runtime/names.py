@@ -33,6 +33,8 @@ __all__ = [
     "expand_topic_name",
     "normalize_namespace",
     "parse_remap_rules",
+    "remap_node_name",
+    "remap_node_namespace",
     "resolve_service_name",
     "resolve_topic_name",
     "validate_full_topic_name",
@@ -272,6 +274,33 @@ def parse_remap_rules(
         if not rule.from_name or not rule.to_name:
             raise ValueError(f"remapping rule {rule} has an empty side")
     return rules
+
+
+def _first_special(rules: Iterable[RemapRule], keys: tuple[str, ...],
+                   node_name: str) -> str | None:
+    for rule in rules:
+        if rule.from_name in keys and rule.node in (None, node_name):
+            return rule.to_name
+    return None
+
+
+def remap_node_name(rules: Iterable[RemapRule], node_name: str) -> str | None:
+    """The new name a ``__node:=`` / ``__name:=`` rule gives ``node_name``, or None.
+
+    The first rule that applies to the node wins (a ``node:`` prefix must be its name as
+    created), as rcl's ``rcl_remap_node_name``.
+    """
+    return _first_special(rules, ("__node", "__name"), node_name)
+
+
+def remap_node_namespace(rules: Iterable[RemapRule], node_name: str) -> str | None:
+    """The namespace a ``__ns:=`` rule gives the node ``node_name``, or None.
+
+    ``node_name`` is the node's name *after* :func:`remap_node_name`: rcl remaps the
+    namespace with rules for the new name (``-r __node:=n2 -r n2:__ns:=/foo`` moves the node
+    to ``/foo``; a ``talker:__ns:=`` rule no longer applies to it).
+    """
+    return _first_special(rules, ("__ns",), node_name)
 
 
 def apply_remappings(

@@ -7,9 +7,11 @@ the QoS argument is a :class:`QoSProfile` or an int depth. Every node declares
 
 Name and parameter sources, weakest first: ``init(args=[--ros-args ...])`` of the context
 (``sys.argv`` by default, as rclpy; see :mod:`posekit.runtime.arguments`), the
-:func:`node_defaults` scope (used by posekit.launch), ``cli_args``, then the constructor's
+:func:`node_defaults` scope (used by posekit.launch: its parameters, then its ROS arguments,
+the ``--ros-args`` of ``posekit run``), ``cli_args``, then the constructor's
 ``parameter_overrides``. Remap rules are tried in this order (the first match wins): the
-constructor's ``remappings``, ``cli_args``, the scope, the global arguments.
+constructor's ``remappings``, ``cli_args``, the scope's ROS arguments, the scope's
+remappings, the global arguments.
 """
 
 from __future__ import annotations
@@ -32,6 +34,8 @@ from posekit.runtime.names import (
     RemapRule,
     normalize_namespace,
     parse_remap_rules,
+    remap_node_name,
+    remap_node_namespace,
     resolve_service_name,
     resolve_topic_name,
     validate_node_name,
@@ -74,6 +78,13 @@ class NodeDefaults:
     parameters: dict[str, Any] = field(default_factory=dict)
     remappings: list[RemapRule] = field(default_factory=list)
     context: Context | None = None
+    #: ROS arguments for the nodes of the scope, as a process's ``--ros-args`` reach its
+    #: nodes (parameters matched by fully qualified name, remaps, ``__node``/``__ns``).
+    arguments: RosArguments | None = None
+    #: Parameter entries (``(node name pattern, values)``, rcl's order) applied to a node of
+    #: the scope whose fully qualified name matches: a launch entry's parameter files and
+    #: dicts, as launch_ros hands them to rcl (``--params-file``). After ``parameters``.
+    matched_parameters: RosArguments | None = None
 
 
 _defaults: contextvars.ContextVar[NodeDefaults | None] = contextvars.ContextVar(
@@ -89,36 +100,26 @@ def node_defaults(
     parameters: Mapping[str, Any] | None = None,
     remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
     context: Context | None = None,
+    arguments: RosArguments | None = None,
+    matched_parameters: RosArguments | None = None,
 ) -> Iterator[NodeDefaults]:
     """Nodes created in this block get this name/namespace/parameters/remaps/context.
 
     This is how a launch description configures node classes whose ``__init__`` hard-codes
     ``super().__init__("name")`` (ROS does the same with ``--ros-args`` of the process).
+    ``parameters`` reach every node of the block; ``matched_parameters`` the nodes whose
+    fully qualified name an entry's pattern matches (``/**``, ``/ns/*``, ``/ns/name``), after
+    ``parameters``; ``arguments`` (parsed ``--ros-args``) apply last and win over both.
     """
     value = NodeDefaults(
-        name, namespace, dict(parameters or {}), parse_remap_rules(remappings), context
+        name, namespace, dict(parameters or {}), parse_remap_rules(remappings), context,
+        arguments, matched_parameters,
     )
     token = _defaults.set(value)
     try:
         yield value
     finally:
         _defaults.reset(token)
-
-
-def _special_remaps(rules: Sequence[RemapRule], node_name: str) -> tuple[str | None, str | None]:
-    """The node name and namespace remaps for ``node_name``.
-
-    The first matching rule of each kind wins, as in rcl.
-    """
-    name = ns = None
-    for rule in rules:
-        if rule.node is not None and rule.node != node_name:
-            continue
-        if name is None and rule.from_name in ("__node", "__name"):
-            name = rule.to_name
-        elif ns is None and rule.from_name == "__ns":
-            ns = rule.to_name
-    return name, ns
 
 
 def _no_callback() -> None:
@@ -134,12 +135,17 @@ def _merged_overrides(
 ) -> dict[str, Any]:
     """A node's parameter overrides (name -> value) from every source, the last one winning.
 
-    Weakest first: the global arguments, the launch scope, the node's cli_args, then the
-    constructor's ``parameter_overrides``. ``fqn`` is the node's fully qualified name.
+    Weakest first: the global arguments, the launch scope (its parameters, its matched
+    parameters, then its ROS arguments), the node's cli_args, then the constructor's
+    ``parameter_overrides``. ``fqn`` is the node's fully qualified name.
     """
     overrides: dict[str, Any] = glob.parameters_for(fqn)
     if scope is not None:
         overrides.update(scope.parameters)
+        if scope.matched_parameters is not None:
+            overrides.update(scope.matched_parameters.parameters_for(fqn))
+        if scope.arguments is not None:
+            overrides.update(scope.arguments.parameters_for(fqn))
     overrides.update(local.parameters_for(fqn))
     if isinstance(parameter_overrides, Mapping):
         overrides.update(parameter_overrides)
@@ -182,16 +188,20 @@ class Node:
         glob = self._context.arguments if use_global_arguments else RosArguments()
         rules: list[RemapRule] = parse_remap_rules(remappings) + local.remaps
         if scope is not None:
+            if scope.arguments is not None:
+                rules += scope.arguments.remaps
             rules += scope.remappings
         rules += glob.remaps
 
-        name_remap, ns_remap = _special_remaps(rules, node_name)
+        # rcl's order: the name first, then the namespace by rules for the new name
+        name_remap = remap_node_name(rules, node_name)
         if scope is not None and scope.name:
             node_name = scope.name
         if scope is not None and scope.namespace is not None and namespace is None:
             namespace = scope.namespace
         if name_remap:
             node_name = name_remap
+        ns_remap = remap_node_namespace(rules, node_name)
         if ns_remap:
             namespace = ns_remap
         self._name = validate_node_name(node_name)

@@ -16,10 +16,12 @@ The rules are rclpy's (Jazzy), checked by the differential suite in tests/rclpy:
 * Every successful declare/set is published as an ``rcl_interfaces/msg/ParameterEvent``
   through the hook the node installs (``/parameter_events``).
 
-posekit deviations (listed in docs/runtime.md): an integer *override* (launch file,
-``--ros-args -p``, ``parameter_overrides``) for a parameter declared DOUBLE (or DOUBLE_ARRAY)
-is accepted as float, where rclpy raises InvalidParameterTypeException; numpy scalars and
-arrays are accepted as values and stored as Python numbers and lists.
+An override of another type than the declared one (an integer from a launch file,
+``--ros-args -p`` or ``parameter_overrides`` for a DOUBLE parameter included) raises
+:class:`InvalidParameterTypeException` with rclpy's text, as rclpy does.
+
+posekit deviation (listed in docs/runtime.md): numpy scalars and arrays are accepted as
+values and stored as Python numbers and lists.
 """
 
 from __future__ import annotations
@@ -528,20 +530,6 @@ def _as_overrides(
     return {p.name: p for p in overrides}
 
 
-def _widened(value: Any, declared: int) -> Any:
-    """posekit deviation: an integer override of a DOUBLE(_ARRAY) parameter as float."""
-    if declared == ParameterType.PARAMETER_DOUBLE and type(value) is int:
-        return float(value)
-    if (
-        declared == ParameterType.PARAMETER_DOUBLE_ARRAY
-        and isinstance(value, list | tuple)
-        and value
-        and all(type(v) is int for v in value)
-    ):
-        return [float(v) for v in value]
-    return value
-
-
 @dataclass
 class ParameterStore:
     """The parameters of one node (used by :class:`posekit.runtime.node.Node`)."""
@@ -595,7 +583,7 @@ class ParameterStore:
             name, second, descriptor = _declaration_tuple(namespace, index, item)
             value = _declared_default(name, second, descriptor)
             if not ignore_override and name in self.overrides:
-                value = _widened(self.overrides[name].value, descriptor.type)
+                value = self.overrides[name].value  # an INTEGER for a DOUBLE fails, as rclpy
             declared.append(Parameter(name, value=value))
             descriptors[name] = descriptor
         already = [p.name for p in declared if p.name in self._params]

@@ -84,6 +84,7 @@ from posekit.transport.dds_wire import (
     DISCOVERY_TOPIC,
     DISCOVERY_TYPE,
     DdsEndpoint,
+    DdsNode,
     DiscoveryOptions,
     NodeEntities,
     ParticipantEntities,
@@ -1072,17 +1073,44 @@ class DdsTransport(Transport):
                     ros_type = ros_type_name(s.type_name)
                 except ValueError:
                     continue
-                try:
-                    user = parse_user_data(bytes(s.qos[Policy.Userdata].data))
-                except (KeyError, TypeError, AttributeError):
-                    user = {}
-                node = owners.get(gid)
-                extra = {"namespace": node[0], "node_name": node[1]} if node else {}
-                out.append(DdsEndpoint(
-                    kind=k, gid=gid, participant_gid=s.participant_key.bytes, topic=ros_topic,
-                    ros_type=ros_type, type_hash=user.get("typehash"),
-                    qos=wire_qos_of(s.qos), **extra))
+                out.append(_endpoint_record(k, gid, s, ros_topic, ros_type, owners.get(gid)))
         return out
+
+    def _service_records(self) -> list[DdsEndpoint]:
+        """Every service server (kind SERVICE) and client (CLIENT) on the graph, one record each.
+
+        A server is its reader on the request topic, a client its reader on the reply topic,
+        as :meth:`get_service_names_and_types_by_node` and
+        :meth:`get_client_names_and_types_by_node` count them.
+        """
+        with self._lock:
+            owners = self._node_of()
+            out: list[DdsEndpoint] = []
+            for gid, (k, s) in self._endpoints.items():
+                if k is not EntityKind.SUBSCRIPTION:
+                    continue
+                named = ros_service_name(s.topic_name)
+                srv_type = ros_service_type(s.type_name)
+                if named is None or srv_type is None:
+                    continue
+                service, on_request = named
+                role = EntityKind.SERVICE if on_request else EntityKind.CLIENT
+                out.append(_endpoint_record(role, gid, s, service, srv_type, owners.get(gid)))
+        return out
+
+    def graph_entities(self) -> list[DdsEndpoint | DdsNode]:
+        """Every node, publisher, subscription, service server and client on the graph.
+
+        Nodes as ``ros_discovery_info`` announces them (this process's included), topic
+        endpoints as :meth:`get_publishers_info_by_topic` gives them, servers and clients as
+        one record per reader (see :class:`~posekit.transport.dds_wire.DdsEndpoint`).
+        Duplicates are kept.
+        """
+        with self._lock:
+            nodes: list[DdsEndpoint | DdsNode] = [
+                DdsNode(part.gid, node.namespace, node.name)
+                for part in self._graph_participants() for node in part.nodes]
+        return [*nodes, *self._graph_endpoints(), *self._service_records()]
 
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
         """Every topic of the discovered graph, with its type names."""
@@ -1112,12 +1140,15 @@ class DdsTransport(Transport):
         """Every subscription on ``topic``."""
         return self._graph_endpoints(topic, EntityKind.SUBSCRIPTION)
 
+    def _graph_participants(self) -> list[ParticipantEntities]:
+        """The participants' announcements: every remote one and this participant's own."""
+        with self._lock:
+            return [*(p for g, p in self._remote.items() if g != self.gid),
+                    self._local_entities()]
+
     def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
         """(name, namespace) of every node on the graph, this process's included."""
-        with self._lock:
-            parts = [*(p for g, p in self._remote.items() if g != self.gid),
-                     self._local_entities()]
-            return sorted((n.name, n.namespace) for p in parts for n in p.nodes)
+        return sorted((n.name, n.namespace) for p in self._graph_participants() for n in p.nodes)
 
     def get_node_names(self) -> list[str]:
         """Fully qualified names of every node on the graph (duplicates kept), sorted."""
@@ -1213,6 +1244,24 @@ def _with_endpoints(endpoints: dict[bytes, tuple[EntityKind, Any]], kind: Entity
         else:
             endpoints.pop(s.key.bytes, None)
     return endpoints
+
+
+def _endpoint_record(kind: EntityKind, gid: bytes, sample: Any, name: str, ros_type: str,
+                     node: tuple[str, str] | None) -> DdsEndpoint:
+    """The graph record of a builtin publication or subscription ``sample``.
+
+    ``name`` and ``ros_type`` are its ROS topic (or service) name and type, ``node`` the
+    (namespace, name) of the node that announced it (None if none did).
+    """
+    try:
+        user = parse_user_data(bytes(sample.qos[Policy.Userdata].data))
+    except (KeyError, TypeError, AttributeError):
+        user = {}
+    extra = {"namespace": node[0], "node_name": node[1]} if node else {}
+    return DdsEndpoint(
+        kind=kind, gid=gid, participant_gid=sample.participant_key.bytes, topic=name,
+        ros_type=ros_type, type_hash=user.get("typehash"), qos=wire_qos_of(sample.qos),
+        **extra)
 
 
 def _took_status(endpoint: _Publisher | _Subscription, entity: Any, status: int) -> bool:

@@ -53,6 +53,7 @@ __all__ = [
     "DISCOVERY_TYPE",
     "REQUEST_HEADER_SIZE",
     "DdsEndpoint",
+    "DdsNode",
     "DiscoveryOptions",
     "DiscoveryRange",
     "NodeEntities",
@@ -407,10 +408,13 @@ def decode_participant_entities(data: bytes) -> ParticipantEntities:
 
 @dataclass(frozen=True, slots=True)
 class DdsEndpoint:
-    """A ROS publisher or subscription seen on DDS (from the built-in discovery topics).
+    """A ROS publisher, subscription, service server or client seen on DDS.
 
-    Attribute names follow :class:`posekit.transport.zenoh_wire.TokenInfo` so the command-line
-    tools print either transport's endpoints the same way.
+    From the built-in discovery topics. Attribute names follow
+    :class:`posekit.transport.zenoh_wire.TokenInfo` so the command-line tools print either
+    transport's endpoints the same way. A service server (kind ``SERVICE``) or client
+    (``CLIENT``) is the record of its reader (on the request or the reply topic); its
+    ``topic`` is the service name, its ``ros_type`` the service type (``std_srvs/srv/SetBool``).
     """
 
     kind: EntityKind
@@ -423,6 +427,27 @@ class DdsEndpoint:
     node_name: str = "_NODE_NAME_UNKNOWN_"
     namespace: str = "_NODE_NAMESPACE_UNKNOWN_"
     keyexpr: str = ""
+
+    @property
+    def node_fqn(self) -> str:
+        """``/namespace/node``."""
+        return f"{self.namespace.rstrip('/')}/{self.node_name}"
+
+
+@dataclass(frozen=True, slots=True)
+class DdsNode:
+    """A ROS node seen on DDS (announced on ``ros_discovery_info``), as a graph record.
+
+    The node counterpart of :class:`DdsEndpoint`: ``kind`` is ``NODE``, ``topic`` and
+    ``ros_type`` are None (as a Zenoh node token's).
+    """
+
+    participant_gid: bytes
+    namespace: str
+    node_name: str
+    kind: EntityKind = EntityKind.NODE
+    topic: str | None = None
+    ros_type: str | None = None
 
     @property
     def node_fqn(self) -> str:

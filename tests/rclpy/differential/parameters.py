@@ -1,3 +1,6 @@
+import os
+import tempfile
+
 from rcl_interfaces.msg import (
     FloatingPointRange,
     IntegerRange,
@@ -229,4 +232,20 @@ show("undeclared allowed type", lambda: loose.get_parameter_type("other"))
 auto = rclpy.create_node("diff_auto", parameter_overrides=[Parameter("a", value=1)],
                          automatically_declare_parameters_from_overrides=True)
 show("auto declared", lambda: (auto.has_parameter("a"), auto.get_parameter("a").value))
+
+# -- an override's type must be the declared type: an integer is no double ---------------
+params_file = os.path.join(tempfile.mkdtemp(), "params.yaml")
+with open(params_file, "w") as f:
+    f.write("diff_typed:\n  ros__parameters:\n    h: 1\n    h_ok: 1.0\n")
+typed = rclpy.create_node("diff_typed", parameter_overrides=[
+    Parameter("fa", value=[1, 2]), Parameter("ia", value=[1.0])], cli_args=[
+    "--ros-args", "-p", "g:=1", "-p", "g_ok:=1.0", "--params-file", params_file])
+show("declare int array override of a double array", lambda: typed.declare_parameter(
+    "fa", [0.5]))
+show("declare double array override of an int array", lambda: typed.declare_parameter(
+    "ia", [1]))
+show("declare -p int for a double", lambda: typed.declare_parameter("g", 0.0))
+show("declare -p double for a double", lambda: typed.declare_parameter("g_ok", 0.0).value)
+show("declare file int for a double", lambda: typed.declare_parameter("h", 0.0))
+show("declare file double for a double", lambda: typed.declare_parameter("h_ok", 0.0).value)
 rclpy.shutdown()

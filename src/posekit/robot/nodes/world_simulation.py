@@ -67,7 +67,7 @@ last physics step (at most one update period old), with noise from the seed and 
 from __future__ import annotations
 
 from collections import deque
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -144,6 +144,10 @@ class WorldSimulation(Node):
     and ``rejected_count``. Refused commands are logged at most once per second of the node's
     clock, with the number suppressed in between; future-stamped ones once per run of them.
     """
+
+    #: This node simulates the world: a launch running it owns the simulation clock
+    #: (:data:`posekit.launch.CLOCK_SOURCE`).
+    posekit_clock_source: ClassVar[bool] = True
 
     def __init__(self, node_name: str = "world_simulation", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
