@@ -60,10 +60,9 @@ def main_list(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     if ns.count_nodes:
         out.write(f"{len(names)}\n")
         return 0
-    counts = Counter(names)
-    if any(c > 1 for c in counts.values()):
+    if any(c > 1 for c in Counter(names).values()):
         err.write(DUPLICATE_WARNING)
-    for name in sorted(counts):
+    for name in sorted(names):  # every node, duplicates too, as ros2 node list prints them
         out.write(f"{name}\n")
     out.flush()
     return 0
