@@ -46,10 +46,11 @@ DEVIATIONS: dict[str, dict[str, str]] = {
         "qos depth 0": "raise ValueError: QoSProfile with KEEP_LAST history needs depth >= 1",
         "qos negative depth": "raise ValueError",
         # QoSProfile() is the default profile (depth 10); rclpy requires history or depth
+        # (and its repr is its str; rclpy's is object's default)
         "qos no depth": (
-            "QoSProfile(history=<HistoryPolicy.KEEP_LAST: 1>, depth=10, "
-            "reliability=<ReliabilityPolicy.RELIABLE: 1>, "
-            "durability=<DurabilityPolicy.VOLATILE: 2>, lifespan=None)"
+            "QoSProfile(history=1, depth=10, reliability=1, durability=2, "
+            "lifespan=0 nanoseconds, deadline=0 nanoseconds, liveliness=0, "
+            "liveliness_lease_duration=0 nanoseconds, avoid_ros_namespace_conventions=False)"
         ),
     },
     "parameter_files": {

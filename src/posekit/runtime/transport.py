@@ -77,7 +77,7 @@ from typing import TYPE_CHECKING, Any
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.registry import message_type_name
 from posekit.runtime.logging import RcutilsLogger
-from posekit.runtime.qos import QoSProfile
+from posekit.runtime.qos import QoSProfile, to_qos_profile
 
 if TYPE_CHECKING:
     from posekit.runtime.inbox import Inbox
@@ -156,6 +156,10 @@ class EndpointInfo:
     #: Match endpoints of other processes only (see the module docstring).
     remote_only: bool = False
 
+    def __post_init__(self) -> None:
+        # A profile is mutable (rclpy's); the transport keeps its own copy, as rcl does.
+        object.__setattr__(self, "qos", to_qos_profile(self.qos).copy())
+
     @property
     def type_name(self) -> str:
         """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``.
@@ -183,6 +187,9 @@ class ServiceInfo:
     node_name: str
     node_namespace: str
     logger: RcutilsLogger
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "qos", to_qos_profile(self.qos).copy())  # as EndpointInfo
 
     @property
     def type_name(self) -> str:
