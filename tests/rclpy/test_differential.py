@@ -63,6 +63,12 @@ DEVIATIONS: dict[str, dict[str, str]] = {
         # a YAML mapping stays text; rclpy puts the dict into the string field
         "from string mapping": "(4, '{a: 1}')",
     },
+    "time_duration": {
+        # float seconds are rounded to the nearest nanosecond; rclpy truncates seconds * 1e9
+        # (1000999999)
+        "duration 1.001 s": "1001000000",
+        "time 1.001 s": "1001000000",
+    },
     "services": {
         # rclpy's single-threaded executor cannot serve the request while blocked in the
         # callback (None after the timeout); posekit serves it
