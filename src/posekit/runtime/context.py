@@ -101,6 +101,11 @@ class Context:
         with self._lock:
             self._on_shutdown.append(ref)
 
+    def remove_on_shutdown(self, callback: Callable[[], None]) -> None:
+        """Forget ``callback`` given to :meth:`on_shutdown` (posekit's; rclpy has none)."""
+        with self._lock:
+            self._on_shutdown = [ref for ref in self._on_shutdown if ref() != callback]
+
     def shutdown(self) -> None:
         """Stop: executors return from spin, transports close. Raises if not initialized."""
         with self._lock:
