@@ -25,6 +25,7 @@ from posekit.runtime.transport import Transport, create_transport, selected_tran
 
 __all__ = [
     "Context",
+    "InvalidHandle",
     "NotInitializedException",
     "get_default_context",
     "init",
@@ -42,6 +43,10 @@ class NotInitializedException(RuntimeError):  # noqa: N818 - rclpy name
             f"{what + ': ' if what else ''}the context is not initialized; call "
             "rclpy.init() (posekit.runtime.context.init()) first"
         )
+
+
+class InvalidHandle(RuntimeError):  # noqa: N818 - rclpy name
+    """An entity (node, timer, guard condition) was used after it was destroyed (rclpy's)."""
 
 
 class Context:
