@@ -226,6 +226,12 @@ class RcutilsLogger:
         del throttle_time_source_type  # the logger's own clock is used (module docstring)
         if severity < self.get_effective_level():
             return False
+        if type(message) is not str:  # rclpy hands the message to C: a str or None only
+            if message is not None and not isinstance(message, str):
+                raise TypeError(
+                    f"the log message must be a str, got {type(message).__name__} "
+                    f"(rclpy raises TypeError too)")
+            message = "(null)" if message is None else str(message)
         filtered = once or skip_first or throttle_duration_sec is not None
         now = self._clock_ns()
         if filtered:

@@ -24,7 +24,12 @@ from typing import TYPE_CHECKING, Any
 from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent, ParameterValue
 from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from posekit.runtime.clock import Clock, ROSClock
-from posekit.runtime.context import Context, NotInitializedException, get_default_context
+from posekit.runtime.context import (
+    Context,
+    InvalidHandle,
+    NotInitializedException,
+    get_default_context,
+)
 from posekit.runtime.entities import Publisher, Subscription, Timer
 from posekit.runtime.guard_condition import GuardCondition
 from posekit.runtime.inbox import Handoff
@@ -172,6 +177,7 @@ class Node:
         remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
         transport: str | Transport | None = None,
     ) -> None:
+        self._destroyed = False
         scope = _defaults.get()
         self._context = context or (scope.context if scope else None) or get_default_context()
         if not self._context.ok():
@@ -220,7 +226,6 @@ class Node:
         self._services: list[Service] = []
         self._clients: list[Client] = []
         self._guards: list[GuardCondition] = []
-        self._destroyed = False
         self._default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
         self._callback_groups: list[CallbackGroup] = [self._default_callback_group]
         self._rate_group: CallbackGroup | None = None  # rates' own group (made on first use)
@@ -282,17 +287,36 @@ class Node:
         """The transport carrying this node's messages."""
         return self._transport
 
+    def _check_handle(self) -> None:
+        """rclpy's InvalidHandle for a node used after ``destroy_node()``."""
+        if self._destroyed:
+            raise InvalidHandle("cannot use Destroyable because destruction was requested")
+
     def get_name(self) -> str:
         """The node's name (after remapping)."""
+        self._check_handle()
         return self._name
 
     def get_namespace(self) -> str:
         """The node's namespace, '/' for the root."""
+        self._check_handle()
         return self._namespace
 
     def get_fully_qualified_name(self) -> str:
         """``/ns/name``."""
+        self._check_handle()
+        return self._fqn()
+
+    def _fqn(self) -> str:
         return ("" if self._namespace == "/" else self._namespace) + "/" + self._name
+
+    @property
+    def fully_qualified_name(self) -> str:
+        """``/ns/name``, also after ``destroy_node()`` (posekit's, for reports on finished runs).
+
+        The get_* methods raise InvalidHandle after ``destroy_node()``, as rclpy's do.
+        """
+        return self._fqn()
 
     def get_logger(self) -> RcutilsLogger:
         """The node's logger (named after the node, stamped with the node's clock)."""
@@ -316,8 +340,7 @@ class Node:
 
     # -- entities ---------------------------------------------------------------------
     def _check_alive(self) -> None:
-        if self._destroyed:
-            raise RuntimeError(f"node '{self.get_fully_qualified_name()}' has been destroyed")
+        self._check_handle()
         if not self._context.ok():
             raise NotInitializedException(f"node '{self._name}'")
 
@@ -343,7 +366,7 @@ class Node:
         qos = to_qos_profile(qos_profile)
         full = self.resolve_topic_name(topic)
         endpoint = self._transport.advertise(self._info(msg_type, full, qos))
-        pub = Publisher(self, msg_type, full, qos, endpoint)
+        pub = Publisher(self, msg_type, full, qos, endpoint, topic)
         self._publishers.append(pub)
         return pub
 
@@ -387,7 +410,7 @@ class Node:
         qos = to_qos_profile(qos_profile)
         full = self.resolve_topic_name(topic)
         group = callback_group or self._default_callback_group
-        sub = Subscription(self, msg_type, full, callback, qos, group)
+        sub = Subscription(self, msg_type, full, callback, qos, group, topic)
         self._subscriptions.append(sub)
         info = self._info(msg_type, full, qos)
         try:
@@ -408,18 +431,19 @@ class Node:
     def create_timer(
         self,
         timer_period_sec: float,
-        callback: Callable[[], Any],
+        callback: Callable[[], Any] | None,
         callback_group: CallbackGroup | None = None,
         clock: Clock | None = None,
         autostart: bool = True,
     ) -> Timer:
         """Timer calling ``callback()`` every ``timer_period_sec`` seconds of ``clock``.
 
-        The default clock is the node clock, so sim time under use_sim_time.
+        The default clock is the node clock, so sim time under use_sim_time. ``callback``
+        may be None, as in rclpy (see :class:`~posekit.runtime.entities.Timer`).
         """
         self._check_alive()
-        if not callable(callback):
-            raise TypeError(f"timer callback must be callable, got {callback!r}")
+        if callback is not None and not callable(callback):
+            raise TypeError(f"timer callback must be callable or None, got {callback!r}")
         period_s = float(timer_period_sec)
         # rclpy raises ValueError for NaN, OverflowError for inf, an error for negatives.
         if math.isnan(period_s):
@@ -631,10 +655,14 @@ class Node:
         """This node's timers."""
         return iter(list(self._timers))
 
-    def destroy_node(self) -> bool:
-        """Destroy every entity and leave the executor; the node is unusable afterwards."""
+    def destroy_node(self) -> None:
+        """Destroy every entity and leave the executor (again: nothing happens).
+
+        Afterwards, as in rclpy, the node's name, graph and entity methods raise
+        :class:`InvalidHandle`; its logger, clock and parameters still answer.
+        """
         if self._destroyed:
-            return True
+            return
         executor = self.executor
         if executor is not None:
             executor.remove_node(self)
@@ -655,11 +683,11 @@ class Node:
             self._rosout.destroy()
         self._transport.undeclare_node(self._name, self._namespace)
         self._destroyed = self.handoff.destroyed = True
-        return True
 
     # -- graph ------------------------------------------------------------------------
     def get_topic_names_and_types(self, no_demangle: bool = False) -> list[tuple[str, list[str]]]:
         """Every topic known to the node's transport, with type names."""
+        self._check_handle()
         del no_demangle
         return self._transport.get_topic_names_and_types()
 
@@ -697,10 +725,12 @@ class Node:
 
     def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
         """``(name, namespace)`` of every node on the graph (namespace ``/`` for the root)."""
+        self._check_handle()
         return self._transport.get_node_names_and_namespaces()
 
     def get_node_names_and_namespaces_with_enclaves(self) -> list[tuple[str, str, str]]:
         """``(name, namespace, enclave)`` of every node on the graph."""
+        self._check_handle()
         return self._transport.get_node_names_and_namespaces_with_enclaves()
 
     def get_fully_qualified_node_names(self) -> list[str]:
@@ -734,6 +764,7 @@ class Node:
             endpoint_info_from_record,
         )
 
+        self._check_handle()
         topic = topic_name if no_mangle else self.resolve_topic_name(topic_name)
         if publishers:
             records = self._transport.get_publishers_info_by_topic(topic)
@@ -760,10 +791,12 @@ class Node:
 
     def count_publishers(self, topic_name: str) -> int:
         """Publishers on ``topic_name`` (expanded and remapped like the node's own topics)."""
+        self._check_handle()
         return self._transport.count_publishers(self.resolve_topic_name(topic_name))
 
     def count_subscribers(self, topic_name: str) -> int:
         """Subscriptions on ``topic_name``."""
+        self._check_handle()
         return self._transport.count_subscribers(self.resolve_topic_name(topic_name))
 
     # -- parameters -------------------------------------------------------------------
@@ -908,4 +941,4 @@ class Node:
         self._parameters.remove_post_set(callback)
 
     def __repr__(self) -> str:
-        return f"Node('{self.get_fully_qualified_name()}')"
+        return f"Node('{self._fqn()}')"
