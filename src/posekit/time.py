@@ -81,13 +81,29 @@ def _to_ns(seconds: float | int, nanoseconds: int) -> int:
     return whole * _NS_PER_S + round((seconds - whole) * _NS_PER_S) + int(nanoseconds)
 
 
+#: rcl's limits: a time point or duration is a signed 64-bit count of nanoseconds.
+_NS_LIMIT = 2**63
+#: rmw's infinite duration (RMW_DURATION_INFINITE); ``str()`` of it is ``'Infinite'``.
+_INFINITE_NS = _NS_LIMIT - 1
+
+
 class Duration:
-    """A signed span of time in integer nanoseconds (rclpy.duration.Duration)."""
+    """A signed span of time in integer nanoseconds (rclpy.duration.Duration, Jazzy).
+
+    As in Jazzy it has no arithmetic of its own (``Duration + Duration``, ``-d``, ``d * 2``
+    raise TypeError: use ``Duration(nanoseconds=a.nanoseconds + b.nanoseconds)``); it takes
+    part in :class:`Time` arithmetic (``t + d``, ``t - d``, ``t2 - t1``), compares with
+    other durations and is unhashable. Fractions of ``seconds`` are rounded to the nearest
+    nanosecond (rclpy truncates ``seconds * 1e9``, which can lose one).
+    """
 
     __slots__ = ("_ns",)
 
     def __init__(self, *, seconds: float | int = 0, nanoseconds: int = 0) -> None:
-        self._ns = _to_ns(seconds, nanoseconds)
+        ns = _to_ns(seconds, nanoseconds)
+        if not -_NS_LIMIT <= ns < _NS_LIMIT:
+            raise OverflowError("Total nanoseconds value is too large to store in C duration.")
+        self._ns = ns
 
     @property
     def nanoseconds(self) -> int:
@@ -95,7 +111,7 @@ class Duration:
         return self._ns
 
     def to_seconds(self) -> float:
-        """The span in seconds (float; only for display and arithmetic, not for keys)."""
+        """The span in seconds (float; for display; posekit's, not in rclpy)."""
         return self._ns / _NS_PER_S
 
     def to_msg(self) -> builtin_interfaces.Duration:
@@ -105,19 +121,25 @@ class Duration:
 
     @classmethod
     def from_msg(cls, msg: Any) -> Duration:
-        """From anything with ``sec`` and ``nanosec`` fields."""
+        """From a builtin_interfaces/Duration (any object with ``sec`` and ``nanosec``)."""
+        if not (hasattr(msg, "sec") and hasattr(msg, "nanosec")):
+            raise TypeError("Must pass a builtin_interfaces.msg.Duration object")
         return cls(seconds=int(msg.sec), nanoseconds=int(msg.nanosec))
 
     def __repr__(self) -> str:
         return f"Duration(nanoseconds={self._ns})"
+
+    def __str__(self) -> str:
+        if self._ns == _INFINITE_NS:
+            return "Infinite"
+        return f"{self._ns} nanoseconds"
 
     def __eq__(self, other: object) -> bool:
         if isinstance(other, Duration):
             return self._ns == other._ns
         return NotImplemented
 
-    def __hash__(self) -> int:
-        return hash(("Duration", self._ns))
+    __hash__ = None  # type: ignore[assignment]  # as Jazzy's: defines __eq__, no __hash__
 
     def __lt__(self, other: Duration) -> bool:
         if not isinstance(other, Duration):
@@ -139,27 +161,15 @@ class Duration:
             return NotImplemented
         return self._ns >= other._ns
 
-    def __add__(self, other: Duration) -> Duration:
-        if isinstance(other, Duration):
-            return Duration(nanoseconds=self._ns + other._ns)
-        return NotImplemented
-
-    def __sub__(self, other: Duration) -> Duration:
-        if isinstance(other, Duration):
-            return Duration(nanoseconds=self._ns - other._ns)
-        return NotImplemented
-
-    def __neg__(self) -> Duration:
-        return Duration(nanoseconds=-self._ns)
-
-    def __mul__(self, factor: float) -> Duration:
-        return Duration(nanoseconds=round(self._ns * factor))
-
-    __rmul__ = __mul__
-
 
 class Time:
-    """A point in time in integer nanoseconds (rclpy.time.Time). Never negative."""
+    """A point in time in integer nanoseconds (rclpy.time.Time, Jazzy). Never negative.
+
+    As in Jazzy: ``t + d`` and ``t - d`` (a :class:`Duration`) give a Time, ``t2 - t1`` a
+    Duration; times of different clock types neither compare nor subtract (TypeError); a
+    Time is unhashable (key dictionaries by ``t.nanoseconds``); values outside a signed 64-bit
+    nanosecond count raise OverflowError.
+    """
 
     __slots__ = ("_clock_type", "_ns")
 
@@ -170,14 +180,31 @@ class Time:
         nanoseconds: int = 0,
         clock_type: ClockType = ClockType.SYSTEM_TIME,
     ) -> None:
-        ns = (
-            _to_ns(seconds, nanoseconds) if seconds or type(nanoseconds) is not int else nanoseconds
-        )
-        if ns < 0:
-            raise ValueError(f"Time cannot be negative, got {ns} ns")
+        # Enum checks by isinstance are slow; lecture code builds Time() for every lookup
+        if type(clock_type) is not ClockType:
+            raise TypeError("Clock type must be a ClockType enum")
+        if seconds or type(nanoseconds) is not int:
+            if seconds < 0:
+                raise ValueError("Seconds value must not be negative")
+            if nanoseconds < 0:
+                raise ValueError("Nanoseconds value must not be negative")
+            ns = _to_ns(seconds, nanoseconds)
+        else:
+            ns = nanoseconds
+            if ns < 0:
+                raise ValueError("Nanoseconds value must not be negative")
+        if ns >= _NS_LIMIT:
+            raise OverflowError("Total nanoseconds value is too large to store in C time point.")
         self._ns = ns
-        # Enum lookup by value is slow; lecture code builds Time() for every lookup
-        self._clock_type = clock_type if type(clock_type) is ClockType else ClockType(clock_type)
+        self._clock_type = clock_type
+
+    @classmethod
+    def _of(cls, ns: int, clock_type: ClockType) -> Time:
+        """A Time of ``ns`` (checked by the caller: 0 <= ns < 2**63) without the checks."""
+        t = cls.__new__(cls)
+        t._ns = ns
+        t._clock_type = clock_type
+        return t
 
     @property
     def nanoseconds(self) -> int:
@@ -200,7 +227,12 @@ class Time:
 
     @classmethod
     def from_msg(cls, msg: Any, clock_type: ClockType = ClockType.ROS_TIME) -> Time:
-        """From anything with ``sec`` and ``nanosec`` fields (rclpy's default clock is ROS_TIME)."""
+        """From a builtin_interfaces/Time (any object with ``sec`` and ``nanosec``).
+
+        rclpy's default clock type here is ROS_TIME.
+        """
+        if not (hasattr(msg, "sec") and hasattr(msg, "nanosec")):
+            raise TypeError("Must pass a builtin_interfaces.msg.Time object")
         return cls(seconds=int(msg.sec), nanoseconds=int(msg.nanosec), clock_type=clock_type)
 
     def __repr__(self) -> str:
@@ -208,10 +240,7 @@ class Time:
 
     def _check(self, other: Time) -> None:
         if self._clock_type != other._clock_type:
-            raise TypeError(
-                f"cannot compare times with different clock types: "
-                f"{self._clock_type.name} vs {other._clock_type.name}"
-            )
+            raise TypeError("Can't compare times with different clock types")
 
     def __eq__(self, other: object) -> bool:
         if isinstance(other, Time):
@@ -219,8 +248,7 @@ class Time:
             return self._ns == other._ns
         return NotImplemented
 
-    def __hash__(self) -> int:
-        return hash((self._ns, int(self._clock_type)))
+    __hash__ = None  # type: ignore[assignment]  # as Jazzy's: defines __eq__, no __hash__
 
     def __lt__(self, other: Time) -> bool:
         if not isinstance(other, Time):
@@ -248,7 +276,12 @@ class Time:
 
     def __add__(self, other: Duration) -> Time:
         if isinstance(other, Duration):
-            return Time(nanoseconds=self._ns + other.nanoseconds, clock_type=self._clock_type)
+            ns = self._ns + other.nanoseconds
+            if ns >= _NS_LIMIT:
+                raise OverflowError("Addition leads to overflow in C storage.")
+            if ns < 0:
+                raise ValueError("Nanoseconds value must not be negative")
+            return Time._of(ns, self._clock_type)
         return NotImplemented
 
     __radd__ = __add__
@@ -259,8 +292,15 @@ class Time:
     def __sub__(self, other: Duration) -> Time: ...
     def __sub__(self, other: Time | Duration) -> Time | Duration:
         if isinstance(other, Time):
-            self._check(other)
+            if self._clock_type != other._clock_type:
+                raise TypeError("Can't subtract times with different clock types")
             return Duration(nanoseconds=self._ns - other._ns)
         if isinstance(other, Duration):
-            return Time(nanoseconds=self._ns - other.nanoseconds, clock_type=self._clock_type)
+            ns = self._ns - other.nanoseconds
+            if ns < 0:
+                raise ValueError("Subtraction leads to negative time.")
+            if ns >= _NS_LIMIT:
+                raise OverflowError(
+                    "Total nanoseconds value is too large to store in C time point.")
+            return Time._of(ns, self._clock_type)
         return NotImplemented

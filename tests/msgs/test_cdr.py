@@ -37,6 +37,12 @@ ISSUE_TYPES = [
     "std_msgs/msg/Bool",
     "std_msgs/msg/String",
     "std_msgs/msg/Float64",
+    *(f"std_msgs/msg/{name}" for name in (
+        "Byte", "Char", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64",
+        "UInt64", "Float32", "ColorRGBA", "Empty", "MultiArrayDimension", "MultiArrayLayout",
+        "ByteMultiArray", "Int8MultiArray", "UInt8MultiArray", "Int16MultiArray",
+        "UInt16MultiArray", "Int32MultiArray", "UInt32MultiArray", "Int64MultiArray",
+        "UInt64MultiArray", "Float32MultiArray", "Float64MultiArray")),
     "geometry_msgs/msg/Point",
     "geometry_msgs/msg/Quaternion",
     "geometry_msgs/msg/Vector3",

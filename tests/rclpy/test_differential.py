@@ -28,6 +28,14 @@ SCRIPTS = sorted(p.stem for p in HERE.glob("*.py") if not p.name.startswith("_")
 
 #: script -> label -> posekit's output (rclpy's differs; see docs/runtime.md).
 DEVIATIONS: dict[str, dict[str, str]] = {
+    "destroyed": {
+        # a destroyed node creates nothing more (rclpy still creates timers on it)
+        "create_timer": "raise InvalidHandle: cannot use Destroyable because destruction "
+                        "was requested",
+        # entity.destroy() takes it off its node (rclpy's node still lists it until
+        # node.destroy_publisher, which then says True)
+        "destroy_publisher after destroy": "False",
+    },
     "futures": {
         # the first result wins (rclpy overwrites it and calls the callbacks again)
         "set twice": "3",
@@ -46,10 +54,11 @@ DEVIATIONS: dict[str, dict[str, str]] = {
         "qos depth 0": "raise ValueError: QoSProfile with KEEP_LAST history needs depth >= 1",
         "qos negative depth": "raise ValueError",
         # QoSProfile() is the default profile (depth 10); rclpy requires history or depth
+        # (and its repr is its str; rclpy's is object's default)
         "qos no depth": (
-            "QoSProfile(history=<HistoryPolicy.KEEP_LAST: 1>, depth=10, "
-            "reliability=<ReliabilityPolicy.RELIABLE: 1>, "
-            "durability=<DurabilityPolicy.VOLATILE: 2>, lifespan=None)"
+            "QoSProfile(history=1, depth=10, reliability=1, durability=2, "
+            "lifespan=0 nanoseconds, deadline=0 nanoseconds, liveliness=0, "
+            "liveliness_lease_duration=0 nanoseconds, avoid_ros_namespace_conventions=False)"
         ),
     },
     "parameter_files": {
@@ -59,6 +68,12 @@ DEVIATIONS: dict[str, dict[str, str]] = {
     "parameters": {
         # a YAML mapping stays text; rclpy puts the dict into the string field
         "from string mapping": "(4, '{a: 1}')",
+    },
+    "time_duration": {
+        # float seconds are rounded to the nearest nanosecond; rclpy truncates seconds * 1e9
+        # (1000999999)
+        "duration 1.001 s": "1001000000",
+        "time 1.001 s": "1001000000",
     },
     "services": {
         # rclpy's single-threaded executor cannot serve the request while blocked in the

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 import time
 
 import pytest
@@ -14,7 +15,7 @@ from posekit.runtime.clock import (
     ROSClock,
     TimeJump,
 )
-from posekit.time import Duration
+from posekit.time import Duration, Time
 
 
 def test_system_and_inactive_ros_clock_read_wall_time() -> None:
@@ -33,9 +34,43 @@ def test_steady_clock_is_monotonic_source() -> None:
     assert t0 <= c.now_ns() <= time.monotonic_ns()
 
 
-def test_ros_time_type_needs_rosclock() -> None:
-    with pytest.raises(TypeError):
-        Clock(clock_type=ClockType.ROS_TIME)
+def test_ros_time_clock_is_a_rosclock_as_in_rclpy() -> None:
+    clock = Clock(clock_type=ClockType.ROS_TIME)
+    assert type(clock) is ROSClock
+    assert clock.clock_type == ClockType.ROS_TIME
+    assert not clock.ros_time_is_active
+    with pytest.raises(TypeError, match="ClockType enum"):
+        Clock(clock_type=2)  # type: ignore[arg-type]
+
+
+def test_sleep_until_a_reached_sim_time_returns_at_once(ctx) -> None:
+    # rclpy waits for the next jump here (forever if /clock stopped); posekit checks first
+    clock = ROSClock()
+    clock._set_ros_time_is_active(True)
+    clock.set_ros_time_override(Time(seconds=5, clock_type=ClockType.ROS_TIME))
+    assert clock.sleep_until(Time(seconds=4, clock_type=ClockType.ROS_TIME), ctx)
+    assert clock.sleep_for(Duration(), ctx)
+    assert not clock._jump_handles  # its jump callback is gone again
+    assert not ctx._on_shutdown  # and so is its shutdown callback
+
+
+def test_sleep_for_follows_simulated_time_set_by_another_thread(ctx) -> None:
+    clock = ROSClock()
+    clock._set_ros_time_is_active(True)
+    clock.set_ros_time_override(Time(seconds=1, clock_type=ClockType.ROS_TIME))
+
+    def advance() -> None:
+        for s in (2, 3, 4):
+            time.sleep(0.02)
+            clock.set_ros_time_override(Time(seconds=s, clock_type=ClockType.ROS_TIME))
+
+    mover = threading.Thread(target=advance)
+    mover.start()
+    started = time.monotonic()
+    assert clock.sleep_for(Duration(seconds=2.5), ctx)
+    assert clock.now().nanoseconds >= 3_500_000_000
+    assert time.monotonic() - started < 5.0
+    mover.join()
 
 
 def test_active_ros_clock_follows_override_and_fires_jumps() -> None:

@@ -57,6 +57,16 @@ def test_constructor_and_return_values() -> None:
     assert Buffer().cache_time == Duration(seconds=10)
 
 
+@pytest.mark.parametrize("call", ["can_transform", "lookup_transform"])
+def test_a_float_timeout_is_a_clear_type_error(call: str) -> None:
+    # tf2_ros in ROS 2 takes rclpy Durations only; say so instead of an AttributeError
+    b = Buffer()
+    b.set_transform(ts("a", "b", 1), "n")
+    with pytest.raises(TypeError, match=r"expected an rclpy Duration, e\.g\. "
+                                        r"Duration\(seconds=0\.1\), got float 0\.1"):
+        getattr(b, call)("a", "b", Time(), timeout=0.1)
+
+
 def test_lookup_without_timeout_never_blocks() -> None:
     b = Buffer()
     start = time.monotonic()

@@ -216,11 +216,13 @@ def adapted_qos(session: Any, topic: str, out: TextIO, *, default: Any = None) -
     from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
     base = default if default is not None else QoSProfile(depth=10)
-    pubs = [p for p in publishers_info(session, topic) if p.qos is not None]
+    offers = [info.qos_profile for info in
+              session.node.get_publishers_info_by_topic(topic, no_mangle=True)]
+    pubs = [q for q in offers if q.reliability != ReliabilityPolicy.UNKNOWN]
     if not pubs:
         return base
-    reliable = sum(1 for p in pubs if p.qos.reliable)
-    latched = sum(1 for p in pubs if p.qos.transient_local)
+    reliable = sum(1 for q in pubs if q.resolved_reliability == ReliabilityPolicy.RELIABLE)
+    latched = sum(1 for q in pubs if q.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL)
     if 0 < reliable < len(pubs):
         out.write("Some, but not all, publishers are offering QoSReliabilityPolicy.RELIABLE. "
                   "Falling back to QoSReliabilityPolicy.BEST_EFFORT as it will connect to all "

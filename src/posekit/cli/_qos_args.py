@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 from typing import Any
 
 __all__ = ["add_qos_args", "qos_from_args", "qos_overridden"]
@@ -60,19 +59,7 @@ def qos_from_args(ns: argparse.Namespace) -> Any:
     from posekit.cli.errors import CliError
     from posekit.runtime import qos as q
 
-    presets = {
-        "system_default": q.qos_profile_system_default,
-        "sensor_data": q.qos_profile_sensor_data,
-        "services_default": q.qos_profile_services_default,
-        "parameters": q.qos_profile_parameters,
-        "parameter_events": q.QoSProfile(depth=1000),
-        "action_status_default": q.QoSProfile(
-            depth=1, durability=q.DurabilityPolicy.TRANSIENT_LOCAL),
-        "best_available": q.QoSProfile(
-            depth=10, reliability=q.ReliabilityPolicy.BEST_AVAILABLE,
-            durability=q.DurabilityPolicy.BEST_AVAILABLE),
-    }
-    profile = presets[ns.qos_profile]
+    profile = q.QoSPresetProfiles.get_from_short_key(ns.qos_profile)
     changes: dict[str, Any] = {}
     if ns.qos_history is not None:
         changes["history"] = q.HistoryPolicy[ns.qos_history.upper()]
@@ -85,6 +72,6 @@ def qos_from_args(ns: argparse.Namespace) -> Any:
             raise CliError(f"--qos-depth must be >= 0, got {ns.qos_depth}", 2)
         changes["depth"] = ns.qos_depth
     try:
-        return replace(profile, **changes)
+        return profile.with_(**changes)
     except (TypeError, ValueError) as exc:
         raise CliError(str(exc), 2) from None

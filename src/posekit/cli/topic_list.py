@@ -136,45 +136,14 @@ def main_find(argv: Sequence[str], *, context: Any = None, out: TextIO | None = 
     return 0
 
 
-def _qos_lines(info: Any) -> list[str]:
-    qos = info.qos
-    inf = (9223372036, 854775807)
-
-    def duration(value: tuple[int, int]) -> str:
-        if tuple(value) == inf:
-            return "Infinite"
-        return f"{value[0] * 1_000_000_000 + value[1]} nanoseconds"
-
-    history = {2: "KEEP_ALL", 3: "UNKNOWN"}.get(qos.history, "KEEP_LAST")
-    liveliness = {1: "AUTOMATIC", 3: "MANUAL_BY_TOPIC"}.get(qos.liveliness, "UNKNOWN")
-    return [
-        "QoS profile:",
-        f"  Reliability: {'RELIABLE' if qos.reliable else 'BEST_EFFORT'}",
-        f"  History (Depth): {history}" + ("" if history == "UNKNOWN" else f" ({qos.depth})"),
-        f"  Durability: {'TRANSIENT_LOCAL' if qos.transient_local else 'VOLATILE'}",
-        f"  Lifespan: {duration(qos.lifespan)}",
-        f"  Deadline: {duration(qos.deadline)}",
-        f"  Liveliness: {liveliness}",
-        f"  Liveliness lease duration: {duration(qos.liveliness_lease)}",
-    ]
-
-
 def _endpoint_block(info: Any, kind: str) -> str:
-    from posekit.transport.zenoh_wire import entity_gid
+    """One endpoint as ``ros2 topic info -v`` prints it: rclpy's ``TopicEndpointInfo`` text."""
+    from posekit.runtime.topic_endpoint_info import (
+        TopicEndpointTypeEnum,
+        endpoint_info_from_record,
+    )
 
-    own_gid = getattr(info, "gid", None)  # DDS endpoints carry their GUID
-    gid = (own_gid.hex() if isinstance(own_gid, bytes)
-           else entity_gid(info.keyexpr).hex() if info.keyexpr else "")
-    lines = [
-        f"Node name: {info.node_name}",
-        f"Node namespace: {info.namespace}",
-        f"Topic type: {info.ros_type}",
-        f"Topic type hash: {info.type_hash or 'INVALID'}",  # ros2cli: no hash announced
-        f"Endpoint type: {kind}",
-        f"GID: {'.'.join(gid[i:i + 2] for i in range(0, len(gid), 2))}",
-        *(_qos_lines(info) if info.qos is not None else []),
-    ]
-    return "\n".join(lines) + "\n\n"
+    return str(endpoint_info_from_record(info, TopicEndpointTypeEnum[kind])) + "\n\n"
 
 
 def main_info(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,

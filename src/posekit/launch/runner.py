@@ -54,10 +54,12 @@ class LaunchRun:
 
     def node(self, name: str) -> Node:
         """The node called ``name`` (or fully qualified ``/ns/name``)."""
-        for n in self.nodes:
-            if name in (n.get_name(), n.get_fully_qualified_name()):
+        for n in self.nodes:  # also after the run, when the nodes are destroyed
+            fqn = n.fully_qualified_name
+            if name in (fqn.rpartition("/")[2], fqn):
                 return n
-        raise KeyError(f"no node named {name!r}; have {[n.get_name() for n in self.nodes]}")
+        names = [n.fully_qualified_name.rpartition("/")[2] for n in self.nodes]
+        raise KeyError(f"no node named {name!r}; have {names}")
 
     def shutdown(self, timeout_sec: float = SHUTDOWN_WAIT_S) -> None:
         """Stop the executor, destroy the nodes and shut the context down.

@@ -1,6 +1,6 @@
 """rclpy.exceptions (re-exported from posekit.runtime)."""
 
-from posekit.runtime.context import NotInitializedException
+from posekit.runtime.context import InvalidHandle, NotInitializedException
 from posekit.runtime.names import (
     InvalidNamespaceException,
     InvalidNodeNameException,
@@ -20,6 +20,7 @@ from posekit.runtime.parameters import (
 from posekit.runtime.rate import ROSInterruptException
 
 __all__ = [
+    "InvalidHandle",
     "InvalidNamespaceException",
     "InvalidNodeNameException",
     "InvalidParameterException",

@@ -51,7 +51,11 @@ import numpy as np
 
 from posekit.msgs.action_msgs import CancelGoal, GoalInfo, GoalStatus, GoalStatusArray
 from posekit.msgs.unique_identifier_msgs import UUID
-from posekit.runtime.qos import DurabilityPolicy, QoSProfile, qos_profile_services_default
+from posekit.runtime.qos import (
+    QoSProfile,
+    qos_profile_action_status_default,
+    qos_profile_services_default,
+)
 from posekit.runtime.task import Future
 from posekit.time import stamp_to_ns
 
@@ -77,10 +81,6 @@ __all__ = [
     "qos_profile_action_status_default",
 ]
 
-#: rclpy's status topic QoS: KEEP_LAST 1, RELIABLE, TRANSIENT_LOCAL.
-qos_profile_action_status_default = QoSProfile(
-    depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL
-)
 _FEEDBACK_QOS = QoSProfile(depth=10)
 
 _TERMINAL = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)

@@ -55,6 +55,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import functools
 import itertools
 import os
 import threading
@@ -74,6 +75,7 @@ from posekit.runtime.qos import (
 )
 from posekit.runtime.transport import (
     EndpointInfo,
+    GraphEndpoint,
     MessageSink,
     PublisherEndpoint,
     RequestHeader,
@@ -263,6 +265,26 @@ def _dataclass_copier(cls: type) -> Callable[[Any], Any]:
     return fn
 
 
+@functools.lru_cache(maxsize=256)
+def _type_hash(msg_type: type) -> str | None:
+    """The RIHS01 hash of a message class, None when unknown.
+
+    Unknown: a class that is no ROS message (the bus carries any class), or no rosbags (the
+    ``cdr`` extra), which computes it.
+    """
+    try:
+        from posekit.msgs.cdr import type_hash_rihs01
+
+        return type_hash_rihs01(msg_type)
+    except Exception:  # no ROS type, or no rosbags: the hash is unknown
+        return None
+
+
+def _graph_endpoint(info: EndpointInfo, gid: bytes) -> GraphEndpoint:
+    return GraphEndpoint(info.node_name, info.node_namespace, info.topic, info.type_name,
+                         _type_hash(info.msg_type), info.qos.copy(), gid)
+
+
 class _Topic:
     __slots__ = ("msg_type", "name", "publishers", "subscriptions")
 
@@ -277,6 +299,7 @@ class _BusSubscription(SubscriptionEndpoint):
     def __init__(self, bus: InProcessBus, info: EndpointInfo, sink: MessageSink) -> None:
         self._bus = bus
         self.info = info
+        self.gid = os.urandom(16)  # unique per endpoint, as an rmw GID
         self.sink = sink
         self.alive = True
 
@@ -294,6 +317,7 @@ class _BusPublisher(PublisherEndpoint):
     def __init__(self, bus: InProcessBus, info: EndpointInfo) -> None:
         self._bus = bus
         self.info = info
+        self.gid = os.urandom(16)  # unique per endpoint, as an rmw GID
         self.alive = True
         self.matched: tuple[_BusSubscription, ...] = ()
         # TRANSIENT_LOCAL history: (publish sequence number, snapshot, monotonic ns when
@@ -678,10 +702,22 @@ class InProcessBus(Transport):
         return len(t.subscriptions) if t is not None else 0
 
     def publisher_qos_profiles(self, topic: str) -> list[QoSProfile]:
-        """The profile each publisher on ``topic`` was created with."""
+        """The profile each publisher on ``topic`` was created with (copies)."""
         with self._lock:
             t = self._topics.get(topic)
-            return [p.info.qos for p in t.publishers] if t is not None else []
+            return [p.info.qos.copy() for p in t.publishers] if t is not None else []
+
+    def get_publishers_info_by_topic(self, topic: str) -> list[GraphEndpoint]:
+        """Every publisher on ``topic``: node, type, type hash, QoS, GID."""
+        with self._lock:
+            t = self._topics.get(topic)
+            return [_graph_endpoint(p.info, p.gid) for p in t.publishers] if t else []
+
+    def get_subscriptions_info_by_topic(self, topic: str) -> list[GraphEndpoint]:
+        """Every subscription on ``topic``."""
+        with self._lock:
+            t = self._topics.get(topic)
+            return [_graph_endpoint(s.info, s.gid) for s in t.subscriptions] if t else []
 
     def close(self) -> None:
         """Drop every endpoint; the bus carries nothing afterwards."""

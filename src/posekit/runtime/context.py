@@ -25,6 +25,7 @@ from posekit.runtime.transport import Transport, create_transport, selected_tran
 
 __all__ = [
     "Context",
+    "InvalidHandle",
     "NotInitializedException",
     "get_default_context",
     "init",
@@ -42,6 +43,10 @@ class NotInitializedException(RuntimeError):  # noqa: N818 - rclpy name
             f"{what + ': ' if what else ''}the context is not initialized; call "
             "rclpy.init() (posekit.runtime.context.init()) first"
         )
+
+
+class InvalidHandle(RuntimeError):  # noqa: N818 - rclpy name
+    """An entity (node, timer, guard condition) was used after it was destroyed (rclpy's)."""
 
 
 class Context:
@@ -100,6 +105,11 @@ class Context:
         )
         with self._lock:
             self._on_shutdown.append(ref)
+
+    def remove_on_shutdown(self, callback: Callable[[], None]) -> None:
+        """Forget ``callback`` given to :meth:`on_shutdown` (posekit's; rclpy has none)."""
+        with self._lock:
+            self._on_shutdown = [ref for ref in self._on_shutdown if ref() != callback]
 
     def shutdown(self) -> None:
         """Stop: executors return from spin, transports close. Raises if not initialized."""

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, TypedDict
 
 from posekit.runtime.callback_groups import CallbackGroup
 from posekit.runtime.clock import Clock
+from posekit.runtime.context import InvalidHandle
 from posekit.runtime.qos import QoSProfile
 from posekit.runtime.transport import PublisherEndpoint, SubscriptionEndpoint
 
@@ -17,6 +18,14 @@ if TYPE_CHECKING:
     from posekit.runtime.node import Node
 
 __all__ = ["Publisher", "Subscription", "Timer"]
+
+#: rclpy's text for an entity used after destroy().
+_DESTROYED = "cannot use Destroyable because destruction was requested"
+
+
+def _destroyed(*_args: object, **_kwargs: object) -> None:
+    """What ``publish`` of a destroyed publisher is bound to."""
+    raise InvalidHandle(_DESTROYED)
 
 
 class Publisher:
@@ -29,12 +38,15 @@ class Publisher:
         topic: str,
         qos: QoSProfile,
         endpoint: PublisherEndpoint,
+        given_topic: str | None = None,
     ) -> None:
         self._node = node
         self.msg_type = msg_type
         self._topic = topic
+        self._given_topic = given_topic if given_topic is not None else topic
         self.qos_profile = qos
         self._endpoint = endpoint
+        self.destroyed = False
         # Hot path: bind once.
         self.publish: Callable[[Any], None] = endpoint.publish
         #: ``publish_transfer(msg)``: publish a message the caller gives up and never reads
@@ -47,22 +59,28 @@ class Publisher:
     @property
     def topic_name(self) -> str:
         """Fully qualified (expanded, remapped) topic name."""
+        if self.destroyed:
+            raise InvalidHandle(_DESTROYED)
         return self._topic
 
     @property
     def topic(self) -> str:
-        """Same as topic_name."""
-        return self._topic
+        """The topic name as given to ``create_publisher`` (rclpy's; ``topic_name`` resolved)."""
+        return self._given_topic
 
     def get_subscription_count(self) -> int:
         """Matched subscriptions."""
+        if self.destroyed:
+            raise InvalidHandle(_DESTROYED)
         return self._endpoint.subscription_count
 
-    def destroy(self) -> bool:
-        """Same as ``node.destroy_publisher(self)``."""
-        return self._node.destroy_publisher(self)
+    def destroy(self) -> None:
+        """Same as ``node.destroy_publisher(self)``; afterwards ``publish`` raises InvalidHandle."""
+        self._node.destroy_publisher(self)
 
     def _destroy(self) -> None:
+        self.destroyed = True
+        self.publish = self.publish_transfer = _destroyed
         self._endpoint.destroy()
 
     def __repr__(self) -> str:
@@ -113,10 +131,12 @@ class Subscription:
         callback: Callable[..., Any],
         qos: QoSProfile,
         callback_group: CallbackGroup,
+        given_topic: str | None = None,
     ) -> None:
         self._node = node
         self.msg_type = msg_type
         self._topic = topic
+        self._given_topic = given_topic if given_topic is not None else topic
         #: True when the callback takes ``(msg, info)``; transports that know the sample's
         #: metadata then pass it to :meth:`_enqueue`.
         self.wants_message_info = _takes_message_info(callback)
@@ -166,20 +186,24 @@ class Subscription:
     @property
     def topic_name(self) -> str:
         """Fully qualified (expanded, remapped) topic name."""
+        if self.destroyed:
+            raise InvalidHandle(_DESTROYED)
         return self._topic
 
     @property
     def topic(self) -> str:
-        """Same as topic_name."""
-        return self._topic
+        """The topic name as given to ``create_subscription`` (``topic_name``: resolved)."""
+        return self._given_topic
 
     def get_publisher_count(self) -> int:
         """Matched publishers."""
+        if self.destroyed:
+            raise InvalidHandle(_DESTROYED)
         return self._endpoint.publisher_count if self._endpoint is not None else 0
 
-    def destroy(self) -> bool:
+    def destroy(self) -> None:
         """Same as ``node.destroy_subscription(self)``."""
-        return self._node.destroy_subscription(self)
+        self._node.destroy_subscription(self)
 
     def _destroy(self) -> None:
         self.destroyed = True
@@ -196,7 +220,8 @@ class Timer:
 
     Like rcl: if the clock moved past several periods at once, missed calls are skipped and
     the schedule stays on the original grid; a backward jump of the clock restarts the
-    period from the new time.
+    period from the new time. A None callback is accepted (rclpy's too); when such a timer
+    comes due, calling it fails like any raising callback (logged; rclpy's spin raises).
     """
 
     #: What an executor's error report calls this callback.
@@ -205,7 +230,7 @@ class Timer:
     def __init__(
         self,
         node: Node,
-        callback: Callable[[], Any],
+        callback: Callable[[], Any] | None,
         period_ns: int,
         clock: Clock,
         callback_group: CallbackGroup,
@@ -229,27 +254,36 @@ class Timer:
         self.next_call_ns = now + self._period_ns
         self.destroyed = False
 
+    def _check_handle(self) -> None:
+        if self.destroyed:
+            raise InvalidHandle(_DESTROYED)
+
     @property
     def timer_period_ns(self) -> int:
         """Period in nanoseconds."""
+        self._check_handle()
         return self._period_ns
 
     @timer_period_ns.setter
     def timer_period_ns(self, value: int) -> None:
+        self._check_handle()
         self._period_ns = int(value)
         self.reset()
 
     def is_canceled(self) -> bool:
         """True after cancel()."""
+        self._check_handle()
         return self._canceled
 
     def cancel(self) -> None:
         """Stop calling until reset()."""
+        self._check_handle()
         self._canceled = True
         self.handoff.timers_changed()
 
     def reset(self) -> None:
         """Restart: next call one period from now."""
+        self._check_handle()
         now = self.clock.now_ns()
         self._canceled = False
         self.last_call_ns = now
@@ -263,23 +297,45 @@ class Timer:
 
     def is_ready(self) -> bool:
         """Whether the next call is due."""
+        self._check_handle()
+        return self.ready_now()
+
+    def time_until_next_call(self) -> int | None:
+        """Nanoseconds until the next call (<= 0 if due), None if canceled."""
+        self._check_handle()
+        return self.ns_until_next_call()
+
+    def time_since_last_call(self) -> int:
+        """Nanoseconds since the last call (or the start)."""
+        self._check_handle()
+        return self.clock.now_ns() - self.last_call_ns
+
+    # -- the schedule's view (posekit's; never raises, False/None once destroyed) ---------
+    @property
+    def stopped(self) -> bool:
+        """Canceled or destroyed: not to be called."""
+        return self._canceled or self.destroyed
+
+    @property
+    def period_ns(self) -> int:
+        """The period in nanoseconds (``timer_period_ns`` without the destroyed check)."""
+        return self._period_ns
+
+    def ready_now(self) -> bool:
+        """``is_ready()`` for the executor: False once destroyed instead of raising."""
         if self._canceled or self.destroyed:
             return False
         now = self.clock.now_ns()
         self._check_jump(now)
         return now >= self.next_call_ns
 
-    def time_until_next_call(self) -> int | None:
-        """Nanoseconds until the next call (<= 0 if due), None if canceled."""
+    def ns_until_next_call(self) -> int | None:
+        """``time_until_next_call()`` for the executor: None once destroyed."""
         if self._canceled or self.destroyed:
             return None
         now = self.clock.now_ns()
         self._check_jump(now)
         return self.next_call_ns - now
-
-    def time_since_last_call(self) -> int:
-        """Nanoseconds since the last call (or the start)."""
-        return self.clock.now_ns() - self.last_call_ns
 
     def mark_called(self, now_ns: int | None = None) -> None:
         """An executor took this timer's call now: the next call moves one period on.
@@ -298,9 +354,9 @@ class Timer:
             nxt = now + 1
         self.next_call_ns = nxt
 
-    def destroy(self) -> bool:
-        """Same as ``node.destroy_timer(self)``."""
-        return self._node.destroy_timer(self)
+    def destroy(self) -> None:
+        """Same as ``node.destroy_timer(self)``; afterwards its methods raise InvalidHandle."""
+        self._node.destroy_timer(self)
 
     def __repr__(self) -> str:
         return f"Timer(period={self._period_ns} ns, clock={self.clock.clock_type.name})"

@@ -1,8 +1,13 @@
 """rclpy-style loggers: ``get_logger(name).info(...)`` printing ROS 2's console line.
 
 Line format (rcutils' default): ``[INFO] [1700000000.123456789] [talker]: message``, written
-to stderr (as rcutils does). Severities: debug, info, warn/warning, error, fatal. Each call
-accepts rclpy's keywords:
+to stderr (as rcutils does). rcutils' environment is honoured, read at the first line:
+``RCUTILS_CONSOLE_OUTPUT_FORMAT`` (tokens ``{severity}``, ``{name}``, ``{message}``,
+``{function_name}``, ``{file_name}`` (the caller's absolute path), ``{line_number}``,
+``{time}``, ``{time_as_nanoseconds}``, ``{date_time_with_ms}`` (local time)),
+``RCUTILS_COLORIZED_OUTPUT`` (1: rcutils' colours per severity, 0: none, unset: when the
+stream is a terminal) and ``RCUTILS_LOGGING_USE_STDOUT=1`` (stdout instead of stderr).
+Severities: debug, info, warn/warning, error, fatal. Each call accepts rclpy's keywords:
 
 * ``throttle_duration_sec=s``: from one call site, print at most once per ``s`` seconds;
 * ``once=True``: print only the first time that call site runs;
@@ -37,10 +42,15 @@ from dataclasses import dataclass
 from types import FrameType
 
 __all__ = [
+    "DEFAULT_CONSOLE_FORMAT",
+    "ConsoleSettings",
     "LogRecord",
     "LoggingSeverity",
     "RcutilsLogger",
     "add_sink",
+    "compile_console_format",
+    "configure_console",
+    "console_line",
     "format_line",
     "get_logger",
     "get_logger_level",
@@ -73,16 +83,23 @@ _LABEL = {
 
 @dataclass(frozen=True, slots=True)
 class LogRecord:
-    """One emitted log line: severity, logger name, stamp (ns) and message."""
+    """One emitted log line: severity, logger name, stamp (ns), message and where it came from.
+
+    ``file_name`` is the caller's absolute path (as rclpy passes it to rcutils),
+    ``function_name`` its function (``<module>`` at module level), ``line_number`` its line.
+    """
 
     severity: LoggingSeverity
     name: str
     stamp_ns: int
     message: str
+    file_name: str = ""
+    function_name: str = ""
+    line_number: int = 0
 
     @property
     def line(self) -> str:
-        """The console line."""
+        """The console line in rcutils' default format (see :func:`console_line`)."""
         return format_line(self.severity, self.stamp_ns, self.name, self.message)
 
 
@@ -92,9 +109,119 @@ def format_line(severity: LoggingSeverity, stamp_ns: int, name: str, message: st
     return f"[{_LABEL.get(severity, severity.name)}] [{sec}.{nsec:09d}] [{name}]: {message}"
 
 
+# -- the console output, configured as rcutils is (environment read once, at the first line) --
+#: rcutils' default ``RCUTILS_CONSOLE_OUTPUT_FORMAT``.
+DEFAULT_CONSOLE_FORMAT = "[{severity}] [{time}] [{name}]: {message}"
+
+
+def _date_time_with_ms(r: LogRecord) -> str:
+    sec, nsec = divmod(r.stamp_ns, 1_000_000_000)
+    return time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(sec)) + f".{nsec // 1_000_000:03d}"
+
+
+#: rcutils' tokens (Jazzy): what each ``{token}`` of the format becomes.
+_TOKENS: dict[str, Callable[[LogRecord], str]] = {
+    "severity": lambda r: _LABEL.get(r.severity, r.severity.name),
+    "name": lambda r: r.name,
+    "message": lambda r: r.message,
+    "function_name": lambda r: r.function_name,
+    "file_name": lambda r: r.file_name,
+    "line_number": lambda r: str(r.line_number),
+    "time": lambda r: "{}.{:09d}".format(*divmod(r.stamp_ns, 1_000_000_000)),
+    "time_as_nanoseconds": lambda r: str(r.stamp_ns),
+    "date_time_with_ms": _date_time_with_ms,
+}
+
+#: rcutils' colours per severity (``RCUTILS_COLORIZED_OUTPUT``), and the reset after a line.
+_COLORS = {
+    LoggingSeverity.DEBUG: "\x1b[32m",
+    LoggingSeverity.INFO: "\x1b[0m",
+    LoggingSeverity.WARN: "\x1b[33m",
+    LoggingSeverity.ERROR: "\x1b[31m",
+    LoggingSeverity.FATAL: "\x1b[31m",
+}
+_RESET = "\x1b[0m"
+
+
+def compile_console_format(fmt: str) -> list[str | Callable[[LogRecord], str]]:
+    """``fmt`` as literal text and token functions, parsed as rcutils parses it.
+
+    ``{token}`` of a known token is replaced; anything else is kept as written (an unknown
+    ``{x}``, a ``{`` without ``}``; ``{{name}}`` is ``{`` + name + ``}``). An empty format
+    is the default one.
+    """
+    fmt = fmt or DEFAULT_CONSOLE_FORMAT
+    parts: list[str | Callable[[LogRecord], str]] = []
+    text: list[str] = []
+    i = 0
+    while i < len(fmt):
+        if fmt[i] == "{":
+            end = fmt.find("}", i)
+            token = _TOKENS.get(fmt[i + 1:end]) if end != -1 else None
+            if token is not None:
+                if text:
+                    parts.append("".join(text))
+                    text = []
+                parts.append(token)
+                i = end + 1
+                continue
+        text.append(fmt[i])
+        i += 1
+    if text:
+        parts.append("".join(text))
+    return parts
+
+
+@dataclass(frozen=True, slots=True)
+class ConsoleSettings:
+    """rcutils' console environment: the format, colours and the stream."""
+
+    #: ``RCUTILS_CONSOLE_OUTPUT_FORMAT`` compiled (:func:`compile_console_format`).
+    parts: tuple[str | Callable[[LogRecord], str], ...]
+    #: ``RCUTILS_COLORIZED_OUTPUT``: True ("1"), False ("0"), None (colour when a terminal).
+    colorized: bool | None
+    #: ``RCUTILS_LOGGING_USE_STDOUT=1``: lines go to stdout instead of stderr.
+    use_stdout: bool
+
+    @classmethod
+    def from_environment(cls) -> ConsoleSettings:
+        """Read the three variables now."""
+        env = os.environ
+        color = env.get("RCUTILS_COLORIZED_OUTPUT", "")
+        return cls(
+            tuple(compile_console_format(env.get("RCUTILS_CONSOLE_OUTPUT_FORMAT", ""))),
+            True if color == "1" else False if color == "0" else None,
+            env.get("RCUTILS_LOGGING_USE_STDOUT", "") == "1",
+        )
+
+
+_console: ConsoleSettings | None = None
+
+
+def configure_console(settings: ConsoleSettings | None = None) -> ConsoleSettings:
+    """Use ``settings`` for console lines (None: read the environment again); returns them."""
+    global _console
+    _console = settings if settings is not None else ConsoleSettings.from_environment()
+    return _console
+
+
+def console_line(record: LogRecord, settings: ConsoleSettings | None = None) -> str:
+    """``record`` as the console prints it: the configured format, without colour."""
+    parts = (settings or _console or configure_console()).parts
+    return "".join(p if isinstance(p, str) else p(record) for p in parts)
+
+
 def _stderr_sink(record: LogRecord) -> None:
-    stream = sys.stderr
-    stream.write(record.line + "\n")
+    settings = _console or configure_console()
+    stream = sys.stdout if settings.use_stdout else sys.stderr
+    line = console_line(record, settings)
+    colorized = settings.colorized
+    if colorized is None:
+        isatty = getattr(stream, "isatty", None)
+        colorized = bool(isatty and isatty())
+    if colorized:
+        line = _COLORS.get(record.severity, _RESET) + line + _RESET
+    stream.write(line + "\n")
     stream.flush()
 
 
@@ -145,19 +272,12 @@ def unregister_rosout(handler: RosoutHandler) -> None:
                 del _rosout[name]
 
 
-def _publish_rosout(handler: RosoutHandler, record: LogRecord, frame: FrameType | None) -> None:
+def _publish_rosout(handler: RosoutHandler, record: LogRecord) -> None:
     if getattr(_rosout_busy, "active", False):
         return  # logged by the rosout publish itself: print only, never recurse
     _rosout_busy.active = True
     try:
-        if frame is not None:
-            code = frame.f_code
-            path = _abspaths.get(code.co_filename)
-            if path is None:
-                path = _abspaths[code.co_filename] = os.path.abspath(code.co_filename)
-            handler(record, path, code.co_name, frame.f_lineno)
-        else:
-            handler(record, "", "", 0)
+        handler(record, record.file_name, record.function_name, record.line_number)
     finally:
         _rosout_busy.active = False
 
@@ -226,6 +346,12 @@ class RcutilsLogger:
         del throttle_time_source_type  # the logger's own clock is used (module docstring)
         if severity < self.get_effective_level():
             return False
+        if type(message) is not str:  # rclpy hands the message to C: a str or None only
+            if message is not None and not isinstance(message, str):
+                raise TypeError(
+                    f"the log message must be a str, got {type(message).__name__} "
+                    f"(rclpy raises TypeError too)")
+            message = "(null)" if message is None else str(message)
         filtered = once or skip_first or throttle_duration_sec is not None
         now = self._clock_ns()
         if filtered:
@@ -244,14 +370,22 @@ class RcutilsLogger:
                     return False
             elif skip_first and calls == 0:
                 return False
-        record = LogRecord(severity, self.name, now, str(message))
+        if frame is not None:
+            code = frame.f_code
+            path = _abspaths.get(code.co_filename)
+            if path is None:  # rclpy's CallerId path: absolute
+                path = _abspaths[code.co_filename] = os.path.abspath(code.co_filename)
+            record = LogRecord(severity, self.name, now, message, path, code.co_name,
+                               frame.f_lineno)
+        else:
+            record = LogRecord(severity, self.name, now, message)
         with _lock:
             sinks = list(_sinks)
         for sink in sinks:
             sink(record)
         handlers = _rosout.get(self.name)
         if handlers:
-            _publish_rosout(handlers[0], record, frame)
+            _publish_rosout(handlers[0], record)
         return True
 
     def log(self, message: object, severity: LoggingSeverity | int, **kwargs: object) -> bool:

@@ -26,8 +26,14 @@ from typing import TYPE_CHECKING, Any
 from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent, ParameterValue
 from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from posekit.runtime.clock import Clock, ROSClock
-from posekit.runtime.context import Context, NotInitializedException, get_default_context
+from posekit.runtime.context import (
+    Context,
+    InvalidHandle,
+    NotInitializedException,
+    get_default_context,
+)
 from posekit.runtime.entities import Publisher, Subscription, Timer
+from posekit.runtime.guard_condition import GuardCondition
 from posekit.runtime.inbox import Handoff
 from posekit.runtime.logging import RcutilsLogger
 from posekit.runtime.names import (
@@ -58,13 +64,14 @@ from posekit.runtime.qos import (
 )
 from posekit.runtime.rate import Rate
 from posekit.runtime.rosout import RosoutPublisher
-from posekit.runtime.services import Client, Service
+from posekit.runtime.services import Client, Service, _Queued
 from posekit.runtime.time_source import TimeSource
 from posekit.runtime.transport import EndpointInfo, ServiceInfo, Transport
 
 if TYPE_CHECKING:
     from posekit.runtime.arguments import RosArguments
     from posekit.runtime.executors import Executor
+    from posekit.runtime.topic_endpoint_info import TopicEndpointInfo
 
 __all__ = ["Node", "NodeDefaults", "node_defaults"]
 
@@ -176,6 +183,7 @@ class Node:
         remappings: Sequence[str | tuple[str, str]] | Mapping[str, str] | None = None,
         transport: str | Transport | None = None,
     ) -> None:
+        self._destroyed = False
         scope = _defaults.get()
         self._context = context or (scope.context if scope else None) or get_default_context()
         if not self._context.ok():
@@ -227,9 +235,9 @@ class Node:
         self._timers: list[Timer] = []
         self._services: list[Service] = []
         self._clients: list[Client] = []
-        self._destroyed = False
-        self.default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
-        self._callback_groups: list[CallbackGroup] = [self.default_callback_group]
+        self._guards: list[GuardCondition] = []
+        self._default_callback_group: CallbackGroup = MutuallyExclusiveCallbackGroup()
+        self._callback_groups: list[CallbackGroup] = [self._default_callback_group]
         self._rate_group: CallbackGroup | None = None  # rates' own group (made on first use)
 
         self._clock = ROSClock()
@@ -264,6 +272,11 @@ class Node:
         return self._context
 
     @property
+    def default_callback_group(self) -> CallbackGroup:
+        """The group of entities created without one (a MutuallyExclusiveCallbackGroup)."""
+        return self._default_callback_group
+
+    @property
     def executor(self) -> Executor | None:
         """The executor the node was added to, if any."""
         executor: Executor | None = self.handoff.executor
@@ -284,17 +297,36 @@ class Node:
         """The transport carrying this node's messages."""
         return self._transport
 
+    def _check_handle(self) -> None:
+        """rclpy's InvalidHandle for a node used after ``destroy_node()``."""
+        if self._destroyed:
+            raise InvalidHandle("cannot use Destroyable because destruction was requested")
+
     def get_name(self) -> str:
         """The node's name (after remapping)."""
+        self._check_handle()
         return self._name
 
     def get_namespace(self) -> str:
         """The node's namespace, '/' for the root."""
+        self._check_handle()
         return self._namespace
 
     def get_fully_qualified_name(self) -> str:
         """``/ns/name``."""
+        self._check_handle()
+        return self._fqn()
+
+    def _fqn(self) -> str:
         return ("" if self._namespace == "/" else self._namespace) + "/" + self._name
+
+    @property
+    def fully_qualified_name(self) -> str:
+        """``/ns/name``, also after ``destroy_node()`` (posekit's, for reports on finished runs).
+
+        The get_* methods raise InvalidHandle after ``destroy_node()``, as rclpy's do.
+        """
+        return self._fqn()
 
     def get_logger(self) -> RcutilsLogger:
         """The node's logger (named after the node, stamped with the node's clock)."""
@@ -318,8 +350,7 @@ class Node:
 
     # -- entities ---------------------------------------------------------------------
     def _check_alive(self) -> None:
-        if self._destroyed:
-            raise RuntimeError(f"node '{self.get_fully_qualified_name()}' has been destroyed")
+        self._check_handle()
         if not self._context.ok():
             raise NotInitializedException(f"node '{self._name}'")
 
@@ -345,7 +376,7 @@ class Node:
         qos = to_qos_profile(qos_profile)
         full = self.resolve_topic_name(topic)
         endpoint = self._transport.advertise(self._info(msg_type, full, qos))
-        pub = Publisher(self, msg_type, full, qos, endpoint)
+        pub = Publisher(self, msg_type, full, qos, endpoint, topic)
         self._publishers.append(pub)
         return pub
 
@@ -388,8 +419,8 @@ class Node:
             raise TypeError(f"subscription callback must be callable, got {callback!r}")
         qos = to_qos_profile(qos_profile)
         full = self.resolve_topic_name(topic)
-        group = callback_group or self.default_callback_group
-        sub = Subscription(self, msg_type, full, callback, qos, group)
+        group = callback_group or self._default_callback_group
+        sub = Subscription(self, msg_type, full, callback, qos, group, topic)
         self._subscriptions.append(sub)
         info = self._info(msg_type, full, qos)
         try:
@@ -410,18 +441,19 @@ class Node:
     def create_timer(
         self,
         timer_period_sec: float,
-        callback: Callable[[], Any],
+        callback: Callable[[], Any] | None,
         callback_group: CallbackGroup | None = None,
         clock: Clock | None = None,
         autostart: bool = True,
     ) -> Timer:
         """Timer calling ``callback()`` every ``timer_period_sec`` seconds of ``clock``.
 
-        The default clock is the node clock, so sim time under use_sim_time.
+        The default clock is the node clock, so sim time under use_sim_time. ``callback``
+        may be None, as in rclpy (see :class:`~posekit.runtime.entities.Timer`).
         """
         self._check_alive()
-        if not callable(callback):
-            raise TypeError(f"timer callback must be callable, got {callback!r}")
+        if callback is not None and not callable(callback):
+            raise TypeError(f"timer callback must be callable or None, got {callback!r}")
         period_s = float(timer_period_sec)
         # rclpy raises ValueError for NaN, OverflowError for inf, an error for negatives.
         if math.isnan(period_s):
@@ -436,7 +468,7 @@ class Node:
             callback,
             period_ns,
             clock or self._clock,
-            callback_group or self.default_callback_group,
+            callback_group or self._default_callback_group,
             autostart,
         )
         self._timers.append(timer)
@@ -465,12 +497,42 @@ class Node:
         return success
 
     def _queued_entities(self) -> list[Any]:
-        """Everything whose queue the executor drains: subscriptions, servers, clients."""
+        """Everything whose queue the executor drains: subscriptions, servers, clients, guards."""
         return [
             *self._subscriptions,
             *(s._queued for s in self._services),
             *(c._queued for c in self._clients),
+            *(g._queued for g in self._guards if g._queued is not None),
         ]
+
+    def create_guard_condition(
+        self, callback: Callable[[], Any], callback_group: CallbackGroup | None = None
+    ) -> GuardCondition:
+        """A :class:`GuardCondition` whose ``trigger()`` makes the executor run ``callback()``."""
+        self._check_alive()
+        group = callback_group or self._default_callback_group
+        guard = GuardCondition(callback, group, context=self._context)
+
+        def run(_: object) -> Any:
+            return callback()
+
+        guard._queued = _Queued(self, "guard condition", group, run,
+                                "guard condition callback", limit=1)
+        self._guards.append(guard)
+        return guard
+
+    def destroy_guard_condition(self, guard: GuardCondition) -> bool:
+        """Destroy a guard condition of this node; False if it is not this node's."""
+        if guard in self._guards:
+            self._guards.remove(guard)
+            guard.destroy()
+            return True
+        return False
+
+    @property
+    def guards(self) -> Iterator[GuardCondition]:
+        """This node's guard conditions."""
+        return iter(list(self._guards))
 
     def _service_info(self, srv_type: type, name: str, qos: QoSProfile) -> ServiceInfo:
         from posekit.msgs._service import is_service_type
@@ -501,7 +563,7 @@ class Node:
         full = self.resolve_service_name(srv_name)
         qos = to_qos_profile(qos_profile)
         info = self._service_info(srv_type, full, qos)
-        group = callback_group or self.default_callback_group
+        group = callback_group or self._default_callback_group
         service = Service(self, srv_type, full, callback, qos, group, srv_name)
         service._attach(self._transport.create_service_server(info, service._receive))
         self._services.append(service)
@@ -520,7 +582,7 @@ class Node:
         full = self.resolve_service_name(srv_name)
         qos = to_qos_profile(qos_profile)
         info = self._service_info(srv_type, full, qos)
-        group = callback_group or self.default_callback_group
+        group = callback_group or self._default_callback_group
         endpoint = self._transport.create_service_client(info)
         client = Client(self, srv_type, full, qos, group, endpoint, srv_name)
         self._clients.append(client)
@@ -603,10 +665,14 @@ class Node:
         """This node's timers."""
         return iter(list(self._timers))
 
-    def destroy_node(self) -> bool:
-        """Destroy every entity and leave the executor; the node is unusable afterwards."""
+    def destroy_node(self) -> None:
+        """Destroy every entity and leave the executor (again: nothing happens).
+
+        Afterwards, as in rclpy, the node's name, graph and entity methods raise
+        :class:`InvalidHandle`; its logger, clock and parameters still answer.
+        """
         if self._destroyed:
-            return True
+            return
         executor = self.executor
         if executor is not None:
             executor.remove_node(self)
@@ -620,16 +686,18 @@ class Node:
             self.destroy_service(service)
         for client in list(self._clients):
             self.destroy_client(client)
+        for guard in list(self._guards):
+            self.destroy_guard_condition(guard)
         self._time_source.destroy()
         if self._rosout is not None:
             self._rosout.destroy()
         self._transport.undeclare_node(self._name, self._namespace)
         self._destroyed = self.handoff.destroyed = True
-        return True
 
     # -- graph ------------------------------------------------------------------------
     def get_topic_names_and_types(self, no_demangle: bool = False) -> list[tuple[str, list[str]]]:
         """Every topic known to the node's transport, with type names."""
+        self._check_handle()
         del no_demangle
         return self._transport.get_topic_names_and_types()
 
@@ -661,12 +729,84 @@ class Node:
             self.resolve_service_name(service_name, only_expand=True)
         )
 
+    def get_node_names(self) -> list[str]:
+        """The names (without namespace) of the nodes on the graph, this one included."""
+        return [name for name, _ in self.get_node_names_and_namespaces()]
+
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        """``(name, namespace)`` of every node on the graph (namespace ``/`` for the root)."""
+        self._check_handle()
+        return self._transport.get_node_names_and_namespaces()
+
+    def get_node_names_and_namespaces_with_enclaves(self) -> list[tuple[str, str, str]]:
+        """``(name, namespace, enclave)`` of every node on the graph."""
+        self._check_handle()
+        return self._transport.get_node_names_and_namespaces_with_enclaves()
+
+    def get_fully_qualified_node_names(self) -> list[str]:
+        """``/namespace/name`` of every node on the graph."""
+        return [ns + ("" if ns.endswith("/") else "/") + name
+                for name, ns in self.get_node_names_and_namespaces()]
+
+    def wait_for_node(self, fully_qualified_node_name: str, timeout: float) -> bool:
+        """Wait up to ``timeout`` wall seconds for the node to be on the graph; True if it is.
+
+        A name without a leading ``/`` is taken as absolute. As rclpy's, it looks every
+        0.1 s, and a timeout <= 0 returns False at once (rclpy's docstring says a negative
+        one waits forever; its code does not).
+        """
+        import time
+
+        if not fully_qualified_node_name.startswith("/"):
+            fully_qualified_node_name = "/" + fully_qualified_node_name
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            self._transport.sync_graph(min(0.1, max(0.0, deadline - time.monotonic())))
+            if fully_qualified_node_name in self.get_fully_qualified_node_names():
+                return True
+            time.sleep(min(0.1, max(0.0, deadline - time.monotonic())))
+        return False
+
+    def _info_by_topic(self, topic_name: str, no_mangle: bool, publishers: bool
+                       ) -> list[TopicEndpointInfo]:
+        from posekit.runtime.topic_endpoint_info import (
+            TopicEndpointTypeEnum,
+            endpoint_info_from_record,
+        )
+
+        self._check_handle()
+        topic = topic_name if no_mangle else self.resolve_topic_name(topic_name)
+        if publishers:
+            records = self._transport.get_publishers_info_by_topic(topic)
+            kind = TopicEndpointTypeEnum.PUBLISHER
+        else:
+            records = self._transport.get_subscriptions_info_by_topic(topic)
+            kind = TopicEndpointTypeEnum.SUBSCRIPTION
+        return [endpoint_info_from_record(record, kind) for record in records]
+
+    def get_publishers_info_by_topic(self, topic_name: str, no_mangle: bool = False
+                                     ) -> list[TopicEndpointInfo]:
+        """rclpy's TopicEndpointInfo of every publisher on ``topic_name``.
+
+        The name is expanded and remapped as the node's own topics (``no_mangle``: taken as
+        it is). The QoS is what the transport reports: in process the profile the publisher
+        was made with, with unset durations shown as infinite, as middlewares report them.
+        """
+        return self._info_by_topic(topic_name, no_mangle, publishers=True)
+
+    def get_subscriptions_info_by_topic(self, topic_name: str, no_mangle: bool = False
+                                        ) -> list[TopicEndpointInfo]:
+        """rclpy's TopicEndpointInfo of every subscription on ``topic_name``."""
+        return self._info_by_topic(topic_name, no_mangle, publishers=False)
+
     def count_publishers(self, topic_name: str) -> int:
         """Publishers on ``topic_name`` (expanded and remapped like the node's own topics)."""
+        self._check_handle()
         return self._transport.count_publishers(self.resolve_topic_name(topic_name))
 
     def count_subscribers(self, topic_name: str) -> int:
         """Subscriptions on ``topic_name``."""
+        self._check_handle()
         return self._transport.count_subscribers(self.resolve_topic_name(topic_name))
 
     # -- parameters -------------------------------------------------------------------
@@ -811,4 +951,4 @@ class Node:
         self._parameters.remove_post_set(callback)
 
     def __repr__(self) -> str:
-        return f"Node('{self.get_fully_qualified_name()}')"
+        return f"Node('{self._fqn()}')"

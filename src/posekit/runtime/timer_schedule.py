@@ -31,7 +31,7 @@ def _scan(timers: list[Timer]) -> Timer | None:
     """The ready timer due first (creation order among equals) whose group is free."""
     best: Timer | None = None
     for timer in timers:
-        if timer.is_ready() and timer.callback_group.can_execute() and (
+        if timer.ready_now() and timer.callback_group.can_execute() and (
             best is None or timer.next_call_ns < best.next_call_ns
         ):
             best = timer
@@ -78,13 +78,13 @@ class TimerSchedule:
         other: list[Timer] = []
         driven = self._driven
         for timer in self._timers:
-            if timer.is_canceled() or timer.destroyed:
+            if timer.stopped:
                 continue  # cancel()/reset() invalidate the schedule again
             if driven(timer):
-                if timer.timer_period_ns == 0:
+                if timer.period_ns == 0:
                     zero.append(timer)
                 else:
-                    timer.is_ready()  # applies backward-jump rescheduling first
+                    timer.ready_now()  # applies backward-jump rescheduling first
                     heap.append((timer.next_call_ns, timer.seq, timer))
             else:
                 other.append(timer)
@@ -102,13 +102,13 @@ class TimerSchedule:
             now = timer.clock.now_ns()
             if timer.next_call_ns == due and now >= timer.last_call_ns:
                 return timer, now  # the common case: a valid entry, no backward jump
-            if timer.is_canceled() or timer.destroyed:
+            if timer.stopped:
                 heapq.heappop(heap)
             elif not self._driven(timer):  # e.g. use_sim_time switched off: reclassify
                 self._rebuild()
                 heap = self._heap
             else:
-                timer.is_ready()  # applies backward-jump rescheduling
+                timer.ready_now()  # applies backward-jump rescheduling
                 heapq.heapreplace(heap, (timer.next_call_ns, seq, timer))
         return None
 
@@ -162,14 +162,14 @@ class TimerSchedule:
         found = self._heap_top()
         best = None if found is None else max(found[0].next_call_ns, now_ns)
         for timer in self._scanned:
-            if timer.is_canceled() or timer.destroyed:
+            if timer.stopped:
                 continue
             clock = timer.clock
             if not (isinstance(clock, ROSClock) and clock.ros_time_is_active):
                 continue
-            if timer.timer_period_ns == 0:
+            if timer.period_ns == 0:
                 continue  # runs once per step; it does not drive time
-            timer.is_ready()  # applies backward-jump rescheduling
+            timer.ready_now()  # applies backward-jump rescheduling
             due = max(timer.next_call_ns, now_ns)
             if best is None or due < best:
                 best = due
@@ -195,10 +195,10 @@ class TimerSchedule:
         for timer in self._timers:
             clock = timer.clock
             if isinstance(clock, ROSClock) and clock.ros_time_is_active:
-                if sim_time_due_now and not (timer.is_canceled() or timer.destroyed):
+                if sim_time_due_now and not (timer.stopped):
                     return 0.0
                 continue
-            remaining = timer.time_until_next_call()
+            remaining = timer.ns_until_next_call()
             if remaining is not None and (best is None or remaining < best):
                 best = remaining
         return None if best is None else max(0.0, best / 1e9)

@@ -77,7 +77,7 @@ from typing import TYPE_CHECKING, Any
 from posekit.msgs.errors import UnknownMessageTypeError
 from posekit.msgs.registry import message_type_name
 from posekit.runtime.logging import RcutilsLogger
-from posekit.runtime.qos import QoSProfile
+from posekit.runtime.qos import QoSProfile, to_qos_profile
 
 if TYPE_CHECKING:
     from posekit.runtime.inbox import Inbox
@@ -85,6 +85,7 @@ if TYPE_CHECKING:
 __all__ = [
     "ENV_TRANSPORT",
     "EndpointInfo",
+    "GraphEndpoint",
     "MessageSink",
     "PublisherEndpoint",
     "RequestHeader",
@@ -156,6 +157,10 @@ class EndpointInfo:
     #: Match endpoints of other processes only (see the module docstring).
     remote_only: bool = False
 
+    def __post_init__(self) -> None:
+        # A profile is mutable (rclpy's); the transport keeps its own copy, as rcl does.
+        object.__setattr__(self, "qos", to_qos_profile(self.qos).copy())
+
     @property
     def type_name(self) -> str:
         """The ROS type name, e.g. ``tf2_msgs/msg/TFMessage``.
@@ -167,6 +172,31 @@ class EndpointInfo:
             return message_type_name(self.msg_type)
         except UnknownMessageTypeError:
             return f"{self.msg_type.__module__}.{self.msg_type.__qualname__}"
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class GraphEndpoint:
+    """A publisher or subscription as the in-process bus reports it on its graph.
+
+    The attribute names are those of the network transports' records (Zenoh's ``TokenInfo``,
+    DDS's ``DdsEndpoint``), so one conversion serves all
+    (:func:`posekit.runtime.topic_endpoint_info.endpoint_info_from_record`).
+    """
+
+    node_name: str
+    namespace: str
+    topic: str
+    ros_type: str
+    #: ``RIHS01_<64 hex>``, None when unknown (no ROS message, or no rosbags to compute it).
+    type_hash: str | None
+    qos: QoSProfile
+    #: The endpoint's 16-byte id (random per endpoint, as an rmw GID).
+    gid: bytes
+
+    @property
+    def node_fqn(self) -> str:
+        """``/namespace/node``."""
+        return f"{self.namespace.rstrip('/')}/{self.node_name}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -183,6 +213,9 @@ class ServiceInfo:
     node_name: str
     node_namespace: str
     logger: RcutilsLogger
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "qos", to_qos_profile(self.qos).copy())  # as EndpointInfo
 
     @property
     def type_name(self) -> str:
@@ -388,10 +421,28 @@ class Transport(ABC):
         """
         return []
 
-    def get_publishers_info_by_topic(self, topic: str) -> list[Any]:
-        """Records of the publishers on ``topic`` (``node_fqn``, ``ros_type``, ``qos``...).
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        """``(name, namespace)`` of every node on the graph (duplicates kept), sorted.
 
-        Default: none known.
+        Default: split from :meth:`get_node_names`.
+        """
+        pairs = []
+        for fqn in self.get_node_names():
+            namespace, _, name = fqn.rpartition("/")
+            pairs.append((name, namespace or "/"))
+        return sorted(pairs)
+
+    def get_node_names_and_namespaces_with_enclaves(self) -> list[tuple[str, str, str]]:
+        """``(name, namespace, enclave)`` of every node; default: the root enclave ``/``."""
+        return [(name, ns, "/") for name, ns in self.get_node_names_and_namespaces()]
+
+    def get_publishers_info_by_topic(self, topic: str) -> list[Any]:
+        """Records of the publishers on ``topic``, each like :class:`GraphEndpoint`.
+
+        ``node_name``, ``namespace``, ``ros_type``, ``type_hash`` (``RIHS01_...`` or None),
+        ``qos`` (a profile, or a wire QoS with ``to_profile(exact=...)``), ``gid`` (bytes); the
+        node's ``get_publishers_info_by_topic`` turns them into rclpy's TopicEndpointInfo
+        (:mod:`posekit.runtime.topic_endpoint_info`). Default: none known.
         """
         return []
 

@@ -116,6 +116,11 @@ def time_to_ns(time: Any) -> int:
 
 
 def _duration_ns(duration: Any) -> int:
+    """Nanoseconds of a Duration, a ``builtin_interfaces/Duration``, an int (ns) or None (0).
+
+    A float (seconds) is refused with a TypeError that says what to pass: tf2_ros in ROS 2
+    takes ``rclpy.duration.Duration`` only (and fails obscurely on a float).
+    """
     if duration is None:
         return 0
     ns = getattr(duration, "nanoseconds", None)
@@ -123,7 +128,12 @@ def _duration_ns(duration: Any) -> int:
         return int(ns)
     if isinstance(duration, int):
         return duration
-    return int(duration.sec) * _NS + int(duration.nanosec)
+    if hasattr(duration, "sec") and hasattr(duration, "nanosec"):
+        return int(duration.sec) * _NS + int(duration.nanosec)
+    raise TypeError(
+        f"expected an rclpy Duration, e.g. Duration(seconds={duration!r}), got "
+        f"{type(duration).__name__} {duration!r} (tf2_ros takes no float seconds)"
+    )
 
 
 def _make_stamped(target: str, source: str, stamp_ns: int, raw: Sample) -> TransformStamped:

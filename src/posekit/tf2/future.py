@@ -14,7 +14,8 @@ Semantics (the same wherever a future comes from):
   (rclpy: not done, result None);
 * ``result()`` is None while pending, as in rclpy;
 * thread-safe: a result may be set from any thread; done callbacks run in the thread that
-  completes the future (at once in ``add_done_callback`` if it is already done);
+  completes the future (at once in ``add_done_callback`` if it is already done), or, for a
+  future made with ``Future(executor=...)`` (rclpy's keyword), as tasks of that executor;
 * ``await future`` yields the future itself until it is done, so an executor running the
   awaiting coroutine can resume it from a done callback instead of polling; a coroutine can
   also be driven by hand with ``coro.send(None)``.
@@ -23,6 +24,7 @@ Semantics (the same wherever a future comes from):
 from __future__ import annotations
 
 import threading
+import weakref
 from collections.abc import Callable, Generator
 from typing import Any, Generic, TypeVar
 
@@ -42,7 +44,14 @@ class CancelledError(Exception):
 class Future(Generic[T]):
     """A result that will exist later (set once); ``done()``, ``result()``, callbacks, await."""
 
-    def __init__(self) -> None:
+    def __init__(self, *, executor: Any = None) -> None:
+        """A pending future; with ``executor`` (rclpy's keyword) its done callbacks run there.
+
+        ``executor`` is anything with rclpy's ``create_task(callback, *args)`` (held weakly,
+        as rclpy holds it); without one they run in the thread that completes the future.
+        """
+        self._executor: weakref.ref[Any] | None = (
+            None if executor is None else weakref.ref(executor))
         self._lock = threading.Lock()
         self._state = _PENDING
         self._result: T | None = None
@@ -97,15 +106,25 @@ class Future(Generic[T]):
         if event is not None:
             event.set()
         for cb in callbacks:
-            cb(self)
+            self._invoke(cb)
+
+    def _invoke(self, callback: Callable[[Future[T]], Any]) -> None:
+        executor = self._executor() if self._executor is not None else None
+        if executor is not None:
+            executor.create_task(callback, self)
+        else:
+            callback(self)
 
     def add_done_callback(self, callback: Callable[[Future[T]], Any]) -> None:
-        """Call ``callback(future)`` on completion (at once if already done)."""
+        """Call ``callback(future)`` on completion (at once if already done).
+
+        With an executor (see ``__init__``) the call is a task of that executor.
+        """
         with self._lock:
             if self._state == _PENDING:
                 self._callbacks.append(callback)
                 return
-        callback(self)
+        self._invoke(callback)
 
     def remove_done_callback(self, callback: Callable[[Future[T]], Any]) -> bool:
         """Forget a done callback; False if it was not registered (or already called)."""

@@ -493,6 +493,11 @@ class ZenohTransport(Transport):
         """
         return sorted(t.node_fqn for t in self._graph.entities() if t.kind is EntityKind.NODE)
 
+    def get_node_names_and_namespaces_with_enclaves(self) -> list[tuple[str, str, str]]:
+        """``(name, namespace, enclave)`` of every node on the graph, sorted."""
+        return sorted((t.node_name, t.namespace, t.enclave or "/")
+                      for t in self._graph.entities() if t.kind is EntityKind.NODE)
+
     def graph_entities(self) -> list[TokenInfo]:
         """Every entity announced on the graph (nodes and endpoints, duplicates kept)."""
         return self._graph.entities()

@@ -31,7 +31,14 @@ from functools import lru_cache
 from typing import NamedTuple
 
 from posekit.msgs.cdr import type_hash_rihs01
-from posekit.runtime.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from posekit.runtime.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    LivelinessPolicy,
+    QoSProfile,
+    ReliabilityPolicy,
+)
+from posekit.time import Duration
 
 __all__ = [
     "ATTACHMENT_SIZE",
@@ -174,9 +181,22 @@ class WireQoS:
         """True unless BEST_EFFORT."""
         return self.reliability != 2
 
-    def to_profile(self) -> QoSProfile:
-        """The rclpy-style profile of this QoS (history, depth, reliability, durability)."""
+    def to_profile(self, *, exact: bool = False) -> QoSProfile:
+        """The rclpy profile of this QoS: every policy, durations included.
+
+        An infinite duration stays rmw's infinite, 2**63 - 1 ns (rclpy prints ``Infinite``).
+        A history other than KEEP_ALL is KEEP_LAST with depth >= 1 (a profile to request
+        with), unless ``exact``: then history and depth are the announced ones (DDS discovery
+        carries none: UNKNOWN, 0), as ``get_publishers_info_by_topic`` reports them.
+        """
+        if exact and self.history in (0, 3):
+            return self.to_profile().with_(history=HistoryPolicy(self.history),
+                                           depth=max(0, self.depth))
         keep_all = self.history == 2
+
+        def duration(value: tuple[int, int]) -> Duration:
+            return Duration(nanoseconds=min(value[0] * 1_000_000_000 + value[1], 2**63 - 1))
+
         return QoSProfile(
             history=HistoryPolicy.KEEP_ALL if keep_all else HistoryPolicy.KEEP_LAST,
             depth=0 if keep_all else max(1, self.depth),
@@ -184,6 +204,11 @@ class WireQoS:
             else ReliabilityPolicy.BEST_EFFORT,
             durability=DurabilityPolicy.TRANSIENT_LOCAL if self.transient_local
             else DurabilityPolicy.VOLATILE,
+            lifespan=duration(self.lifespan),
+            deadline=duration(self.deadline),
+            liveliness=self.liveliness if self.liveliness in (1, 3)
+            else LivelinessPolicy.SYSTEM_DEFAULT,
+            liveliness_lease_duration=duration(self.liveliness_lease),
         )
 
 
@@ -337,6 +362,11 @@ class TokenInfo:
         """``/namespace/node`` as ``ros2 node list`` prints it."""
         ns = self.namespace.rstrip("/")
         return f"{ns}/{self.node_name}"
+
+    @property
+    def gid(self) -> bytes:
+        """The 16-byte GID rmw_zenoh derives from this entity's token (:func:`entity_gid`)."""
+        return entity_gid(self.keyexpr) if self.keyexpr else b""
 
     @property
     def data_key(self) -> str | None:

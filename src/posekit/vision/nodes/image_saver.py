@@ -99,12 +99,12 @@ class ImageSaver(Node):
         self.last_path = path
         return True
 
-    def destroy_node(self) -> bool:
+    def destroy_node(self) -> None:
         """Write the last image (``save_last_on_shutdown``), then destroy the node."""
         if self._save_last and self._last_msg is not None:
             msg, self._last_msg = self._last_msg, None
             self.write(msg, self.output_dir / f"{self._prefix}_last.png")
-        return super().destroy_node()
+        super().destroy_node()
 
 
 def image_saver_entry(output_dir: str | Path, *, topic: str = "aruco_detection_image",
