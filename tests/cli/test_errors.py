@@ -196,8 +196,8 @@ def generate_launch_description():
 
 @pytest.mark.parametrize(("name", "parameters", "expected"), [
     ("bad name!", [], "Invalid node name 'bad name!'"),
-    ("ok", ["{missing}"], "No such file or directory: '{missing}'"),
-    ("ok", ["{broken}"], "while parsing a flow sequence"),
+    ("ok", ["{missing}"], "Error opening YAML file '{missing}': No such file or directory"),
+    ("ok", ["{broken}"], "{broken} is not YAML: while parsing a flow sequence"),
 ])
 def test_bad_launch_files_end_in_one_line(name: str, parameters: list[str], expected: str,
                                           tmp_path: Path,

@@ -156,15 +156,15 @@ def test_echo_decodes_a_ros2_publisher_of_a_type_posekit_has_no_class_for(
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS2_JAZZY)
-    name = "std_msgs/msg/Int32"
+    name = "diagnostic_msgs/msg/KeyValue"
     type_hash = store.hash_rihs01(name)
     ros = plain_ros_peer(endpoint)
     zid = str(ros.info.zid())
-    key = f"0/counter/std_msgs::msg::dds_::Int32_/{type_hash}"
+    key = f"0/counter/diagnostic_msgs::msg::dds_::KeyValue_/{type_hash}"
     tokens = [
         ros.liveliness().declare_token(f"@ros2_lv/0/{zid}/0/0/NN/%/%/counter_node"),
         ros.liveliness().declare_token(
-            f"@ros2_lv/0/{zid}/0/1/MP/%/%/counter_node/%counter/std_msgs::msg::dds_::Int32_/"
+            f"@ros2_lv/0/{zid}/0/1/MP/%/%/counter_node/%counter/diagnostic_msgs::msg::dds_::KeyValue_/"
             f"{type_hash}/::,10:,:,:,,"),
     ]
     pub = ros.declare_publisher(key)
@@ -178,7 +178,7 @@ def test_echo_decodes_a_ros2_publisher_of_a_type_posekit_has_no_class_for(
         seq = 0
         while thread.is_alive() and seq < 1000:
             seq += 1
-            payload = bytes(store.serialize_cdr(store.types[name](data=-42), name))
+            payload = bytes(store.serialize_cdr(store.types[name](key="k", value="v"), name))
             attachment = struct.pack("<qqB", seq, time.time_ns(), 16) + bytes(range(16))
             pub.put(payload, attachment=attachment)
             time.sleep(0.02)
@@ -189,7 +189,7 @@ def test_echo_decodes_a_ros2_publisher_of_a_type_posekit_has_no_class_for(
         pub.undeclare()
         ros.close()
     assert result == [0]
-    assert out.getvalue() == "data: -42\n---\n"
+    assert out.getvalue() == "key: k\nvalue: v\n---\n"
     err = io.StringIO()
-    assert topic_cmd.main_pub(["/counter", name, "{data: 1}"], context=zenoh_context, err=err) == 1
+    assert topic_cmd.main_pub(["/counter", name, "{key: a}"], context=zenoh_context, err=err) == 1
     assert "posekit has no message class" in err.getvalue()

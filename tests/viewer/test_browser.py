@@ -634,7 +634,10 @@ def _camera_frustum_and_detections(page: Any, server: Any) -> None:
     assert cam["image_topic"] == "/oak/rgb/color"
     assert cam["image_size"] == [1280, 720]
     assert cam["image_shown"] is True
-    info = server.tap.messages_after(info_topic, 0)[-1][1]
+    # shown again, the display watches its topic anew: its next message is kept
+    kept = wait_for(lambda: server.tap.messages_after(info_topic, 0), timeout=20.0,
+                    what="a camera_info kept after the display was shown again")
+    info = kept[-1][1]
     assert cam["frame"] == info.header.frame_id
     k = np.array(info.k, float).reshape(3, 3)
     pixels = np.array([[0, 0, 1], [info.width, 0, 1], [info.width, info.height, 1],

@@ -60,6 +60,7 @@ def _user_error_types() -> tuple[type[BaseException], ...]:
     for module, name in (
         ("posekit.bag.errors", "BagError"),
         ("posekit.launch.scenarios", "ScenarioError"),
+        ("posekit.launch.description", "LaunchDescriptionError"),
         ("posekit.worlds", "WorldError"),
         ("posekit.robot.plot", "PlotError"),
         ("posekit.viewer.errors", "ViewerError"),

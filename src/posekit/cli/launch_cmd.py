@@ -36,6 +36,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from posekit.cli.errors import report
+
 __all__ = ["main", "network_transport"]
 
 
@@ -425,9 +427,8 @@ def _launch_file(ns: argparse.Namespace, path: str, params: dict[str, Any], tran
                     launch_arguments=params, transport=transport,
                     publish_clock=False if ns.no_clock else None,
                     own_clock=_own_clock(description, params, network))
-    except LaunchDescriptionError as exc:
-        sys.stderr.write(f"posekit launch: {exc}\n")
-        return 2
+    except LaunchDescriptionError as exc:  # e.g. a parameter file it names: read before
+        return report(exc, "posekit launch")  # any node starts, reported as a node's error
     if ns.plot:
         recorder_node = run.node("odometry_recorder")
     if run.follows_clock:

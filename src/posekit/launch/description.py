@@ -140,8 +140,8 @@ def _parameter_entries(item: Mapping[str, Any] | str | Path,
 
     try:
         return load_parameter_file(item)
-    except RCLError as exc:
-        raise LaunchDescriptionError(f"parameter file {item}: {exc}") from None
+    except RCLError as exc:  # its text names the file
+        raise LaunchDescriptionError(str(exc)) from None
 
 
 def _flatten(params: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
