@@ -683,6 +683,19 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
               f"latency {_spread(p50, '.2f')}; best of rounds: {best_t:.2f}, {best_l:.2f}; "
               f"receive CPU per message {_spread(cpu_ratio, '.2f')}, at 1 kHz "
               f"{_spread(lone_cpu, '.2f')}")
+        # The subscriber started first is served first (--together): the per-round ratios
+        # fall in two groups by the order, so also compare the medians of each order.
+        by_order: dict[str, list[dict[str, dict[str, dict[str, Any]]]]] = {}
+        for r in both:
+            by_order.setdefault(" first" if list(r).index(mode) < list(r).index(base)
+                                else " second", []).append(r)
+        if len(by_order) == 2 and all(len(v) > 1 for v in by_order.values()):
+            print(f"    median latency, ratio of the medians of the rounds where {mode} was "
+                  "started" + ";".join(
+                      f"{place}: " + format(
+                          statistics.median(r[mode]["latency"]["p50"] for r in group)
+                          / statistics.median(r[base]["latency"]["p50"] for r in group), ".2f")
+                      for place, group in sorted(by_order.items())))
 
 
 def main() -> None:
