@@ -690,12 +690,15 @@ def report(transport: str, message: str, modes: list[str], sizes: tuple[int, int
             by_order.setdefault(" first" if list(r).index(mode) < list(r).index(base)
                                 else " second", []).append(r)
         if len(by_order) == 2 and all(len(v) > 1 for v in by_order.values()):
+            ratios = {place: statistics.median(r[mode]["latency"]["p50"] for r in group)
+                      / statistics.median(r[base]["latency"]["p50"] for r in group)
+                      for place, group in sorted(by_order.items())}
+            # Each order favours one side by about as much: their geometric mean is the
+            # ratio with the order balanced out.
             print(f"    median latency, ratio of the medians of the rounds where {mode} was "
-                  "started" + ";".join(
-                      f"{place}: " + format(
-                          statistics.median(r[mode]["latency"]["p50"] for r in group)
-                          / statistics.median(r[base]["latency"]["p50"] for r in group), ".2f")
-                      for place, group in sorted(by_order.items())))
+                  "started" + ";".join(f"{place}: {ratio:.2f}" for place, ratio in ratios.items())
+                  + f"; both orders balanced (geometric mean): "
+                  f"{statistics.geometric_mean(ratios.values()):.2f}")
 
 
 def main() -> None:

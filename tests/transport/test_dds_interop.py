@@ -26,7 +26,7 @@ from posekit.cli.topic_cmd import message_to_ordered, set_message_fields
 from posekit.msgs.registry import get_message_class
 from posekit.runtime.executors import SingleThreadedExecutor
 from posekit.runtime.logging import LogRecord
-from posekit.runtime.node import Node
+from posekit.runtime.node import Node, NodeNameNonExistentError
 from posekit.runtime.qos import QoSProfile, ReliabilityPolicy
 
 pytestmark = pytest.mark.slow
@@ -165,6 +165,7 @@ def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
         string_cls = get_message_class("std_msgs/msg/String")
         done_pub = node.create_publisher(string_cls, "/interop/done", 10)
         seen_nodes: set[str] = set()
+        ours: dict[str, list[tuple[str, list[str]]]] = {}
         next_pub = [0.0]
 
         def publish_all() -> None:
@@ -175,6 +176,14 @@ def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
                 pub.publish(msg)
             big_pub.publish(big)
             seen_nodes.update(node.transport.get_node_names())  # type: ignore[attr-defined]
+            try:  # the real node's endpoints, by node (its discovery info matched to GIDs)
+                pubs_of = node.get_publisher_names_and_types_by_node("ros_interop", "/")
+                subs_of = node.get_subscriber_names_and_types_by_node("ros_interop", "/")
+            except NodeNameNonExistentError:
+                pass  # not discovered yet, or gone once done
+            else:  # the fullest view (discovery fills it in; the end takes it apart)
+                if len(pubs_of) + len(subs_of) > sum(map(len, ours.values())):
+                    ours.update(pubs=pubs_of, subs=subs_of)
             if len(got) == len(SPEC) + 1 and "/ros_interop" in seen_nodes:
                 done_pub.publish(string_cls(data="done"))
 
@@ -209,6 +218,17 @@ def test_every_shared_type_both_ways_with_a_large_image_and_the_graph(
         assert [f"/interop/{name}/from_ros", ros_type] in graph["subs"], name
     assert ["/interop/done", "std_msgs/msg/String"] in graph["pubs"]
     assert graph["odom_pub"] == [["posekit_interop", "/", "nav_msgs/msg/Odometry", "RELIABLE"]]
+    # and posekit's node lists the real node's topics by node, as rclpy does its own
+    assert ours, "the real node was never found by name"
+    assert dict(ours["pubs"]) == {
+        **{f"/interop/{name}/from_ros": [ros_type] for name, (ros_type, _) in SPEC.items()},
+        "/interop/big/from_ros": ["sensor_msgs/msg/Image"],
+        "/parameter_events": ["rcl_interfaces/msg/ParameterEvent"],
+        "/rosout": ["rcl_interfaces/msg/Log"]}
+    assert dict(ours["subs"]) == {
+        **{f"/interop/{name}/from_pk": [ros_type] for name, (ros_type, _) in SPEC.items()},
+        "/interop/big/from_pk": ["sensor_msgs/msg/Image"],
+        "/interop/done": ["std_msgs/msg/String"]}
 
 
 BAD_PEERS = textwrap.dedent("""

@@ -13,7 +13,7 @@ from posekit.msgs.std_msgs import String
 from posekit.msgs.tf2_msgs import TFMessage
 from posekit.runtime.context import Context
 from posekit.runtime.executors import SingleThreadedExecutor
-from posekit.runtime.node import Node
+from posekit.runtime.node import Node, NodeNameNonExistentError
 from posekit.runtime.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from posekit.runtime.transport import create_transport
 from posekit.transport.zenoh_session import SessionOptions
@@ -104,6 +104,16 @@ def test_nodes_exchange_messages_and_late_static(
     assert ("/chatter", ["std_msgs/msg/String"]) in tb.get_topic_names_and_types()
     assert spin_until(executor, lambda: "/talker" in tb.get_node_names())
     assert "/robot1/listener" in tb.get_node_names()
+    # by node, from the other session's liveliness tokens (rosout and parameter events too)
+    assert dict(listener.get_publisher_names_and_types_by_node("talker", "/")) == {
+        "/chatter": ["std_msgs/msg/String"], "/tf_static": ["tf2_msgs/msg/TFMessage"],
+        "/rosout": ["rcl_interfaces/msg/Log"],
+        "/parameter_events": ["rcl_interfaces/msg/ParameterEvent"]}
+    assert spin_until(executor, lambda: "/robot1/listener" in ta.get_node_names() and (
+        talker.get_subscriber_names_and_types_by_node("listener", "/robot1") == [
+            ("/chatter", ["std_msgs/msg/String"]), ("/tf_static", ["tf2_msgs/msg/TFMessage"])]))
+    with pytest.raises(NodeNameNonExistentError):
+        talker.get_subscriber_names_and_types_by_node("listener", "/")
     with pytest.raises(TypeError, match="expects String"):
         pub.publish(Twist())
     talker.destroy_publisher(pub)

@@ -1,5 +1,5 @@
-"""rclpy.node: ``Node`` (re-exported from posekit.runtime.node)."""
+"""rclpy.node: ``Node`` and ``NodeNameNonExistentError`` (re-exported from posekit.runtime.node)."""
 
-from posekit.runtime.node import Node
+from posekit.runtime.node import Node, NodeNameNonExistentError
 
-__all__ = ["Node"]
+__all__ = ["Node", "NodeNameNonExistentError"]

@@ -691,6 +691,28 @@ class InProcessBus(Transport):
                 if t.publishers or t.subscriptions
             )
 
+    def _topics_by_node(self, node_name: str, node_namespace: str,
+                        publishers: bool) -> list[tuple[str, list[str]]]:
+        with self._lock:
+            found: dict[str, set[str]] = {}
+            for t in self._topics.values():
+                for ep in (t.publishers if publishers else t.subscriptions):
+                    if ep.info.node_name == node_name and ep.info.node_namespace == node_namespace:
+                        found.setdefault(t.name, set()).add(ep.info.type_name)
+            return [(name, sorted(types)) for name, types in sorted(found.items())]
+
+    def get_publisher_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics node ``node_namespace/node_name`` publishes, with their type names."""
+        return self._topics_by_node(node_name, node_namespace, publishers=True)
+
+    def get_subscriber_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics node ``node_namespace/node_name`` subscribes to, with their type names."""
+        return self._topics_by_node(node_name, node_namespace, publishers=False)
+
     def count_publishers(self, topic: str) -> int:
         """Number of publishers on ``topic``."""
         t = self._topics.get(topic)

@@ -291,6 +291,18 @@ class MirroredTransport(Transport):
         """The services a node is a client of, from the network graph."""
         return self.network.get_client_names_and_types_by_node(node_name, node_namespace)
 
+    def get_publisher_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node publishes, from the network graph."""
+        return self.network.get_publisher_names_and_types_by_node(node_name, node_namespace)
+
+    def get_subscriber_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node subscribes to, from the network graph."""
+        return self.network.get_subscriber_names_and_types_by_node(node_name, node_namespace)
+
     def declare_node(self, name: str, namespace: str = "/") -> Any:
         """Declare the node on the local bus and on the network."""
         self.local.declare_node(name, namespace)

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 from posekit.msgs.rcl_interfaces import ListParametersResult, ParameterEvent, ParameterValue
 from posekit.runtime.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from posekit.runtime.arguments import RCLError
 from posekit.runtime.clock import Clock, ROSClock
 from posekit.runtime.context import (
     Context,
@@ -37,6 +38,7 @@ from posekit.runtime.guard_condition import GuardCondition
 from posekit.runtime.inbox import Handoff
 from posekit.runtime.logging import RcutilsLogger
 from posekit.runtime.names import (
+    NameValidationError,
     RemapRule,
     normalize_namespace,
     parse_remap_rules,
@@ -44,6 +46,7 @@ from posekit.runtime.names import (
     remap_node_namespace,
     resolve_service_name,
     resolve_topic_name,
+    validate_namespace,
     validate_node_name,
 )
 from posekit.runtime.parameters import (
@@ -73,7 +76,11 @@ if TYPE_CHECKING:
     from posekit.runtime.executors import Executor
     from posekit.runtime.topic_endpoint_info import TopicEndpointInfo
 
-__all__ = ["Node", "NodeDefaults", "node_defaults"]
+__all__ = ["Node", "NodeDefaults", "NodeNameNonExistentError", "node_defaults"]
+
+
+class NodeNameNonExistentError(RCLError):
+    """A graph query by node named a node that is not on the graph (rclpy's error)."""
 
 
 @dataclass
@@ -705,17 +712,66 @@ class Node:
         """Every service known to the node's transport, with type names."""
         return self._transport.get_service_names_and_types()
 
+    def _names_and_types_by_node(
+        self, what: str, query: Callable[[str, str], list[tuple[str, list[str]]]],
+        node_name: str, node_namespace: str,
+    ) -> list[tuple[str, list[str]]]:
+        """``query(node_name, node_namespace)`` once the node is known to be on the graph.
+
+        As rcl: an empty namespace is the root, a bad name or namespace raises
+        :class:`RCLError`, a node not on the graph :class:`NodeNameNonExistentError`.
+        """
+        self._check_handle()
+        namespace = node_namespace or "/"
+        try:
+            validate_node_name(node_name)
+            validate_namespace(namespace)
+        except NameValidationError as exc:
+            raise RCLError(f"failed to get {what} names and types: {exc.reason}") from None
+        if (node_name, namespace) not in self.get_node_names_and_namespaces():
+            raise NodeNameNonExistentError(
+                f"cannot get {what} names and types for nonexistent node "
+                f"'{namespace.rstrip('/')}/{node_name}'")
+        return query(node_name, namespace)
+
+    def get_publisher_names_and_types_by_node(
+        self, node_name: str, node_namespace: str, no_demangle: bool = False
+    ) -> list[tuple[str, list[str]]]:
+        """The topics node ``node_name`` in ``node_namespace`` publishes, with type names.
+
+        ROS names and types (``no_demangle`` is accepted and ignored: posekit shows no
+        middleware names). Raises :class:`NodeNameNonExistentError` if the node is not on
+        the graph, :class:`RCLError` for a bad name or a relative namespace.
+        """
+        del no_demangle
+        return self._names_and_types_by_node(
+            "publisher", self._transport.get_publisher_names_and_types_by_node,
+            node_name, node_namespace)
+
+    def get_subscriber_names_and_types_by_node(
+        self, node_name: str, node_namespace: str, no_demangle: bool = False
+    ) -> list[tuple[str, list[str]]]:
+        """The topics node ``node_name`` in ``node_namespace`` subscribes to (as above)."""
+        del no_demangle
+        return self._names_and_types_by_node(
+            "subscriber", self._transport.get_subscriber_names_and_types_by_node,
+            node_name, node_namespace)
+
     def get_service_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
-        """The services served by node ``node_name`` in ``node_namespace``."""
-        return self._transport.get_service_names_and_types_by_node(node_name, node_namespace)
+        """The services node ``node_name`` in ``node_namespace`` serves (errors as above)."""
+        return self._names_and_types_by_node(
+            "service", self._transport.get_service_names_and_types_by_node,
+            node_name, node_namespace)
 
     def get_client_names_and_types_by_node(
         self, node_name: str, node_namespace: str
     ) -> list[tuple[str, list[str]]]:
         """The services node ``node_name`` in ``node_namespace`` has clients for."""
-        return self._transport.get_client_names_and_types_by_node(node_name, node_namespace)
+        return self._names_and_types_by_node(
+            "client", self._transport.get_client_names_and_types_by_node,
+            node_name, node_namespace)
 
     def count_services(self, service_name: str) -> int:
         """Servers of ``service_name`` (expanded in the node's namespace, not remapped)."""

@@ -413,6 +413,18 @@ class Transport(ABC):
         """The services a node has clients for."""
         return []
 
+    def get_publisher_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node publishes, sorted, with their type names; default: none known."""
+        return []
+
+    def get_subscriber_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node subscribes to, sorted, with their type names."""
+        return []
+
     # -- optional graph capabilities (defaults: the transport cannot tell) ----------------
     def get_node_names(self) -> list[str]:
         """Fully qualified names of the nodes on the graph (duplicates kept), sorted.

@@ -1112,6 +1112,26 @@ class DdsTransport(Transport):
                 for part in self._graph_participants() for node in part.nodes]
         return [*nodes, *self._graph_endpoints(), *self._service_records()]
 
+    def _topics_by_node(self, node_name: str, node_namespace: str,
+                        kind: EntityKind) -> list[tuple[str, list[str]]]:
+        topics: dict[str, set[str]] = {}
+        for ep in self._graph_endpoints(kind=kind):
+            if ep.node_name == node_name and ep.namespace == node_namespace:
+                topics.setdefault(ep.topic, set()).add(ep.ros_type)
+        return [(name, sorted(types)) for name, types in sorted(topics.items())]
+
+    def get_publisher_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node publishes: its writers on ``rt/...`` topics (as rmw_cyclonedds)."""
+        return self._topics_by_node(node_name, node_namespace, EntityKind.PUBLISHER)
+
+    def get_subscriber_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node subscribes to: its readers on ``rt/...`` topics."""
+        return self._topics_by_node(node_name, node_namespace, EntityKind.SUBSCRIPTION)
+
     def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
         """Every topic of the discovered graph, with its type names."""
         topics: dict[str, set[str]] = {}

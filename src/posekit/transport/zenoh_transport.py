@@ -448,6 +448,20 @@ class ZenohTransport(Transport):
         """The services a node is a client of, from the graph."""
         return self._graph.names_and_types_by_node(node_name, node_namespace, EntityKind.CLIENT)
 
+    def get_publisher_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node publishes, from the graph."""
+        return self._graph.names_and_types_by_node(
+            node_name, node_namespace, EntityKind.PUBLISHER)
+
+    def get_subscriber_names_and_types_by_node(
+        self, node_name: str, node_namespace: str
+    ) -> list[tuple[str, list[str]]]:
+        """The topics a node subscribes to, from the graph."""
+        return self._graph.names_and_types_by_node(
+            node_name, node_namespace, EntityKind.SUBSCRIPTION)
+
     def _forget(
         self,
         wire: WirePublisher | WireSubscription | WireServiceServer | WireServiceClient,

@@ -1,5 +1,6 @@
 # The node's graph API: node names (with namespaces, enclaves), endpoint info by topic
-# (rclpy's TopicEndpointInfo and its text), wait_for_node, guard conditions,
+# (rclpy's TopicEndpointInfo and its text), names and types by node (and their errors),
+# wait_for_node, guard conditions,
 # default_callback_group, and the modules users import classes from for type hints.
 import time
 
@@ -10,10 +11,11 @@ import rclpy.subscription
 import rclpy.topic_endpoint_info
 from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
-from rclpy.node import Node
+from rclpy.node import Node, NodeNameNonExistentError
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.topic_endpoint_info import TopicEndpointTypeEnum
 from std_msgs.msg import String
+from std_srvs.srv import Trigger
 
 import rclpy
 
@@ -24,11 +26,33 @@ pub = alpha.create_publisher(String, "chatter", QoSProfile(
     depth=3, durability=DurabilityPolicy.TRANSIENT_LOCAL, lifespan=Duration(seconds=2)))
 sub = beta.create_subscription(String, "/robot/chatter", lambda msg: None, QoSProfile(
     depth=7, reliability=ReliabilityPolicy.BEST_EFFORT))
+server = beta.create_service(Trigger, "reset", lambda request, response: response)
+client = alpha.create_client(Trigger, "/reset")
 time.sleep(0.5)  # discovery (Fast DDS)
 show("node names", lambda: sorted(alpha.get_node_names()))
 show("names and namespaces", lambda: sorted(alpha.get_node_names_and_namespaces()))
 show("with enclaves", lambda: sorted(alpha.get_node_names_and_namespaces_with_enclaves()))
 show("fully qualified", lambda: sorted(alpha.get_fully_qualified_node_names()))
+
+
+def by_node(query, *args):
+    # Jazzy nodes also serve ~/get_type_description (posekit does not; docs/runtime.md)
+    return [(name, types) for name, types in query(*args)
+            if not name.endswith("/get_type_description")]
+
+
+for query in ("publisher", "subscriber", "service", "client"):
+    method = getattr(beta, f"get_{query}_names_and_types_by_node")
+    show(f"{query}s of alpha", lambda: by_node(method, "alpha", "/robot"))
+    show(f"{query}s of beta", lambda: by_node(method, "beta", "/"))
+    show(f"{query}s of beta, empty namespace", lambda: by_node(method, "beta", ""))
+    kind(f"{query}s of nobody", lambda: method("nobody", "/"))
+    kind(f"{query}s, relative namespace", lambda: method("alpha", "robot"))
+    kind(f"{query}s, bad node name", lambda: method("bad name", "/"))
+show("publishers, no_demangle=False", lambda: beta.get_publisher_names_and_types_by_node(
+    "alpha", "/robot", False))
+show("nonexistent is an RCLError", lambda: [
+    c.__name__ for c in NodeNameNonExistentError.__mro__[1:] if c.__name__ == "RuntimeError"])
 
 
 def fields(info):
