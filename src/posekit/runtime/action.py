@@ -691,7 +691,11 @@ def get_action_names_and_types(node: Node) -> list[tuple[str, list[str]]]:
 def get_action_server_names_and_types_by_node(
     node: Node, remote_node_name: str, remote_node_namespace: str
 ) -> list[tuple[str, list[str]]]:
-    """The actions node ``remote_node_name`` serves (its ``.../_action/send_goal`` servers)."""
+    """The actions node ``remote_node_name`` serves (its ``.../_action/send_goal`` servers).
+
+    A node not on the graph raises :class:`~posekit.runtime.node.NodeNameNonExistentError`,
+    an ``RCLError`` (rclpy raises a plain ``RCLError`` there).
+    """
     found = node.get_service_names_and_types_by_node(remote_node_name, remote_node_namespace)
     return _actions(found, "/_action/send_goal", "_SendGoal")
 
