@@ -43,12 +43,12 @@ def by_node(query, *args):
 
 for query in ("publisher", "subscriber", "service", "client"):
     method = getattr(beta, f"get_{query}_names_and_types_by_node")
-    show(f"{query}s of alpha", lambda: by_node(method, "alpha", "/robot"))
-    show(f"{query}s of beta", lambda: by_node(method, "beta", "/"))
-    show(f"{query}s of beta, empty namespace", lambda: by_node(method, "beta", ""))
-    kind(f"{query}s of nobody", lambda: method("nobody", "/"))
-    kind(f"{query}s, relative namespace", lambda: method("alpha", "robot"))
-    kind(f"{query}s, bad node name", lambda: method("bad name", "/"))
+    show(f"{query}s of alpha", lambda m=method: by_node(m, "alpha", "/robot"))
+    show(f"{query}s of beta", lambda m=method: by_node(m, "beta", "/"))
+    show(f"{query}s of beta, empty namespace", lambda m=method: by_node(m, "beta", ""))
+    kind(f"{query}s of nobody", lambda m=method: m("nobody", "/"))
+    kind(f"{query}s, relative namespace", lambda m=method: m("alpha", "robot"))
+    kind(f"{query}s, bad node name", lambda m=method: m("bad name", "/"))
 show("publishers, no_demangle=False", lambda: beta.get_publisher_names_and_types_by_node(
     "alpha", "/robot", False))
 show("nonexistent is an RCLError", lambda: [
