@@ -119,7 +119,9 @@ def test_cdr_and_fields_equal_the_real_rclpy() -> None:
     length up to the final padding, same decoded values.)"""
     cases = _cases()
     script = ["import rclpy.serialization as ser, json",
-              "import std_srvs.srv, rcl_interfaces.srv, rcl_interfaces.msg", "out = {}"]
+              "import std_srvs.srv, rcl_interfaces.srv, rcl_interfaces.msg",
+              "import type_description_interfaces.srv, type_description_interfaces.msg",
+              "out = {}"]
     for label, msg in cases:
         script.append(f"m = {_ros_expr(msg)}")
         script.append(

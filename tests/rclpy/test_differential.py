@@ -69,6 +69,10 @@ DEVIATIONS: dict[str, dict[str, str]] = {
         # a YAML mapping stays text; rclpy puts the dict into the string field
         "from string mapping": "(4, '{a: 1}')",
     },
+    "type_description": {
+        # posekit carries no .msg files: no type sources (rclpy sends each type's file text)
+        "sources": "[]",
+    },
     "time_duration": {
         # float seconds are rounded to the nearest nanosecond; rclpy truncates seconds * 1e9
         # (1000999999)

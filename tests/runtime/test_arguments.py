@@ -27,9 +27,6 @@ from posekit.runtime.arguments import (
 )
 
 PROBE = Path(__file__).with_name("ros_args_probe.py")
-#: Parameters only Jazzy's rclpy declares (type description service); not part of the
-#: argument semantics compared here.
-ROS_ONLY_PARAMETERS = {"start_type_description_service"}
 
 
 def _cases(stdout: str) -> dict[str, dict[str, Any]]:
@@ -46,8 +43,6 @@ def _normalised(case: dict[str, Any]) -> dict[str, Any]:
     """Drop rcl's source locations and wording after 'Error:'; keep what a user relies on:
     the exception type, rcl's message head (which flag and value failed) and every value."""
     out = dict(case)
-    if "params" in out:
-        out["params"] = {k: v for k, v in out["params"].items() if k not in ROS_ONLY_PARAMETERS}
     for key in ("init_msg", "node_msg", "msg"):
         if key in out:
             text = out[key].removeprefix("failed to initialize rcl: ")

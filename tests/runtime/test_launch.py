@@ -232,7 +232,7 @@ for case in json.loads(sys.argv[1]):
                 automatically_declare_parameters_from_overrides=True)
     print(json.dumps({n: p.value if not hasattr(p.value, "tolist") else p.value.tolist()
                       for n, p in sorted(node.get_parameters_by_prefix("").items())
-                      if n not in ("use_sim_time", "start_type_description_service")}))
+                      if n != "use_sim_time"}))
     node.destroy_node()
 rclpy.shutdown()
 """

@@ -56,7 +56,9 @@ def _call(client_node, ex, srv_type, name, request):
 def test_every_node_serves_the_six_parameter_services(pair) -> None:
     server, client_node, _ = pair
     served = dict(client_node.get_service_names_and_types_by_node("ctl", "/robot"))
-    assert served == {
+    assert served == {  # and, without being asked to, its type descriptions (as rclpy)
+        "/robot/ctl/get_type_description": [
+            "type_description_interfaces/srv/GetTypeDescription"],
         "/robot/ctl/describe_parameters": ["rcl_interfaces/srv/DescribeParameters"],
         "/robot/ctl/get_parameter_types": ["rcl_interfaces/srv/GetParameterTypes"],
         "/robot/ctl/get_parameters": ["rcl_interfaces/srv/GetParameters"],
@@ -65,7 +67,8 @@ def test_every_node_serves_the_six_parameter_services(pair) -> None:
         "/robot/ctl/set_parameters_atomically": ["rcl_interfaces/srv/SetParametersAtomically"],
     }
     quiet = Node("quiet", context=server.context, start_parameter_services=False)
-    assert client_node.get_service_names_and_types_by_node("quiet", "/") == []
+    assert client_node.get_service_names_and_types_by_node("quiet", "/") == [
+        ("/quiet/get_type_description", ["type_description_interfaces/srv/GetTypeDescription"])]
     quiet.destroy_node()
 
 
@@ -73,7 +76,8 @@ def test_list_get_types_and_describe(pair) -> None:
     _, client_node, ex = pair
     listed = _call(client_node, ex, ListParameters, "/robot/ctl/list_parameters",
                    ListParameters.Request()).result
-    assert listed.names == ["use_sim_time", "k_rho", "name", "wheels.count", "wheels.radius"]
+    assert listed.names == ["use_sim_time", "start_type_description_service", "k_rho", "name",
+                            "wheels.count", "wheels.radius"]
     assert listed.prefixes == ["wheels"]
     shallow = _call(client_node, ex, ListParameters, "/robot/ctl/list_parameters",
                     ListParameters.Request(prefixes=["wheels"], depth=1)).result

@@ -10,6 +10,7 @@ rclpy in tests/rclpy/test_differential.py.
 from __future__ import annotations
 
 import threading
+from typing import Any
 
 import pytest
 
@@ -18,6 +19,7 @@ from posekit.runtime.callback_groups import ReentrantCallbackGroup
 from posekit.runtime.executors import MultiThreadedExecutor, SingleThreadedExecutor
 from posekit.runtime.names import InvalidServiceNameException
 from posekit.runtime.node import Node
+from posekit.runtime.parameters import Parameter
 from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import TopicTypeMismatchError
 
@@ -73,10 +75,15 @@ def test_service_names_are_expanded_remapped_and_validated(ctx) -> None:
         node.create_service(Empty.Request, "x", lambda q, r: r)  # a message, not a service
 
 
+#: A node without the services every node offers (parameters, type descriptions).
+BARE: dict[str, Any] = {"start_parameter_services": False, "parameter_overrides": [
+    Parameter("start_type_description_service", value=False)]}
+
+
 def test_graph_lists_services_and_who_serves_them(ctx) -> None:
-    server = Node("server", namespace="/ns", context=ctx, start_parameter_services=False)
+    server = Node("server", namespace="/ns", context=ctx, **BARE)
     _set_bool_server(server)
-    client_node = Node("client", context=ctx, start_parameter_services=False)
+    client_node = Node("client", context=ctx, **BARE)
     client_node.create_client(Trigger, "/ns/trigger_me")
     assert ("/ns/set_flag", ["std_srvs/srv/SetBool"]) in client_node.get_service_names_and_types()
     assert ("/ns/trigger_me", ["std_srvs/srv/Trigger"]) in (
@@ -93,8 +100,8 @@ def test_graph_lists_services_and_who_serves_them(ctx) -> None:
 
 
 def test_destroyed_service_is_no_longer_ready(ctx) -> None:
-    server = Node("server", context=ctx, start_parameter_services=False)
-    client_node = Node("client", context=ctx, start_parameter_services=False)
+    server = Node("server", context=ctx, **BARE)
+    client_node = Node("client", context=ctx, **BARE)
     service = server.create_service(Empty, "ping", lambda q, r: r)
     client = client_node.create_client(Empty, "ping")
     assert client.service_is_ready()

@@ -48,6 +48,13 @@ SERVICE_DEFINITIONS: dict[str, tuple[str, str]] = {
         "rcl_interfaces/msg/ParameterDescriptor[] descriptors\n",
     ),
     "rcl_interfaces/srv/GetParameterTypes": ("string[] names\n", "uint8[] types\n"),
+    "type_description_interfaces/srv/GetTypeDescription": (
+        "string type_name\nstring type_hash\nbool include_type_sources true\n",
+        "bool successful\nstring failure_reason\n"
+        "type_description_interfaces/msg/TypeDescription type_description\n"
+        "type_description_interfaces/msg/TypeSource[] type_sources\n"
+        "type_description_interfaces/msg/KeyValue[] extra_information\n",
+    ),
     "action_msgs/srv/CancelGoal": (
         "action_msgs/msg/GoalInfo goal_info\n",
         "int8 ERROR_NONE=0\nint8 ERROR_REJECTED=1\nint8 ERROR_UNKNOWN_GOAL_ID=2\n"

@@ -23,6 +23,7 @@ from posekit.msgs import (
     std_msgs,
     std_srvs,
     tf2_msgs,
+    type_description_interfaces,
     unique_identifier_msgs,
 )
 from posekit.msgs._service import is_service_type
@@ -54,6 +55,7 @@ _MODULES = (
     unique_identifier_msgs,
     action_msgs,
     posekit_interfaces,
+    type_description_interfaces,
 )
 
 

@@ -271,6 +271,12 @@ class Node:
             from posekit.runtime.parameter_service import ParameterService
 
             self._parameter_service = ParameterService(self)
+        self._type_description_service: Any = None
+        if self._transport.supports_services:
+            from posekit.runtime.type_description_service import TypeDescriptionService
+
+            self._type_description_service = TypeDescriptionService(
+                self, with_rosout=self._rosout is not None)
 
     # -- identity ---------------------------------------------------------------------
     @property

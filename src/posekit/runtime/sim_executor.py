@@ -248,10 +248,12 @@ class SimulatedTimeExecutor(Executor):
     def _ensure_clock_publisher(self) -> None:
         if self._clock_pub is None:
             # No executor spins this node: it serves nothing, so it advertises no parameter
-            # services (which nobody would answer: `param list` would wait on them).
+            # or type description services (which nobody would answer: `param list` would
+            # wait on them).
             self._clock_node = Node(
                 "posekit_sim_clock", context=self._context, transport=self._clock_transport(),
                 start_parameter_services=False,
+                parameter_overrides=[Parameter("start_type_description_service", value=False)],
             )
             self._clock_pub = self._clock_node.create_publisher(
                 ClockMsg, "/clock", QoSProfile(depth=1)

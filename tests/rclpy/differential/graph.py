@@ -35,17 +35,11 @@ show("with enclaves", lambda: sorted(alpha.get_node_names_and_namespaces_with_en
 show("fully qualified", lambda: sorted(alpha.get_fully_qualified_node_names()))
 
 
-def by_node(query, *args):
-    # Jazzy nodes also serve ~/get_type_description (posekit does not; docs/runtime.md)
-    return [(name, types) for name, types in query(*args)
-            if not name.endswith("/get_type_description")]
-
-
 for query in ("publisher", "subscriber", "service", "client"):
     method = getattr(beta, f"get_{query}_names_and_types_by_node")
-    show(f"{query}s of alpha", lambda m=method: by_node(m, "alpha", "/robot"))
-    show(f"{query}s of beta", lambda m=method: by_node(m, "beta", "/"))
-    show(f"{query}s of beta, empty namespace", lambda m=method: by_node(m, "beta", ""))
+    show(f"{query}s of alpha", lambda m=method: m("alpha", "/robot"))
+    show(f"{query}s of beta", lambda m=method: m("beta", "/"))
+    show(f"{query}s of beta, empty namespace", lambda m=method: m("beta", ""))
     kind(f"{query}s of nobody", lambda m=method: m("nobody", "/"))
     kind(f"{query}s, relative namespace", lambda m=method: m("alpha", "robot"))
     kind(f"{query}s, bad node name", lambda m=method: m("bad name", "/"))

@@ -94,12 +94,9 @@ show("set params", lambda: [(r.successful, r.reason) for r in call(
 show("gain now", lambda: server.get_parameter("gain").value)
 lister = client_node.create_client(ListParameters, "/robot/diff_server/list_parameters")
 lister.wait_for_service(timeout_sec=10.0)
-show("list params", lambda: sorted(set(call(lister, ListParameters.Request()).result.names)
-                                   - {"start_type_description_service"}))
-# Jazzy also serves ~/get_type_description (posekit does not): left out of the comparison.
-show("services by node", lambda: [
-    (n, t) for n, t in client_node.get_service_names_and_types_by_node("diff_server", "/robot")
-    if not n.endswith("/get_type_description")])
+show("list params", lambda: sorted(call(lister, ListParameters.Request()).result.names))
+show("services by node", lambda: client_node.get_service_names_and_types_by_node(
+    "diff_server", "/robot"))
 show("clients by node", lambda: sorted(
     client_node.get_client_names_and_types_by_node("diff_client", "/")))
 
