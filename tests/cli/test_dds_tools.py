@@ -221,12 +221,14 @@ def test_node_info_lists_a_real_rclpy_node_and_a_posekit_node_over_dds(
     assert sections["Action Servers"] == sections["Action Clients"] == []
     assert pk_info.popen.returncode == 0, pk_info.describe()
     parameter_services = "".join(
-        f"    /robot/pk_info/{name}: rcl_interfaces/srv/{kind}\n" for name, kind in (
-            ("describe_parameters", "DescribeParameters"),
-            ("get_parameter_types", "GetParameterTypes"),
-            ("get_parameters", "GetParameters"), ("list_parameters", "ListParameters"),
-            ("set_parameters", "SetParameters"),
-            ("set_parameters_atomically", "SetParametersAtomically")))
+        f"    /robot/pk_info/{name}: {kind}\n" for name, kind in (
+            ("describe_parameters", "rcl_interfaces/srv/DescribeParameters"),
+            ("get_parameter_types", "rcl_interfaces/srv/GetParameterTypes"),
+            ("get_parameters", "rcl_interfaces/srv/GetParameters"),
+            ("get_type_description", "type_description_interfaces/srv/GetTypeDescription"),
+            ("list_parameters", "rcl_interfaces/srv/ListParameters"),
+            ("set_parameters", "rcl_interfaces/srv/SetParameters"),
+            ("set_parameters_atomically", "rcl_interfaces/srv/SetParametersAtomically")))
     assert pk_text == (
         "/robot/pk_info\n"
         "  Subscribers:\n    /cmd: std_msgs/msg/String\n"
@@ -292,4 +294,5 @@ def test_node_lookups_wait_for_a_node_discovered_late(monkeypatch: pytest.Monkey
     code, out, err = results["info"]
     assert (code, err) == (0, ""), out
     assert out.startswith("/late/talker\n  Subscribers:\n")
-    assert results["param"] == (0, "  rate\n  use_sim_time\n", "")
+    assert results["param"] == (
+        0, "  rate\n  start_type_description_service\n  use_sim_time\n", "")

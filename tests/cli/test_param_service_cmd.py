@@ -51,7 +51,8 @@ def run(main, argv, ctx) -> tuple[int, str, str]:
 
 def test_param_list_get_set_describe(ctx, served: Node) -> None:
     assert run(param_cmd.main_list, ["/robot/ctl"], ctx) == (
-        0, "  gains\n  k_rho\n  mode\n  use_sim_time\n  wheels.count\n", "")
+        0, "  gains\n  k_rho\n  mode\n  start_type_description_service\n  use_sim_time\n"
+        "  wheels.count\n", "")
     code, out, _ = run(param_cmd.main_list, ["--param-type"], ctx)
     assert code == 0
     assert out.startswith("/robot/ctl:\n  gains (type: double array)\n  k_rho (type: double)\n")
@@ -81,7 +82,7 @@ def test_param_dump_and_load_round_trip(ctx, served: Node, tmp_path: Path) -> No
     dumped = yaml.safe_load(out)
     assert dumped == {"/robot/ctl": {"ros__parameters": {
         "gains": [1.0, 2.0], "k_rho": 0.4, "mode": "auto", "use_sim_time": False,
-        "wheels": {"count": 4}}}}
+        "start_type_description_service": True, "wheels": {"count": 4}}}}
     dumped["/robot/ctl"]["ros__parameters"].update(k_rho=0.9, mode="manual")
     del dumped["/robot/ctl"]["ros__parameters"]["wheels"]
     path = tmp_path / "params.yaml"
@@ -90,6 +91,9 @@ def test_param_dump_and_load_round_trip(ctx, served: Node, tmp_path: Path) -> No
     assert code == 0
     assert "Set parameter k_rho successful\n" in out
     assert "Set parameter mode successful\n" in out
+    # the dump's read-only parameter is refused, as ros2 param load reports it
+    assert err == ("Set parameter start_type_description_service failed: Trying to set a "
+                   "read-only parameter: start_type_description_service.\n")
     assert served.get_parameter("k_rho").value == 0.9
     assert served.get_parameter("mode").value == "manual"
     bad = tmp_path / "bad.yaml"

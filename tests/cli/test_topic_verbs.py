@@ -363,6 +363,8 @@ def test_node_info_sections_as_ros2(ctx: Context) -> None:
         "    /robot/system/describe_parameters: rcl_interfaces/srv/DescribeParameters\n"
         "    /robot/system/get_parameter_types: rcl_interfaces/srv/GetParameterTypes\n"
         "    /robot/system/get_parameters: rcl_interfaces/srv/GetParameters\n"
+        "    /robot/system/get_type_description: "
+        "type_description_interfaces/srv/GetTypeDescription\n"
         "    /robot/system/list_parameters: rcl_interfaces/srv/ListParameters\n"
         "    /robot/system/set_parameters: rcl_interfaces/srv/SetParameters\n"
         "    /robot/system/set_parameters_atomically: "

@@ -228,7 +228,8 @@ def test_run_gives_its_node_the_ros_args_of_the_command_line(joined: World) -> N
     dump = joined.cli("param", "dump", "/r/mover", "--timeout", "10")
     dumped = yaml.safe_load(dump.finish(30, "param dump"))
     assert dumped == {"/r/mover": {"ros__parameters": {
-        "publish_rate": 4.0, "seed": 7, "use_sim_time": True}}}, dump.describe()
+        "publish_rate": 4.0, "seed": 7, "use_sim_time": True,
+        "start_type_description_service": True}}}, dump.describe()
     info = joined.cli("node", "info", "/r/mover").finish(30, "node info")
     assert "    /r_cmd: geometry_msgs/msg/TwistStamped\n" in info, info
     assert "    /r/odometry/filtered: nav_msgs/msg/Odometry\n" in info, info
