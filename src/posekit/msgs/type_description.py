@@ -9,10 +9,10 @@ and compares with rosbags' hash of the same type).
 
 Default values are the ones the Jazzy ``.msg`` / ``.srv`` files give, as rosidl writes them
 (Python's ``str`` of the parsed value: ``1.0``, ``True``). rosbags' definitions drop them,
-so :data:`FIELD_DEFAULTS` lists them; the test reads the real files of the reference ROS 2
-install (the packages of posekit's message classes, ``std_msgs`` to ``rcl_interfaces`` and
-``type_description_interfaces``) to check the list. Types of packages that install lacks
-(``visualization_msgs``...) are described without defaults.
+so :data:`FIELD_DEFAULTS` lists them; the test checks the list against the Jazzy files the
+reference ROS 2 install has (``std_msgs``, ``geometry_msgs``, ``sensor_msgs``,
+``rcl_interfaces``, ``type_description_interfaces`` and others). Types of packages it does
+not install (``tf2_msgs``, ``visualization_msgs``...) are described without defaults.
 """
 
 from __future__ import annotations
