@@ -29,6 +29,7 @@ TALKER = textwrap.dedent("""
     import rclpy
     from rclpy.qos import DurabilityPolicy, QoSProfile
     from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import NavSatFix
     from std_msgs.msg import String
     rclpy.init()
     node = rclpy.create_node("ros_talker", namespace="/robot")
@@ -47,6 +48,8 @@ TALKER = textwrap.dedent("""
     node.create_timer(0.05, tick)  # 20 Hz
     node.create_subscription(String, "/from_cli", lambda m: print(f"heard: {m.data}",
                                                                   flush=True), 10)
+    node.create_subscription(NavSatFix, "/fix_from_cli", lambda m: print(
+        f"fix: {m.latitude} {m.status.status} {m.status.service}", flush=True), 10)
     print("ready", flush=True)
     deadline = time.monotonic() + float(sys.argv[1])
     while time.monotonic() < deadline:
@@ -86,6 +89,11 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
                    "{data: from posekit}", "--transport", "dds")
         pub.finish(30, "topic pub")
         talker.wait_line(lambda line: line.startswith("heard:"), 15, "the talker hearing it")
+        # a type posekit has no class for: its Jazzy definition, ROS defaults (status -2)
+        fix = _cli(domain, "topic", "pub", "--once", "/fix_from_cli", "sensor_msgs/msg/NavSatFix",
+                   "{latitude: 1.5, status: {service: 1}}", "--transport", "dds")
+        fix.finish(30, "topic pub of a NavSatFix")
+        talker.wait_line(lambda line: line.startswith("fix:"), 15, "the talker hearing the fix")
         # in this process: hz and info -v
         hz_out, info_out = io.StringIO(), io.StringIO()
         assert topic_cmd.main_hz(["/chatter", "--count", "3", "-w", "15"], context=context,
@@ -104,6 +112,7 @@ def test_topic_node_and_bag_tools_on_real_rclpy_publishers(
     assert "/robot/ros_talker" in node_text.splitlines()
     assert re.search(r"^data: hello \d+$", echo_text, re.MULTILINE), echo_text
     assert "heard: from posekit\n" in talker.out
+    assert "fix: 1.5 -2 1\n" in talker.out
     rates = [float(m) for m in re.findall(r"average rate: ([0-9.]+)", hz_out.getvalue())]
     assert len(rates) == 3, hz_out.getvalue()
     # the talker's 20 Hz timer, over the last 15 messages (the first report may include a

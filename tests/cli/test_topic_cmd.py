@@ -149,6 +149,25 @@ def test_ros_repr_matches_rclpy_format() -> None:
     assert "covariance=array([0., 0.," in ros_repr(Odometry())  # fixed-size: numpy, as rclpy
 
 
+@pytest.mark.slow
+def test_a_type_posekit_has_no_class_for_is_built_and_printed_as_rclpy() -> None:
+    """Oracle: the real rclpy's repr of the same NavSatFix (its status defaults to -2)."""
+    from _support.ros2 import run_ros2_script
+
+    values = ("{latitude: 1.5, status: {service: 1}, "
+              "position_covariance: [1, 2, 3, 4, 5, 6, 7, 8, 9]}")
+    ref = run_ros2_script(
+        "from sensor_msgs.msg import NavSatFix, NavSatStatus\n"
+        "print(repr(NavSatFix(latitude=1.5, status=NavSatStatus(service=1), "
+        "position_covariance=[float(i) for i in range(1, 10)])))\n", domain_id=0)
+    assert ref.returncode == 0, ref.stderr
+    msg = yaml_io.default_message("sensor_msgs/msg/NavSatFix")
+    set_message_fields(msg, yaml_io.parse_values(values))
+    assert ros_repr(msg) == ref.stdout.strip()
+    # echo shows the fields, not the constants rosbags' class carries as dataclass fields
+    assert list(message_to_ordered(msg)["status"]) == ["status", "service"]
+
+
 def test_set_message_fields_converts_like_ros2cli() -> None:
     msg = TFMessage()
     set_message_fields(msg, yaml.safe_load(

@@ -16,8 +16,10 @@ from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
 from posekit.cli._graph import add_transport_args, resolve_topic, session_for
+from posekit.msgs.registry import message_type_name
 from posekit.msgs.yaml_io import (
     MessageFieldError,
+    default_message,
     message_class,
     parse_values,
     ros_repr,
@@ -74,16 +76,10 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
                   f"{ns.rate}\n")
         return 2
     try:
-        msg_cls = message_class(ns.message_type)
+        msg_cls = message_class(ns.message_type)  # posekit's, else rosbags' (any Jazzy type)
+        type_name = message_type_name(msg_cls)
         values = parse_values(ns.values)
-        try:
-            msg = msg_cls()
-        except TypeError:
-            raise MessageFieldError(
-                f"{ns.message_type}: posekit has no message class with defaults for this type "
-                "(echo and hz decode any ROS 2 type; pub needs one of posekit.msgs)"
-            ) from None
-        set_message_fields(msg, values)
+        set_message_fields(default_message(type_name), values)
     except ValueError as exc:  # MessageFieldError, UnknownMessageTypeError
         err.write(f"Failed to populate field: {exc}\n" if isinstance(exc, MessageFieldError)
                   else f"{exc}\n")
@@ -117,7 +113,7 @@ def main_pub(argv: Sequence[str], *, context: Any = None, out: TextIO | None = N
         next_at = time.monotonic()
         while session.context.ok():
             # header: auto / stamp: now are re-evaluated for every message, as ros2 does
-            fresh = msg_cls()
+            fresh = default_message(type_name)
             set_message_fields(fresh, values, now_ns=now_ns)
             pub.publish(fresh)
             count += 1

@@ -62,6 +62,30 @@ def _is_message(value: Any) -> bool:
     return dataclasses.is_dataclass(value) and not isinstance(value, type)
 
 
+_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
+
+
+def message_field_names(msg: Any) -> tuple[str, ...]:
+    """The ROS fields of a message object (a dataclass), in order.
+
+    A rosbags class (a type posekit has no class for) also carries its constants and
+    ``__msgtype__`` as dataclass fields: they are left out, as ROS prints no constants.
+    """
+    cls = type(msg)
+    names = _FIELD_NAMES.get(cls)
+    if names is None:
+        fields = [f.name for f in dataclasses.fields(cls)]
+        constants: set[str] = set()
+        if "__msgtype__" in fields:  # rosbags' class
+            from posekit.msgs.cdr import get_typestore
+
+            defs = get_typestore().fielddefs.get(getattr(cls, "__msgtype__", ""))
+            constants = {const[0] for const in defs[0]} if defs else set()
+        names = _FIELD_NAMES[cls] = tuple(
+            name for name in fields if not name.startswith("_") and name not in constants)
+    return names
+
+
 def message_to_ordered(value: Any, truncate_length: int | None = TRUNCATE_LENGTH, *,
                        no_arr: bool = False, no_str: bool = False) -> Any:
     """A message as nested dicts (field order kept), lists and Python scalars.
@@ -74,15 +98,13 @@ def message_to_ordered(value: Any, truncate_length: int | None = TRUNCATE_LENGTH
     if _is_message(value):
         arrays = _array_descriptions(value) if no_arr else {}
         out: dict[str, Any] = {}
-        for f in dataclasses.fields(value):
-            if f.name.startswith("_"):
-                continue
-            field_value = getattr(value, f.name)
+        for name in message_field_names(value):
+            field_value = getattr(value, name)
             if no_arr and _is_sequence(field_value):
-                out[f.name] = _abbreviated(f.name, field_value, arrays)
+                out[name] = _abbreviated(name, field_value, arrays)
             else:
-                out[f.name] = message_to_ordered(field_value, truncate_length,
-                                                 no_arr=no_arr, no_str=no_str)
+                out[name] = message_to_ordered(field_value, truncate_length,
+                                               no_arr=no_arr, no_str=no_str)
         return out
     if isinstance(value, np.ndarray):
         items: list[Any] = value.tolist()
@@ -350,12 +372,10 @@ def message_to_csv(msg: Any, *, truncate_length: int | None = None, no_arr: bool
     """
     arrays = _array_descriptions(msg) if no_arr else {}
     parts: list[str] = []
-    for f in dataclasses.fields(msg):
-        if f.name.startswith("_"):
-            continue
-        value = getattr(msg, f.name)
+    for name in message_field_names(msg):
+        value = getattr(msg, name)
         if no_arr and _is_sequence(value) and not isinstance(value, str):
-            parts.append(_abbreviated(f.name, value, arrays))
+            parts.append(_abbreviated(name, value, arrays))
         else:
             parts.append(_csv_value(value, truncate_length, no_arr, no_str))
     return ",".join(parts)
@@ -422,19 +442,19 @@ def ros_repr(value: Any) -> str:
     if _is_message(value):
         defaults: Any
         try:
-            defaults = type(value)()
-        except Exception:  # not default-constructible
+            defaults = default_message(value.__msgtype__)
+        except (AttributeError, KeyError):  # not a ROS message type
             defaults = None
         args = []
-        for f in dataclasses.fields(value):
-            field_value = getattr(value, f.name)
+        for name in message_field_names(value):
+            field_value = getattr(value, name)
             if isinstance(field_value, np.ndarray):
-                default = getattr(defaults, f.name, None)
+                default = getattr(defaults, name, None)
                 fixed = isinstance(default, np.ndarray) and default.size > 0
                 text = repr(field_value) if fixed else repr(field_value.tolist())
             else:
                 text = ros_repr(field_value)
-            args.append(f"{f.name}={text}")
+            args.append(f"{name}={text}")
         return f"{_python_type_path(value)}({', '.join(args)})"
     if isinstance(value, list):
         return "[" + ", ".join(ros_repr(v) for v in value) + "]"
@@ -487,7 +507,7 @@ def set_message_fields(msg: Any, values: Any, *, path: str = "",
         raise MessageFieldError(
             f"{path or 'message'}: expected a mapping of field names, got {values!r}"
         )
-    names = {f.name for f in dataclasses.fields(msg)}
+    names = set(message_field_names(msg))
     for name, value in values.items():
         where = f"{path}.{name}" if path else str(name)
         if name not in names:
@@ -509,7 +529,7 @@ def _converted(owner: type, name: str, current: Any, value: Any, where: str,
         return _now_msg(now_ns)
     try:
         if _is_message(current):
-            fresh = type(current)()
+            fresh = default_message(msgtype) if msgtype else type(current)()
             set_message_fields(fresh, value, path=where, now_ns=now_ns)
             return fresh
         if isinstance(current, np.ndarray):
@@ -548,7 +568,8 @@ def _converted_list(owner: type, name: str, value: Any, where: str,
         return list(value)
     out = []
     for i, item in enumerate(value):
-        child = elem()
+        elem_type = getattr(elem, "__msgtype__", "")
+        child = default_message(elem_type) if elem_type else elem()
         set_message_fields(child, item, path=f"{where}[{i}]", now_ns=now_ns)
         out.append(child)
     return out
@@ -575,14 +596,23 @@ def _default_value(desc: Any) -> Any:
     if kind == Nodetype.NAME:
         return default_message(info)
     element, count = info
-    return [_default_value(element) for _ in range(count)] if kind == Nodetype.ARRAY else []
+    length = count if kind == Nodetype.ARRAY else 0
+    if element[0] == Nodetype.BASE and element[1][0] != "string":
+        # numbers as numpy arrays, as rosbags decodes them (and rclpy holds arrays)
+        return np.zeros(length, dtype=_NUMPY_DTYPES.get(element[1][0], element[1][0]))
+    return [_default_value(element) for _ in range(length)]
+
+
+#: rosbags' base type names numpy does not spell the same way.
+_NUMPY_DTYPES = {"bool": "bool", "byte": "uint8", "char": "uint8"}
 
 
 def default_message(type_name: str) -> Any:
     """A default-valued instance of ``type_name``.
 
-    posekit's class when it has one, else the rosbags class of ROS 2 Jazzy's definition: zeros,
-    empty strings and sequences.
+    posekit's class when it has one, else the rosbags class of ROS 2 Jazzy's definition: the
+    defaults the ``.msg`` file gives (:data:`~posekit.msgs.type_description.FIELD_DEFAULTS`),
+    else zeros, empty strings and sequences.
 
     Raises:
         KeyError: no such message type.
@@ -593,9 +623,20 @@ def default_message(type_name: str) -> Any:
     cls = MESSAGE_CLASSES.get(type_name)
     if cls is not None:
         return cls()
+    from posekit.msgs.type_description import FIELD_DEFAULTS
+
     store = get_typestore()
     fields = store.fielddefs[type_name][1]
-    return store.types[type_name](*[_default_value(desc) for _, desc in fields])
+    given = FIELD_DEFAULTS.get(type_name, {})
+    return store.types[type_name](*[
+        _given_default(given[name], desc) if name in given else _default_value(desc)
+        for name, desc in fields])
+
+
+def _given_default(text: str, desc: Any) -> Any:
+    """A default of FIELD_DEFAULTS (rosidl's text: ``True``, ``1.0``, ``-2``) as a value."""
+    zero = _default_value(desc)
+    return text == "True" if isinstance(zero, bool) else type(zero)(text)
 
 
 def parse_values(text: str) -> Any:
