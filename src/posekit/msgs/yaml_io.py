@@ -13,6 +13,8 @@
 * :func:`default_message`: a default-valued instance of any type (what ``ros2 interface
   proto`` shows, what ``set_message_fields`` fills).
 * :func:`get_field`: a dotted field path (``pose.position.x``) of a message.
+* :func:`message_field_names`: a message object's ROS fields (a rosbags class's constants
+  left out).
 
 Used by the CLI tools (``topic echo/pub``, ``bag info``, plots) and the viewer.
 """
@@ -37,6 +39,7 @@ __all__ = [
     "default_message",
     "get_field",
     "message_class",
+    "message_field_names",
     "message_to_csv",
     "message_to_ordered",
     "message_to_yaml",

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from posekit.msgs.sensor_msgs import PointCloud2
-from posekit.msgs.yaml_io import message_to_ordered
+from posekit.msgs.yaml_io import message_field_names, message_to_ordered
 from posekit.viewer.cloud_feed import compact_point_cloud
 
 __all__ = ["MAX_QUEUE", "PACK_MIN", "MessageQueue", "message_to_json"]
@@ -61,8 +61,8 @@ def message_to_json(value: Any) -> Any:
     if isinstance(value, PointCloud2):
         value = compact_point_cloud(value)
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {f.name: message_to_json(getattr(value, f.name))
-                for f in dataclasses.fields(value) if not f.name.startswith("_")}
+        return {name: message_to_json(getattr(value, name))
+                for name in message_field_names(value)}
     if isinstance(value, np.ndarray):
         packed = _packed(value)
         return packed if packed is not None else value.tolist()
