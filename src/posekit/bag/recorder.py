@@ -69,8 +69,9 @@ from posekit.msgs.registry import normalize_type_name
 from posekit.runtime.context import Context
 from posekit.runtime.executors import Executor
 from posekit.runtime.logging import get_logger
+from posekit.runtime.names import is_hidden_name
 from posekit.runtime.node import Node
-from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped, is_hidden_topic
+from posekit.runtime.observe import ObservedTopic, TopicObserver, TopicSkipped
 from posekit.runtime.ratelimit import RateLimitedLog
 from posekit.runtime.sim_executor import SimulatedTimeExecutor
 from posekit.runtime.transport import EndpointInfo, MessageSink, SubscriptionEndpoint
@@ -371,7 +372,7 @@ class Recorder:
             return False
         if self._exclude_regex is not None and self._exclude_regex.search(topic):
             return False
-        return self._include_hidden or topic in self._explicit or not is_hidden_topic(topic)
+        return self._include_hidden or topic in self._explicit or not is_hidden_name(topic)
 
     def discover(self) -> list[str]:
         """Subscribe to wanted topics that appeared in the graph; returns the new ones.

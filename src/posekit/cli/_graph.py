@@ -13,6 +13,8 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, TextIO
 
+from posekit.runtime.names import is_hidden_name
+
 __all__ = [
     "NodeInterfaces",
     "adapted_qos",
@@ -43,11 +45,6 @@ def cli_node_name() -> str:
 def sync_graph(session: Any, timeout: float = 5.0) -> None:
     """Complete the transport's graph snapshot (liveliness query on Zenoh; no-op otherwise)."""
     session.sync_graph(timeout)
-
-
-def is_hidden_name(name: str) -> bool:
-    """ROS's rule: a name with a component starting with ``_`` is hidden."""
-    return any(part.startswith("_") for part in name.split("/") if part)
 
 
 def topic_types(session: Any, topic: str) -> list[str]:

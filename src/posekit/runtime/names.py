@@ -31,6 +31,7 @@ __all__ = [
     "RemapRule",
     "apply_remappings",
     "expand_topic_name",
+    "is_hidden_name",
     "normalize_namespace",
     "parse_remap_rules",
     "remap_node_name",
@@ -210,6 +211,11 @@ def validate_full_topic_name(name: str) -> str:
     return name
 
 
+def is_hidden_name(name: str) -> bool:
+    """ROS's hidden names: a token starting with ``_`` (``/robot/_action/feedback``)."""
+    return any(token.startswith("_") for token in name.split("/"))
+
+
 def expand_topic_name(name: str, node_name: str, namespace: str) -> str:
     """Expand a (validated) topic name to its absolute form for a node in ``namespace``."""
     validate_topic_name(name)
@@ -229,7 +235,7 @@ def expand_topic_name(name: str, node_name: str, namespace: str) -> str:
         expanded = f"{ns_prefix}/{node_name}" + expanded[1:]
     elif not expanded.startswith("/"):
         expanded = f"{ns_prefix}/{expanded}"
-    expanded = expanded.replace("//", "/")
+    # as rcl: ``{ns}/x`` in the root namespace is ``//x``, which the full check refuses
     return validate_full_topic_name(expanded)
 
 

@@ -64,7 +64,6 @@ __all__ = [
     "ObservedTopic",
     "TopicObserver",
     "TopicSkipped",
-    "is_hidden_topic",
     "observing_qos",
     "offered_qos_profiles",
 ]
@@ -96,11 +95,6 @@ class ObservedTopic:
     msg_type: type
     offered: tuple[QoSProfile, ...]
     qos: QoSProfile
-
-
-def is_hidden_topic(topic: str) -> bool:
-    """ROS 2's hidden topics: a name token starting with ``_`` (``/foo/_service_event``)."""
-    return any(token.startswith("_") for token in topic.split("/") if token)
 
 
 def offered_qos_profiles(transport: Transport, topic: str) -> list[QoSProfile]:

@@ -1,0 +1,27 @@
+"""rclpy.validate_topic_name: ``validate_topic_name(name, *, is_service=False)``."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from posekit.runtime.names import (
+    InvalidServiceNameException,
+    InvalidTopicNameException,
+)
+from posekit.runtime.names import validate_topic_name as _validate
+
+__all__ = ["validate_topic_name"]
+
+
+def validate_topic_name(name: str, *, is_service: bool = False) -> Literal[True]:
+    """True for a valid (not necessarily expanded) name; else rclpy's exception.
+
+    ``InvalidTopicNameException``, or ``InvalidServiceNameException`` with ``is_service``.
+    """
+    try:
+        _validate(name)
+    except InvalidTopicNameException as exc:
+        if is_service:
+            raise InvalidServiceNameException(exc.name, exc.reason, exc.index) from None
+        raise
+    return True
