@@ -121,6 +121,7 @@ def test_cdr_and_fields_equal_the_real_rclpy() -> None:
     script = ["import rclpy.serialization as ser, json",
               "import std_srvs.srv, rcl_interfaces.srv, rcl_interfaces.msg",
               "import type_description_interfaces.srv, type_description_interfaces.msg",
+              "import lifecycle_msgs.srv, lifecycle_msgs.msg",
               "out = {}"]
     for label, msg in cases:
         script.append(f"m = {_ros_expr(msg)}")

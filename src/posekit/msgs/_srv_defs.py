@@ -55,6 +55,12 @@ SERVICE_DEFINITIONS: dict[str, tuple[str, str]] = {
         "type_description_interfaces/msg/TypeSource[] type_sources\n"
         "type_description_interfaces/msg/KeyValue[] extra_information\n",
     ),
+    "lifecycle_msgs/srv/ChangeState": ("lifecycle_msgs/msg/Transition transition\n",
+                                       "bool success\n"),
+    "lifecycle_msgs/srv/GetState": ("", "lifecycle_msgs/msg/State current_state\n"),
+    "lifecycle_msgs/srv/GetAvailableStates": ("", "lifecycle_msgs/msg/State[] available_states\n"),
+    "lifecycle_msgs/srv/GetAvailableTransitions": (
+        "", "lifecycle_msgs/msg/TransitionDescription[] available_transitions\n"),
     "action_msgs/srv/CancelGoal": (
         "action_msgs/msg/GoalInfo goal_info\n",
         "int8 ERROR_NONE=0\nint8 ERROR_REJECTED=1\nint8 ERROR_UNKNOWN_GOAL_ID=2\n"

@@ -15,6 +15,7 @@ from posekit.msgs import (
     action_msgs,
     builtin_interfaces,
     geometry_msgs,
+    lifecycle_msgs,
     nav_msgs,
     posekit_interfaces,
     rcl_interfaces,
@@ -56,6 +57,7 @@ _MODULES = (
     action_msgs,
     posekit_interfaces,
     type_description_interfaces,
+    lifecycle_msgs,
 )
 
 

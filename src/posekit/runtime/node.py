@@ -381,15 +381,19 @@ class Node:
         callback_group: CallbackGroup | None = None,
         event_callbacks: object = None,
         qos_overriding_options: object = None,
-        publisher_class: object = None,
+        publisher_class: type[Publisher] | None = None,
     ) -> Publisher:
-        """Publisher of ``msg_type`` on ``topic`` (relative names use the node namespace)."""
-        del callback_group, event_callbacks, qos_overriding_options, publisher_class
+        """Publisher of ``msg_type`` on ``topic`` (relative names use the node namespace).
+
+        ``publisher_class``: a :class:`Publisher` subclass to make instead (as rclpy's
+        lifecycle publisher is made).
+        """
+        del callback_group, event_callbacks, qos_overriding_options
         self._check_alive()
         qos = to_qos_profile(qos_profile)
         full = self.resolve_topic_name(topic)
         endpoint = self._transport.advertise(self._info(msg_type, full, qos))
-        pub = Publisher(self, msg_type, full, qos, endpoint, topic)
+        pub = (publisher_class or Publisher)(self, msg_type, full, qos, endpoint, topic)
         self._publishers.append(pub)
         return pub
 
