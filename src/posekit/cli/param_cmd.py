@@ -20,13 +20,20 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
-__all__ = ["main", "parameter_type_string"]
+__all__ = [
+    "CliError",
+    "call_node_service",
+    "main",
+    "node_lookup_session",
+    "parameter_type_string",
+    "wait_for_node_or_fail",
+]
 
 _SERVICE_WAIT_S = 5.0
 _CALL_TIMEOUT_S = 10.0
 
 
-class _CliError(Exception):
+class CliError(Exception):
     """A one-line failure printed on stderr (exit code 1)."""
 
 
@@ -56,29 +63,33 @@ def _nodes(session: Any, include_hidden: bool) -> list[str]:
     })
 
 
-def _wait_for_node(session: Any, node: str, include_hidden: bool, timeout: float) -> None:
+def wait_for_node_or_fail(session: Any, node: str, include_hidden: bool,
+                          timeout: float) -> None:
     """Return once ``node`` is on the graph (waiting up to ``timeout`` s), else "Node not found"."""
     from posekit.cli._graph import is_hidden_name, wait_for_node
 
     hidden = is_hidden_name(node) and not include_hidden
     if hidden or not wait_for_node(session, node, timeout) or \
             node == session.node.get_fully_qualified_name():
-        raise _CliError("Node not found")
+        raise CliError("Node not found")
 
 
-def _call(session: Any, node: str, suffix: str, srv_type: type, request: Any) -> Any:
-    """Call ``<node>/<suffix>`` and return the response (one-line errors otherwise)."""
+def call_node_service(session: Any, node: str, suffix: str, srv_type: type, request: Any,
+                      services: str = "parameter services") -> Any:
+    """Call ``<node>/<suffix>`` and return the response (one-line errors otherwise).
+
+    Raises :class:`CliError` when the service does not appear within 5 s ("... waiting for
+    ``services`` for node ...") or does not answer within 10 s.
+    """
     client = session.node.create_client(srv_type, f"{node}/{suffix}")
     try:
         if not client.wait_for_service(timeout_sec=_SERVICE_WAIT_S):
-            raise _CliError(
-                "Wait for service timed out waiting for parameter services for node "
-                f"{node}"
-            )
+            raise CliError(
+                f"Wait for service timed out waiting for {services} for node {node}")
         future = client.call_async(request)
         session.executor.spin_until_future_complete(future, timeout_sec=_CALL_TIMEOUT_S)
         if not future.done():
-            raise _CliError(
+            raise CliError(
                 f"Exception while calling service of node '{node}': no response to "
                 f"{suffix} within {_CALL_TIMEOUT_S:g} s"
             )
@@ -87,7 +98,8 @@ def _call(session: Any, node: str, suffix: str, srv_type: type, request: Any) ->
         session.node.destroy_client(client)
 
 
-def _session(ns: argparse.Namespace, context: Any) -> Any:
+def node_lookup_session(ns: argparse.Namespace, context: Any) -> Any:
+    """The tool session of a verb that calls a node's services (``--transport``/``--zenoh``)."""
     from posekit.cli._session import ToolSession
     from posekit.cli.topic_cmd import cli_node_name
 
@@ -122,7 +134,7 @@ def _list(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> Non
 
     if ns.node_name:
         nodes = [absolute_node_name(ns.node_name)]
-        _wait_for_node(session, nodes[0], ns.include_hidden_nodes, _SERVICE_WAIT_S)
+        wait_for_node_or_fail(session, nodes[0], ns.include_hidden_nodes, _SERVICE_WAIT_S)
     else:
         # as ros2 param list: only the nodes that serve list_parameters (not the tools, say)
         served = {name for name, _types in session.node.get_service_names_and_types()}
@@ -131,9 +143,9 @@ def _list(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> Non
     pattern = re.compile(ns.filter[0]) if ns.filter else None
     for node in nodes:
         try:
-            result = _call(session, node, "list_parameters", ListParameters,
+            result = call_node_service(session, node, "list_parameters", ListParameters,
                            ListParameters.Request(prefixes=list(ns.param_prefixes))).result
-        except _CliError as exc:
+        except CliError as exc:
             out.write(f"{exc}\n")
             continue
         names = sorted(result.names)
@@ -143,7 +155,7 @@ def _list(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> Non
             out.write(f"{node}:\n")
         types: dict[str, str] = {}
         if ns.param_type:
-            described = _call(session, node, "describe_parameters", DescribeParameters,
+            described = call_node_service(session, node, "describe_parameters", DescribeParameters,
                               DescribeParameters.Request(names=names))
             types = {d.name: parameter_type_string(d.type) for d in described.descriptors}
         for name in names:
@@ -168,17 +180,17 @@ def _get(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> None
     from posekit.runtime.parameters import parameter_value_to_python
 
     node = absolute_node_name(ns.node_name)
-    _wait_for_node(session, node, ns.include_hidden_nodes, ns.timeout)
-    response = _call(session, node, "get_parameters", GetParameters,
+    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, ns.timeout)
+    response = call_node_service(session, node, "get_parameters", GetParameters,
                      GetParameters.Request(names=[ns.parameter_name]))
     if not response.values:
-        raise _CliError("Parameter not set")
+        raise CliError("Parameter not set")
     value_msg = response.values[0]
     if value_msg.type == 0:
         out.write("Parameter not set.\n")
         return
     if value_msg.type not in _GET_LABELS:
-        raise _CliError(f"Unknown parameter type '{value_msg.type}'")
+        raise CliError(f"Unknown parameter type '{value_msg.type}'")
     label = _GET_LABELS[value_msg.type][0]
     value = parameter_value_to_python(value_msg)
     out.write(f"{value}\n" if ns.hide_type else f"{label} {value}\n")
@@ -197,9 +209,9 @@ def _set(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> None
     from posekit.runtime.parameters import get_parameter_value
 
     node = absolute_node_name(ns.node_name)
-    _wait_for_node(session, node, ns.include_hidden_nodes, ns.timeout)
+    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, ns.timeout)
     parameter = ParameterMsg(name=ns.parameter_name, value=get_parameter_value(ns.value))
-    response = _call(session, node, "set_parameters", SetParameters,
+    response = call_node_service(session, node, "set_parameters", SetParameters,
                      SetParameters.Request(parameters=[parameter]))
     _print_result(response.results[0], "Set parameter successful", "Setting parameter failed",
                   out, err)
@@ -210,8 +222,8 @@ def _delete(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> N
     from posekit.msgs.rcl_interfaces import SetParameters
 
     node = absolute_node_name(ns.node_name)
-    _wait_for_node(session, node, ns.include_hidden_nodes, ns.timeout)
-    response = _call(session, node, "set_parameters", SetParameters,
+    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, ns.timeout)
+    response = call_node_service(session, node, "set_parameters", SetParameters,
                      SetParameters.Request(parameters=[ParameterMsg(name=ns.parameter_name)]))
     _print_result(response.results[0], "Deleted parameter successfully",
                   "Deleting parameter failed", out, err)
@@ -221,8 +233,8 @@ def _describe(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) ->
     from posekit.msgs.rcl_interfaces import DescribeParameters
 
     node = absolute_node_name(ns.node_name)
-    _wait_for_node(session, node, ns.include_hidden_nodes, ns.timeout)
-    response = _call(session, node, "describe_parameters", DescribeParameters,
+    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, ns.timeout)
+    response = call_node_service(session, node, "describe_parameters", DescribeParameters,
                      DescribeParameters.Request(names=list(ns.parameter_names)))
     for d in response.descriptors:
         lines = [f"Parameter name: {d.name}", f"  Type: {parameter_type_string(d.type)}"]
@@ -249,10 +261,10 @@ def _dump(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> Non
     from posekit.runtime.parameters import PARAMETER_SEPARATOR_STRING, parameter_value_to_python
 
     node = absolute_node_name(ns.node_name)
-    _wait_for_node(session, node, ns.include_hidden_nodes, ns.timeout)
-    names = sorted(_call(session, node, "list_parameters", ListParameters,
+    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, ns.timeout)
+    names = sorted(call_node_service(session, node, "list_parameters", ListParameters,
                          ListParameters.Request()).result.names)
-    values = _call(session, node, "get_parameters", GetParameters,
+    values = call_node_service(session, node, "get_parameters", GetParameters,
                    GetParameters.Request(names=names)).values
     params: dict[str, Any] = {}
     for name, value in zip(names, values, strict=False):
@@ -269,15 +281,15 @@ def _load(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> Non
     from posekit.runtime.parameters import parameter_dict_from_yaml_file
 
     node = absolute_node_name(ns.node_name)
-    _wait_for_node(session, node, ns.include_hidden_nodes, ns.timeout)
+    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, ns.timeout)
     try:
         parameters = list(parameter_dict_from_yaml_file(
             ns.parameter_file, not ns.no_use_wildcard).values())
     except OSError as exc:
-        raise _CliError(f"cannot read {ns.parameter_file}: {exc.strerror or exc}") from None
+        raise CliError(f"cannot read {ns.parameter_file}: {exc.strerror or exc}") from None
     except Exception as exc:  # RuntimeError for a non-parameter file, yaml errors
-        raise _CliError(f"{ns.parameter_file}: {exc}".replace("\n", " ")) from None
-    response = _call(session, node, "set_parameters", SetParameters,
+        raise CliError(f"{ns.parameter_file}: {exc}".replace("\n", " ")) from None
+    response = call_node_service(session, node, "set_parameters", SetParameters,
                      SetParameters.Request(parameters=parameters))
     for parameter, result in zip(parameters, response.results, strict=False):
         _print_result(result, f"Set parameter {parameter.name} successful",
@@ -333,9 +345,9 @@ def run(verb: str, argv: Sequence[str], *, context: Any = None, out: TextIO | No
     parser, handler = _build(verb)
     ns = parser.parse_args(list(argv))
     try:
-        with _session(ns, context) as session:
+        with node_lookup_session(ns, context) as session:
             handler(ns, session, out, err)
-    except _CliError as exc:
+    except CliError as exc:
         err.write(f"{exc}\n")
         return 1
     except Exception as exc:  # a transport that cannot start, ...: one line, no traceback
