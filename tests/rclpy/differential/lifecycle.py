@@ -2,7 +2,7 @@
 # (change_state, get_state, get_available_states, get_available_transitions,
 # get_transition_graph), ~/transition_event and the lifecycle publisher.
 import lifecycle_msgs.msg
-from lifecycle_msgs.msg import State, Transition
+from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState, GetAvailableStates, GetAvailableTransitions, GetState
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.lifecycle import LifecycleNode, LifecyclePublisher, LifecycleState
