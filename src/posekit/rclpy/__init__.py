@@ -5,9 +5,9 @@ Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qo
 ``.exceptions``, ``.utilities``, ``.service``, ``.client``, ``.timer``, ``.wait_for_message``,
 ``.publisher``, ``.subscription``, ``.context``, ``.guard_condition``,
 ``.topic_endpoint_info``; imported when asked for, as rclpy's: ``.lifecycle``,
-``.parameter_client``, ``.parameter_event_handler``, ``.serialization``, ``.constants``,
-``.type_hash``, ``.expand_topic_name``, ``.topic_or_service_is_hidden`` and the
-``.validate_*`` name checks.
+``.parameter_client``, ``.parameter_event_handler``, ``.parameter_service``,
+``.serialization``, ``.constants``, ``.clock_type``, ``.type_hash``, ``.expand_topic_name``,
+``.topic_or_service_is_hidden`` and the ``.validate_*`` name checks.
 """
 
 from __future__ import annotations

@@ -32,7 +32,7 @@ import math
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -75,6 +75,7 @@ __all__ = [
     "parameter_dict_from_yaml_file",
     "parameter_value_to_python",
     "parse_parameter_value",
+    "validate_parameter_name",
 ]
 
 #: Separates the parts of a nested parameter name (``robot.wheel.radius``).
@@ -112,6 +113,13 @@ class InvalidParameterException(ParameterException):
 
     def __init__(self, parameter_name: str) -> None:
         super().__init__("Invalid parameter name", parameter_name)
+
+
+def validate_parameter_name(name: str) -> Literal[True]:
+    """True, unless ``name`` is empty (``InvalidParameterException``): rclpy's only rule."""
+    if not name:
+        raise InvalidParameterException(name)
+    return True
 
 
 class InvalidParameterTypeException(ParameterException):
@@ -464,8 +472,7 @@ def _declaration_tuple(
         )
     if namespace:
         name = f"{namespace}.{name}"
-    if not name:
-        raise InvalidParameterException(name)
+    validate_parameter_name(name)
     second = item[1] if len(item) > 1 else None
     descriptor = item[2] if len(item) > 2 else ParameterDescriptor()
     if not isinstance(descriptor, ParameterDescriptor):

@@ -3,6 +3,7 @@
 # validation messages its own way, see docs/runtime.md).
 import rclpy.constants
 from geometry_msgs.msg import TransformStamped
+from rclpy.clock_type import ClockType
 from rclpy.expand_topic_name import expand_topic_name
 from rclpy.serialization import deserialize_message, serialize_message
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
@@ -10,10 +11,12 @@ from rclpy.type_hash import TypeHash
 from rclpy.validate_full_topic_name import validate_full_topic_name
 from rclpy.validate_namespace import validate_namespace
 from rclpy.validate_node_name import validate_node_name
+from rclpy.validate_parameter_name import validate_parameter_name
 from rclpy.validate_topic_name import validate_topic_name
 from std_msgs.msg import String
 
 show("S_TO_NS", lambda: rclpy.constants.S_TO_NS)
+show("clock types", lambda: [(t.name, int(t)) for t in ClockType])
 
 t = TransformStamped()
 t.header.frame_id, t.child_frame_id = "odom", "base_link"
@@ -49,6 +52,8 @@ for name in ("chatter", "/robot/odom", "~/private", "{node}/x", "a b", "", "/a//
     kind(f"full {name!r}", lambda n=name: validate_full_topic_name(n))
 for name in ("talker", "_hidden", "1st", "a-b", "", "with space"):
     kind(f"node {name!r}", lambda n=name: validate_node_name(n))
+for name in ("gain", "wheels.count", "", "a b", "1x"):
+    kind(f"parameter {name!r}", lambda n=name: validate_parameter_name(n))
 for name in ("/", "/robot", "robot", "/robot/", "/a//b", "/1a", ""):
     kind(f"namespace {name!r}", lambda n=name: validate_namespace(n))
 
