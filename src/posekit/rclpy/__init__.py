@@ -6,6 +6,7 @@ Submodules mirror rclpy: ``posekit.rclpy.node``, ``.time``, ``.duration``, ``.qo
 ``.publisher``, ``.subscription``, ``.context``, ``.guard_condition``,
 ``.topic_endpoint_info``; imported when asked for, as rclpy's: ``.lifecycle``,
 ``.parameter_client``, ``.parameter_event_handler``, ``.parameter_service``,
+``.qos_overriding_options``,
 ``.serialization``, ``.constants``, ``.clock_type``, ``.type_hash``, ``.expand_topic_name``,
 ``.topic_or_service_is_hidden`` and the ``.validate_*`` name checks.
 """

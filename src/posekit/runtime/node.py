@@ -386,12 +386,15 @@ class Node:
         """Publisher of ``msg_type`` on ``topic`` (relative names use the node namespace).
 
         ``publisher_class``: a :class:`Publisher` subclass to make instead (as rclpy's
-        lifecycle publisher is made).
+        lifecycle publisher is made). ``qos_overriding_options``: a
+        :class:`~posekit.runtime.qos_overriding_options.QoSOverridingOptions` (QoS from
+        ``qos_overrides.*`` parameters).
         """
-        del callback_group, event_callbacks, qos_overriding_options
+        del callback_group, event_callbacks
         self._check_alive()
         qos = to_qos_profile(qos_profile)
         full = self.resolve_topic_name(topic)
+        self._qos_overrides("publisher", full, qos, qos_overriding_options)
         endpoint = self._transport.advertise(self._info(msg_type, full, qos))
         pub = (publisher_class or Publisher)(self, msg_type, full, qos, endpoint, topic)
         self._publishers.append(pub)
@@ -413,10 +416,18 @@ class Node:
 
         A two-argument callback gets ``callback(msg, info)`` with rclpy's MessageInfo.
         """
-        del event_callbacks, qos_overriding_options
+        del event_callbacks
         if raw:
             raise NotImplementedError("raw (serialized) subscriptions need a serializing transport")
-        return self._subscribe(msg_type, topic, callback, qos_profile, callback_group, False)
+        return self._subscribe(msg_type, topic, callback, qos_profile, callback_group, False,
+                               qos_overriding_options)
+
+    def _qos_overrides(self, kind: str, topic: str, qos: QoSProfile, options: object) -> None:
+        """Apply ``qos_overrides.*`` parameters to ``qos`` when ``options`` asks for them."""
+        if options is not None:
+            from posekit.runtime.qos_overriding_options import declare_qos_parameters
+
+            declare_qos_parameters(self, kind, topic, qos, options)  # type: ignore[arg-type]
 
     def _subscribe(
         self,
@@ -426,6 +437,7 @@ class Node:
         qos_profile: QoSProfile | int,
         callback_group: CallbackGroup | None,
         with_source: bool,
+        qos_overriding_options: object = None,
     ) -> Subscription:
         """create_subscription whose callback also gets the sending publisher's id.
 
@@ -436,6 +448,7 @@ class Node:
             raise TypeError(f"subscription callback must be callable, got {callback!r}")
         qos = to_qos_profile(qos_profile)
         full = self.resolve_topic_name(topic)
+        self._qos_overrides("subscription", full, qos, qos_overriding_options)
         group = callback_group or self._default_callback_group
         sub = Subscription(self, msg_type, full, callback, qos, group, topic)
         self._subscriptions.append(sub)
