@@ -65,6 +65,9 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("plot", "topic"): ("posekit.cli.plot_cmd:main_topic", "plot fields of a recorded topic"),
     ("launch", None): ("posekit.cli.launch_cmd:main", "run a scenario or a launch file"),
     ("run", None): ("posekit.cli.run_cmd:main", "run PACKAGE EXECUTABLE like ros2 run"),
+    ("pkg", "list"): ("posekit.cli.pkg_cmd:main_list", "the packages posekit run knows"),
+    ("pkg", "executables"): ("posekit.cli.pkg_cmd:main_executables",
+                             "their executables (PACKAGE: one package's)"),
     ("demo", None): ("posekit.demos.main:main", "run the main demo"),
 }
 
