@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
@@ -46,10 +47,14 @@ def _lifecycle_nodes(session: Any, include_hidden: bool) -> list[str]:
 
 
 def _lifecycle_node(ns: argparse.Namespace, session: Any) -> str:
+    """The node NODE names, once it is on the graph with its lifecycle services."""
     node = absolute_node_name(ns.node_name)
     wait_for_node_or_fail(session, node, ns.include_hidden_nodes, _WAIT_S)
-    if node not in _lifecycle_nodes(session, True):
-        raise CliError("Node not found")
+    deadline = time.monotonic() + _WAIT_S
+    while node not in _lifecycle_nodes(session, True):  # its services may come just after it
+        if time.monotonic() > deadline:
+            raise CliError("Node not found")
+        session.spin_for(0.1)
     return node
 
 
