@@ -19,17 +19,18 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
-from posekit.cli.param_cmd import (
+from posekit.cli._node_verbs import (
+    SERVICE_WAIT_S,
     CliError,
     absolute_node_name,
     call_node_service,
-    node_lookup_session,
+    run_in_session,
+    verb_entry,
     wait_for_node_or_fail,
 )
 
 __all__ = ["main_get", "main_list", "main_nodes", "main_set", "run"]
 
-_WAIT_S = 5.0
 _SERVICES = "lifecycle services"
 
 
@@ -49,8 +50,8 @@ def _lifecycle_nodes(session: Any, include_hidden: bool) -> list[str]:
 def _lifecycle_node(ns: argparse.Namespace, session: Any) -> str:
     """The node NODE names, once it is on the graph with its lifecycle services."""
     node = absolute_node_name(ns.node_name)
-    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, _WAIT_S)
-    deadline = time.monotonic() + _WAIT_S
+    wait_for_node_or_fail(session, node, ns.include_hidden_nodes, SERVICE_WAIT_S)
+    deadline = time.monotonic() + SERVICE_WAIT_S
     while node not in _lifecycle_nodes(session, True):  # its services may come just after it
         if time.monotonic() > deadline:
             raise CliError("Node not found")
@@ -147,35 +148,11 @@ def _parser(verb: str) -> argparse.ArgumentParser:
 def run(verb: str, argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         err: TextIO | None = None) -> int:
     """Run ``posekit lifecycle VERB ARGV``; returns the exit code."""
-    out = out or sys.stdout
-    err = err or sys.stderr
-    ns = _parser(verb).parse_args(list(argv))
-    try:
-        with node_lookup_session(ns, context) as session:
-            _VERBS[verb][1](ns, session, out, err)
-    except CliError as exc:
-        err.write(f"{exc}\n")
-        return 1
-    except Exception as exc:  # a transport that cannot start, ...: one line, no traceback
-        from posekit.cli.errors import report
-
-        return report(exc, f"posekit lifecycle {verb}", err)
-    finally:
-        out.flush()
-    return 0
+    return run_in_session(f"posekit lifecycle {verb}", _parser(verb).parse_args(list(argv)),
+                          _VERBS[verb][1], context, out or sys.stdout, err or sys.stderr)
 
 
-def _verb(name: str) -> Callable[..., int]:
-    def entry(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
-              err: TextIO | None = None) -> int:
-        return run(name, argv, context=context, out=out, err=err)
-
-    entry.__name__ = f"main_{name}"
-    entry.__doc__ = f"``posekit lifecycle {name}``: {_VERBS[name][0]}."
-    return entry
-
-
-main_nodes = _verb("nodes")
-main_get = _verb("get")
-main_list = _verb("list")
-main_set = _verb("set")
+main_nodes = verb_entry(run, "lifecycle", "nodes", _VERBS["nodes"][0])
+main_get = verb_entry(run, "lifecycle", "get", _VERBS["get"][0])
+main_list = verb_entry(run, "lifecycle", "list", _VERBS["list"][0])
+main_set = verb_entry(run, "lifecycle", "set", _VERBS["set"][0])

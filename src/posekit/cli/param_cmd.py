@@ -20,22 +20,18 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
-__all__ = [
-    "CliError",
-    "call_node_service",
-    "main",
-    "node_lookup_session",
-    "parameter_type_string",
-    "wait_for_node_or_fail",
-]
+from posekit.cli._node_verbs import (
+    SERVICE_WAIT_S,
+    CliError,
+    absolute_node_name,
+    call_node_service,
+    run_in_session,
+    verb_entry,
+    visible_nodes,
+    wait_for_node_or_fail,
+)
 
-_SERVICE_WAIT_S = 5.0
-_CALL_TIMEOUT_S = 10.0
-
-
-class CliError(Exception):
-    """A one-line failure printed on stderr (exit code 1)."""
-
+__all__ = ["main", "parameter_type_string"]
 
 def parameter_type_string(parameter_type: int) -> str:
     """ros2param's name of a ParameterType constant (``double``, ``integer array``...)."""
@@ -44,68 +40,6 @@ def parameter_type_string(parameter_type: int) -> str:
         6: "boolean array", 7: "integer array", 8: "double array", 9: "string array",
     }
     return names[int(parameter_type)]
-
-
-def absolute_node_name(name: str) -> str:
-    """``talker`` -> ``/talker`` (ros2node's get_absolute_node_name)."""
-    return name if name.startswith("/") else "/" + name
-
-
-# -- graph and service helpers -------------------------------------------------------------
-def _nodes(session: Any, include_hidden: bool) -> list[str]:
-    from posekit.cli._graph import is_hidden_name, node_names, sync_graph
-
-    sync_graph(session, 2.0)
-    own = session.node.get_fully_qualified_name()
-    return sorted({
-        n for n in node_names(session)
-        if n != own and (include_hidden or not is_hidden_name(n))
-    })
-
-
-def wait_for_node_or_fail(session: Any, node: str, include_hidden: bool,
-                          timeout: float) -> None:
-    """Return once ``node`` is on the graph (waiting up to ``timeout`` s), else "Node not found"."""
-    from posekit.cli._graph import is_hidden_name, wait_for_node
-
-    hidden = is_hidden_name(node) and not include_hidden
-    if hidden or not wait_for_node(session, node, timeout) or \
-            node == session.node.get_fully_qualified_name():
-        raise CliError("Node not found")
-
-
-def call_node_service(session: Any, node: str, suffix: str, srv_type: type, request: Any,
-                      services: str = "parameter services") -> Any:
-    """Call ``<node>/<suffix>`` and return the response (one-line errors otherwise).
-
-    Raises :class:`CliError` when the service does not appear within 5 s ("... waiting for
-    ``services`` for node ...") or does not answer within 10 s.
-    """
-    client = session.node.create_client(srv_type, f"{node}/{suffix}")
-    try:
-        if not client.wait_for_service(timeout_sec=_SERVICE_WAIT_S):
-            raise CliError(
-                f"Wait for service timed out waiting for {services} for node {node}")
-        future = client.call_async(request)
-        session.executor.spin_until_future_complete(future, timeout_sec=_CALL_TIMEOUT_S)
-        if not future.done():
-            raise CliError(
-                f"Exception while calling service of node '{node}': no response to "
-                f"{suffix} within {_CALL_TIMEOUT_S:g} s"
-            )
-        return future.result()
-    finally:
-        session.node.destroy_client(client)
-
-
-def node_lookup_session(ns: argparse.Namespace, context: Any) -> Any:
-    """The tool session of a verb that calls a node's services (``--transport``/``--zenoh``)."""
-    from posekit.cli._session import ToolSession
-    from posekit.cli.topic_cmd import cli_node_name
-
-    return ToolSession(cli_node_name(), context=context,
-                       transport="zenoh" if ns.zenoh else ns.transport,
-                       start_parameter_services=False)
 
 
 def _parser(prog: str) -> argparse.ArgumentParser:
@@ -134,11 +68,11 @@ def _list(ns: argparse.Namespace, session: Any, out: TextIO, err: TextIO) -> Non
 
     if ns.node_name:
         nodes = [absolute_node_name(ns.node_name)]
-        wait_for_node_or_fail(session, nodes[0], ns.include_hidden_nodes, _SERVICE_WAIT_S)
+        wait_for_node_or_fail(session, nodes[0], ns.include_hidden_nodes, SERVICE_WAIT_S)
     else:
         # as ros2 param list: only the nodes that serve list_parameters (not the tools, say)
         served = {name for name, _types in session.node.get_service_names_and_types()}
-        nodes = [n for n in _nodes(session, ns.include_hidden_nodes)
+        nodes = [n for n in visible_nodes(session, ns.include_hidden_nodes)
                  if f"{n}/list_parameters" in served]
     pattern = re.compile(ns.filter[0]) if ns.filter else None
     for node in nodes:
@@ -340,23 +274,9 @@ _VERBS = {
 def run(verb: str, argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         err: TextIO | None = None) -> int:
     """Run ``posekit param VERB ARGV``; returns the exit code."""
-    out = out or sys.stdout
-    err = err or sys.stderr
     parser, handler = _build(verb)
-    ns = parser.parse_args(list(argv))
-    try:
-        with node_lookup_session(ns, context) as session:
-            handler(ns, session, out, err)
-    except CliError as exc:
-        err.write(f"{exc}\n")
-        return 1
-    except Exception as exc:  # a transport that cannot start, ...: one line, no traceback
-        from posekit.cli.errors import report
-
-        return report(exc, f"posekit param {verb}", err)
-    finally:
-        out.flush()
-    return 0
+    return run_in_session(f"posekit param {verb}", parser.parse_args(list(argv)), handler,
+                          context, out or sys.stdout, err or sys.stderr)
 
 
 def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
@@ -373,13 +293,7 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
 
 
 def _verb(name: str) -> Callable[..., int]:
-    def entry(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
-              err: TextIO | None = None) -> int:
-        return run(name, argv, context=context, out=out, err=err)
-
-    entry.__name__ = f"main_{name}"
-    entry.__doc__ = f"``posekit param {name}``: {_VERBS[name]}."
-    return entry
+    return verb_entry(run, "param", name, _VERBS[name])
 
 
 main_list = _verb("list")
