@@ -7,8 +7,8 @@ Output as ros2cli's ros2lifecycle prints it: ``nodes`` the nodes that serve
 ``- activate [3]`` with its start and goal states; ``set NODE TRANSITION`` (a label or an
 id) ``Transitioning successful`` or, on stderr, ``Transitioning failed``. A node that is not
 there is ``Node not found`` and an unknown transition lists the available ones, each one
-line on stderr with exit code 1. Works with posekit's lifecycle nodes and, over the same
-middleware, real ROS 2 ones.
+line on stderr with exit code 1. It calls the node's lifecycle services, on the transport
+``--transport`` (or ``POSEKIT_TRANSPORT``) names, as ``posekit param`` does.
 """
 
 from __future__ import annotations
