@@ -9,10 +9,10 @@ import pytest
 from posekit.runtime.qos import (
     DurabilityPolicy,
     HistoryPolicy,
-    QoSCompatibility,
+    OfferMatch,
     QoSProfile,
     ReliabilityPolicy,
-    check_qos_compatibility,
+    match_offer,
     qos_profile_sensor_data,
     to_qos_profile,
 )
@@ -60,11 +60,11 @@ def test_compatibility_matrix(pub_rel, pub_dur, sub_rel, sub_dur) -> None:
     strength = {ReliabilityPolicy.BEST_EFFORT: 0, ReliabilityPolicy.RELIABLE: 1,
                 DurabilityPolicy.VOLATILE: 0, DurabilityPolicy.TRANSIENT_LOCAL: 1}
     expected_ok = strength[pub_rel] >= strength[sub_rel] and strength[pub_dur] >= strength[sub_dur]
-    result = check_qos_compatibility(
+    result = match_offer(
         QoSProfile(depth=1, reliability=pub_rel, durability=pub_dur),
         QoSProfile(depth=1, reliability=sub_rel, durability=sub_dur),
     )
-    assert (result == QoSCompatibility.OK) == expected_ok
+    assert (result == OfferMatch.OK) == expected_ok
 
 
 def test_a_changed_profile_leaves_existing_endpoints_alone(ctx) -> None:

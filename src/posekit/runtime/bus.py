@@ -69,9 +69,9 @@ import numpy as np
 
 from posekit.runtime.qos import (
     DurabilityPolicy,
-    QoSCompatibility,
+    OfferMatch,
     QoSProfile,
-    check_qos_compatibility,
+    match_offer,
 )
 from posekit.runtime.transport import (
     EndpointInfo,
@@ -611,8 +611,8 @@ class InProcessBus(Transport):
 
     @staticmethod
     def _compatible(pub: _BusPublisher, sub: _BusSubscription) -> bool:
-        result = check_qos_compatibility(pub.info.qos, sub.info.qos)
-        if result == QoSCompatibility.OK:
+        result = match_offer(pub.info.qos, sub.info.qos)
+        if result == OfferMatch.OK:
             return True
         topic = pub.info.topic
         pub.info.logger.warning(
@@ -629,7 +629,7 @@ class InProcessBus(Transport):
         for pub in topic.publishers:
             pub.matched = tuple(
                 s for s in topic.subscriptions
-                if check_qos_compatibility(pub.info.qos, s.info.qos) == QoSCompatibility.OK
+                if match_offer(pub.info.qos, s.info.qos) == OfferMatch.OK
             )
 
     def advertise(self, info: EndpointInfo) -> PublisherEndpoint:

@@ -48,6 +48,7 @@ __all__ = [
     "InvalidQoSProfileException",
     "LivelinessLeaseDurationeBestAvailable",
     "LivelinessPolicy",
+    "OfferMatch",
     "QoSCompatibility",
     "QoSDurabilityPolicy",
     "QoSHistoryPolicy",
@@ -58,7 +59,8 @@ __all__ = [
     "QoSProfile",
     "QoSReliabilityPolicy",
     "ReliabilityPolicy",
-    "check_qos_compatibility",
+    "match_offer",
+    "qos_check_compatible",
     "qos_policy_name_from_kind",
     "qos_profile_action_status_default",
     "qos_profile_best_available",
@@ -410,7 +412,7 @@ def to_qos_profile(qos: QoSProfile | int) -> QoSProfile:
     raise TypeError(f"expected a QoSProfile or an int history depth, got {qos!r}")
 
 
-class QoSCompatibility(enum.Enum):
+class OfferMatch(enum.Enum):
     """Result of matching an offered (publisher) and a requested (subscription) profile."""
 
     OK = "ok"
@@ -418,19 +420,97 @@ class QoSCompatibility(enum.Enum):
     INCOMPATIBLE_DURABILITY = "DURABILITY"
 
 
-def check_qos_compatibility(offered: QoSProfile, requested: QoSProfile) -> QoSCompatibility:
+def match_offer(offered: QoSProfile, requested: QoSProfile) -> OfferMatch:
     """DDS request/offer matching for the two policies the in-process bus models."""
     if (
         offered.resolved_reliability == ReliabilityPolicy.BEST_EFFORT
         and requested.resolved_reliability == ReliabilityPolicy.RELIABLE
     ):
-        return QoSCompatibility.INCOMPATIBLE_RELIABILITY
+        return OfferMatch.INCOMPATIBLE_RELIABILITY
     if (
         offered.resolved_durability == DurabilityPolicy.VOLATILE
         and requested.resolved_durability == DurabilityPolicy.TRANSIENT_LOCAL
     ):
-        return QoSCompatibility.INCOMPATIBLE_DURABILITY
-    return QoSCompatibility.OK
+        return OfferMatch.INCOMPATIBLE_DURABILITY
+    return OfferMatch.OK
+
+
+class QoSCompatibility(enum.IntEnum):
+    """rclpy's verdict on a publisher and a subscription profile (:func:`qos_check_compatible`)."""
+
+    OK = 0
+    WARNING = 1
+    ERROR = 2
+
+
+def _unknown(policy: QoSPolicyEnum) -> bool:
+    return policy.name in ("SYSTEM_DEFAULT", "UNKNOWN")
+
+
+def _duration_errors(what: str, offered: Duration, requested: Duration, less: str) -> list[str]:
+    """A requested deadline or lease the offer cannot meet (0: none)."""
+    p_ns, s_ns = offered.nanoseconds, requested.nanoseconds
+    if p_ns == 0 and s_ns != 0:
+        return [f"Subscription has {what}, but publisher does not"]
+    if p_ns != 0 and s_ns != 0 and s_ns < p_ns:
+        return [less]
+    return []
+
+
+def qos_check_compatible(publisher_qos: QoSProfile, subscription_qos: QoSProfile
+                         ) -> tuple[QoSCompatibility, str]:
+    """rclpy's ``qos_check_compatible``: ``(verdict, reason)`` as rmw_dds_common words it.
+
+    ERROR for a request the offer cannot meet: reliability, durability, deadline, liveliness
+    and its lease duration, every such reason joined. Without an error, WARNING where a
+    policy is ``system_default`` or unknown on a side that decides it. Each reason ends with
+    ``;``. Independent of what posekit's bus connects (:func:`match_offer`).
+    """
+    pub, sub = publisher_qos, subscription_qos
+    errors = []
+    if (pub.reliability == ReliabilityPolicy.BEST_EFFORT
+            and sub.reliability == ReliabilityPolicy.RELIABLE):
+        errors.append("Best effort publisher and reliable subscription")
+    if (pub.durability == DurabilityPolicy.VOLATILE
+            and sub.durability == DurabilityPolicy.TRANSIENT_LOCAL):
+        errors.append("Volatile publisher and transient local subscription")
+    errors += _duration_errors("a deadline", pub.deadline, sub.deadline,
+                               "Subscription deadline is less than publisher deadline")
+    if (pub.liveliness == LivelinessPolicy.AUTOMATIC
+            and sub.liveliness == LivelinessPolicy.MANUAL_BY_TOPIC):
+        errors.append("Publisher's liveliness is automatic and subscription's is manual by topic")
+    errors += _duration_errors(
+        "a liveliness lease duration", pub.liveliness_lease_duration,
+        sub.liveliness_lease_duration,
+        "Subscription liveliness lease duration is less than publisher")
+    if errors:
+        return QoSCompatibility.ERROR, "".join(f"ERROR: {e};" for e in errors)
+    warnings = []
+    for name, p, s, strong_sub, weak_pub, sub_text, pub_text in (
+            ("reliability", pub.reliability, sub.reliability, ReliabilityPolicy.RELIABLE,
+             ReliabilityPolicy.BEST_EFFORT, "Reliable subscription, but publisher is {p}",
+             "Best effort publisher, but subscription is {s}"),
+            ("durability", pub.durability, sub.durability, DurabilityPolicy.TRANSIENT_LOCAL,
+             DurabilityPolicy.VOLATILE, "Transient local subscription, but publisher is {p}",
+             "Volatile publisher, but subscription is {s}"),
+            ("liveliness", pub.liveliness, sub.liveliness, LivelinessPolicy.MANUAL_BY_TOPIC,
+             LivelinessPolicy.AUTOMATIC,
+             "Subscription's liveliness is manual by topic, but publisher's is {p}",
+             "Publisher's liveliness is automatic, but subscription's is {s}")):
+        keys = {"p": p.name.lower(), "s": s.name.lower()}
+        if _unknown(p) and _unknown(s):
+            # rmw_dds_common's spelling, "durabilty" included
+            label = "durabilty" if name == "durability" else name
+            warnings.append(f"Publisher {label} is {keys['p']} and subscription {name} is "
+                            f"{keys['s']}")
+        elif _unknown(p) and s == strong_sub:
+            warnings.append(sub_text.format(**keys))
+        elif p == weak_pub and _unknown(s):
+            warnings.append(pub_text.format(**keys))
+    if warnings:
+        return QoSCompatibility.WARNING, "".join(f"WARNING: {w};" for w in warnings)
+    return QoSCompatibility.OK, ""
+
 
 
 # rmw's predefined profiles (rmw/qos_profiles.h), as rclpy builds them: one object each.
