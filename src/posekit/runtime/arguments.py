@@ -48,7 +48,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from posekit.runtime.logging import LoggingSeverity, set_logger_level
+from posekit.runtime.logging import (
+    LoggingSeverity,
+    get_logging_severity_from_string,
+    set_logger_level,
+)
 from posekit.runtime.names import (
     NameValidationError,
     RemapRule,
@@ -323,13 +327,14 @@ def _parse_level(spec: str) -> tuple[str, LoggingSeverity]:
     name, sep, level = spec.rpartition(":=")
     if sep and not name:
         raise RCLError("empty logger name")
-    key = level.strip().upper()
-    if key == "WARNING":
+    key = level.strip()
+    if key.upper() == "WARNING":  # rcl's --log-level takes it; rcutils' name lookup does not
         key = "WARN"
-    if key not in ("UNSET", "DEBUG", "INFO", "WARN", "ERROR", "FATAL"):
+    try:
+        return name, get_logging_severity_from_string(key)
+    except RuntimeError:
         raise RCLError("Argument does not use a valid severity level (unset, debug, info, "
-                       "warn, error, fatal)")
-    return name, LoggingSeverity[key]
+                       "warn, error, fatal)") from None
 
 
 def _parse_remap(spec: str) -> RemapRule:

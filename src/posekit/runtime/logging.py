@@ -53,7 +53,9 @@ __all__ = [
     "console_line",
     "format_line",
     "get_logger",
+    "get_logger_effective_level",
     "get_logger_level",
+    "get_logging_severity_from_string",
     "register_rosout",
     "remove_sink",
     "set_logger_level",
@@ -289,6 +291,25 @@ def set_logger_level(name: str, level: LoggingSeverity | int) -> None:
 
 
 def get_logger_level(name: str) -> LoggingSeverity:
+    """The threshold set for ``name`` itself (UNSET if none; the root's is the default)."""
+    with _lock:
+        if not name:
+            return _levels.get("", _default_level)
+        return _levels.get(name, LoggingSeverity.UNSET)
+
+
+def get_logging_severity_from_string(log_severity: str) -> LoggingSeverity:
+    """A severity by rcutils' name (``info``, ``WARN``...); RuntimeError otherwise, as rclpy.
+
+    The names: ``unset``, ``debug``, ``info``, ``warn``, ``error``, ``fatal``, in any case.
+    """
+    key = log_severity.upper()
+    if key not in LoggingSeverity.__members__:
+        raise RuntimeError("Failed to get severity name")
+    return LoggingSeverity[key]
+
+
+def get_logger_effective_level(name: str) -> LoggingSeverity:
     """The effective threshold of ``name``: its own, its nearest ancestor's, else INFO."""
     parts = name.split(".") if name else []
     while parts:
@@ -327,7 +348,7 @@ class RcutilsLogger:
 
     def get_effective_level(self) -> LoggingSeverity:
         """The threshold in force for this logger."""
-        return get_logger_level(self.name)
+        return get_logger_effective_level(self.name)
 
     def is_enabled_for(self, severity: LoggingSeverity | int) -> bool:
         """Whether a message of ``severity`` would be printed."""

@@ -5,9 +5,17 @@ import rclpy.constants
 from geometry_msgs.msg import TransformStamped
 from rclpy.clock_type import ClockType
 from rclpy.expand_topic_name import expand_topic_name
+from rclpy.logging import (
+    LoggingSeverity,
+    get_logger_effective_level,
+    get_logger_level,
+    get_logging_severity_from_string,
+    set_logger_level,
+)
 from rclpy.serialization import deserialize_message, serialize_message
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from rclpy.type_hash import TypeHash
+from rclpy.utilities import timeout_sec_to_nsec
 from rclpy.validate_full_topic_name import validate_full_topic_name
 from rclpy.validate_namespace import validate_namespace
 from rclpy.validate_node_name import validate_node_name
@@ -16,6 +24,14 @@ from rclpy.validate_topic_name import validate_topic_name
 from std_msgs.msg import String
 
 show("S_TO_NS", lambda: rclpy.constants.S_TO_NS)
+show("timeouts", lambda: [timeout_sec_to_nsec(t) for t in (None, -1, 0, 1.5, 2)])
+for name in ("info", "WARN", "Unset", "fatal", "debug", "error", "warning", " info", "loud"):
+    kind(f"severity {name!r}", lambda n=name: int(get_logging_severity_from_string(n)))
+show("own level unset", lambda: (int(get_logger_level("small.a")),
+                                 int(get_logger_effective_level("small.a"))))
+set_logger_level("small", LoggingSeverity.WARN)
+show("inherited level", lambda: (int(get_logger_level("small")), int(get_logger_level("small.a")),
+                                 int(get_logger_effective_level("small.a"))))
 show("clock types", lambda: [(t.name, int(t)) for t in ClockType])
 
 t = TransformStamped()
