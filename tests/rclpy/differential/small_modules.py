@@ -4,6 +4,7 @@
 import rclpy.constants
 from geometry_msgs.msg import TransformStamped
 from rclpy.clock_type import ClockType
+from rclpy.duration import Infinite
 from rclpy.expand_topic_name import expand_topic_name
 from rclpy.logging import (
     LoggingSeverity,
@@ -12,6 +13,7 @@ from rclpy.logging import (
     get_logging_severity_from_string,
     set_logger_level,
 )
+from rclpy.node import HIDDEN_NODE_PREFIX
 from rclpy.serialization import deserialize_message, serialize_message
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from rclpy.type_hash import TypeHash
@@ -24,6 +26,8 @@ from rclpy.validate_topic_name import validate_topic_name
 from std_msgs.msg import String
 
 show("S_TO_NS", lambda: rclpy.constants.S_TO_NS)
+show("Infinite", lambda: (str(Infinite), repr(Infinite), Infinite.nanoseconds))
+show("hidden node prefix", lambda: HIDDEN_NODE_PREFIX)
 show("timeouts", lambda: [timeout_sec_to_nsec(t) for t in (None, -1, 0, 1.5, 2)])
 for name in ("info", "WARN", "Unset", "fatal", "debug", "error", "warning", " info", "loud"):
     kind(f"severity {name!r}", lambda n=name: int(get_logging_severity_from_string(n)))
