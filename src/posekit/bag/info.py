@@ -26,6 +26,7 @@ from posekit.bag._qos import from_rosbags_qos
 from posekit.bag._storage import check_bag_dir, open_reader
 from posekit.bag.errors import BagFormatError
 from posekit.runtime.qos import QoSProfile
+from posekit.runtime.services import SERVICE_EVENT_SUFFIX
 
 __all__ = [
     "SERVICE_EVENT_SUFFIX",
@@ -289,10 +290,6 @@ def format_info(info: BagInfo, *, verbose: bool = False,
     lines.append("Service information: " + (service_lines[0] if service_lines else ""))
     lines.extend(" " * (_INDENT + 2) + t for t in service_lines[1:])
     return "\n".join(lines) + "\n"
-
-
-#: What service introspection appends to a service name for its event topic.
-SERVICE_EVENT_SUFFIX = "/_service_event"
 
 
 def is_service_event_type(msgtype: str) -> bool:

@@ -11,6 +11,8 @@ import argparse
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
+from posekit.cli.errors import CliError
+
 __all__ = [
     "SERVICE_WAIT_S",
     "CliError",
@@ -26,10 +28,6 @@ __all__ = [
 #: How long a verb waits for a node, or for a service to appear (s).
 SERVICE_WAIT_S = 5.0
 _CALL_TIMEOUT_S = 10.0
-
-
-class CliError(Exception):
-    """A one-line failure printed on stderr (exit code 1)."""
 
 
 def absolute_node_name(name: str) -> str:
@@ -100,7 +98,7 @@ def run_in_session(prog: str, ns: argparse.Namespace,
                    context: Any, out: TextIO, err: TextIO) -> int:
     """``handler(ns, session, out, err)`` in a :func:`node_lookup_session`; the exit code.
 
-    A :class:`CliError` is its line on ``err`` and exit 1; anything else (a transport that
+    A :class:`CliError` is its line on ``err`` and its exit code; anything else (a transport that
     cannot start...) one line through :func:`posekit.cli.errors.report`.
     """
     try:
@@ -108,7 +106,7 @@ def run_in_session(prog: str, ns: argparse.Namespace,
             handler(ns, session, out, err)
     except CliError as exc:
         err.write(f"{exc}\n")
-        return 1
+        return exc.code
     except Exception as exc:  # one line, no traceback
         from posekit.cli.errors import report
 

@@ -54,6 +54,8 @@ _COMMANDS: dict[tuple[str, str | None], tuple[str, str]] = {
     ("service", "type"): ("posekit.cli.service_cmd:main_type", "print a service's type"),
     ("service", "find"): ("posekit.cli.service_cmd:main_find", "services of a type"),
     ("service", "call"): ("posekit.cli.service_cmd:main_call", "call a service (YAML values)"),
+    ("service", "echo"): ("posekit.cli.service_cmd:main_echo",
+                          "print a service's introspection events"),
     ("router", None): ("posekit.cli.router_cmd:main", "run a zenoh router until Ctrl-C"),
     ("bag", "record"): ("posekit.cli.bag_cmd:record", "record topics to a ROS 2 bag (MCAP)"),
     ("bag", "play"): ("posekit.cli.bag_cmd:play", "play a bag back on sim time"),

@@ -22,7 +22,7 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
-__all__ = ["main", "main_call", "main_find", "main_list", "main_type"]
+__all__ = ["main", "main_call", "main_echo", "main_find", "main_list", "main_type"]
 
 
 _Verb = Callable[..., int]
@@ -216,3 +216,95 @@ def main(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
         return 0 if ok or not args else 2
     function = _VERBS[args[0]][0]
     return function(args[1:], context=context, out=out, err=err)
+
+
+#: ``service_msgs/msg/ServiceEventInfo``'s event types by number, as ros2 service echo
+#: prints them.
+_EVENT_NAMES = {0: "REQUEST_SENT", 1: "REQUEST_RECEIVED", 2: "RESPONSE_SENT",
+                3: "RESPONSE_RECEIVED"}
+
+
+@_one_line_errors("echo")
+def main_echo(argv: Sequence[str], *, context: Any = None, out: TextIO | None = None,
+              err: TextIO | None = None) -> int:
+    """``service echo SERVICE [TYPE] [--csv] [-f] [-l N] [--no-arr] [--no-str] [--flow-style]``.
+
+    Prints the service's introspection events (``<service>/_service_event``) as ros2 does:
+    block YAML with the event type by name, then ``---`` (``--csv``: one line each). Until
+    Ctrl-C, or posekit's ``--count N`` events / ``--timeout S`` seconds.
+    """
+    from posekit.cli.errors import CliError
+    from posekit.cli.topic_echo import non_negative_int, positive_float, positive_int
+    from posekit.msgs.yaml_io import (
+        TRUNCATE_LENGTH,
+        message_class,
+        message_to_csv,
+        message_to_ordered,
+        ordered_to_yaml,
+    )
+    from posekit.runtime.qos import qos_profile_services_default
+    from posekit.runtime.services import SERVICE_EVENT_SUFFIX
+
+    out = out or sys.stdout
+    parser = _parser("echo")
+    parser.add_argument("service_name", help="Name of the ROS service to echo")
+    parser.add_argument("service_type", nargs="?", help="Type of the ROS service")
+    parser.add_argument("--csv", action="store_true", help="Output all fields comma-separated")
+    parser.add_argument("--full-length", "-f", action="store_true",
+                        help="Output all elements of arrays, bytes and strings")
+    parser.add_argument("--truncate-length", "-l", type=non_negative_int,
+                        default=TRUNCATE_LENGTH, help="The length to truncate them to")
+    parser.add_argument("--no-arr", action="store_true", help="Don't print array fields")
+    parser.add_argument("--no-str", action="store_true", help="Don't print string fields")
+    parser.add_argument("--flow-style", action="store_true", help="Print collections in flow style")
+    parser.add_argument("--count", type=positive_int, default=None,
+                        help="exit after N events (posekit's)")
+    parser.add_argument("--timeout", type=positive_float, default=None,
+                        help="exit after S seconds (posekit's)")
+    ns = parser.parse_args(list(argv))
+    truncate = None if ns.full_length else ns.truncate_length
+    with _session(ns, context) as session:
+        srv_type = ns.service_type
+        if srv_type is None:
+            types = dict(_services(session, True)).get(ns.service_name)
+            if not types:
+                raise CliError("Could not load the type for the passed service")
+            srv_type = types[0]
+        try:
+            event_cls = message_class(f"{srv_type}_Event")
+        except ValueError:
+            raise CliError(f"The service type '{srv_type}' is invalid") from None
+        topic = ns.service_name + SERVICE_EVENT_SUFFIX
+        printed = 0
+
+        def on_event(event: Any) -> None:
+            nonlocal printed
+            if ns.count is not None and printed >= ns.count:
+                return
+            if ns.csv:
+                text = message_to_csv(event, truncate_length=truncate, no_arr=ns.no_arr,
+                                      no_str=ns.no_str) + "\n"
+            else:
+                data = message_to_ordered(event, truncate, no_arr=ns.no_arr, no_str=ns.no_str)
+                info = data.get("info", {})
+                if "event_type" in info:
+                    info["event_type"] = _EVENT_NAMES.get(info["event_type"], info["event_type"])
+                text = ordered_to_yaml(data, flow_style=ns.flow_style) + "---\n"
+            out.write(text)
+            out.flush()
+            printed += 1
+
+        sub = session.node.create_subscription(event_cls, topic, on_event,
+                                               qos_profile_services_default)
+        warned = False
+        deadline = None if ns.timeout is None else time.monotonic() + ns.timeout
+        while session.context.ok() and (ns.count is None or printed < ns.count):
+            if not warned and sub.get_publisher_count() < 1:
+                out.write(f"No publishers on topic '{topic}'; is service introspection on the "
+                          "client or server enabled?\n")
+                out.flush()
+                warned = True
+            if deadline is not None and time.monotonic() > deadline:
+                break
+            session.spin_for(0.1)
+    return 0

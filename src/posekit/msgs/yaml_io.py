@@ -43,6 +43,7 @@ __all__ = [
     "message_to_csv",
     "message_to_ordered",
     "message_to_yaml",
+    "ordered_to_yaml",
     "parse_values",
     "ros_repr",
     "set_message_fields",
@@ -349,6 +350,11 @@ def message_to_yaml(msg: Any, *, truncate_length: int | None = TRUNCATE_LENGTH,
     ``ros2 topic echo --flow-style`` prints it.
     """
     data = message_to_ordered(msg, truncate_length, no_arr=no_arr, no_str=no_str)
+    return ordered_to_yaml(data, flow_style=flow_style)
+
+
+def ordered_to_yaml(data: Any, *, flow_style: bool = False) -> str:
+    """:func:`message_to_ordered`'s data as :func:`message_to_yaml` prints it."""
     if flow_style:
         import sys
 

@@ -63,7 +63,7 @@ if TYPE_CHECKING:
     from posekit.runtime.executors import Executor
     from posekit.runtime.node import Node
 
-__all__ = ["Client", "Service", "ServiceIntrospectionState"]
+__all__ = ["SERVICE_EVENT_SUFFIX", "Client", "Service", "ServiceIntrospectionState"]
 
 #: What service introspection appends to a service name for its event topic (rcl's
 #: ``RCL_SERVICE_INTROSPECTION_TOPIC_POSTFIX``).
