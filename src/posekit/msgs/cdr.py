@@ -27,6 +27,7 @@ Errors raise :class:`posekit.msgs.errors.CdrError` with the reason.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import struct
 import threading
 from dataclasses import dataclass
@@ -596,7 +597,12 @@ def type_hash_rihs01(msg_type: str | type[Any]) -> str:
 
     Computed by rosbags from the ROS 2 Jazzy definitions (never a pasted table).
     """
-    typename = _resolve_name(msg_type)
+    return _hash_of_type(_resolve_name(msg_type))
+
+
+@functools.cache
+def _hash_of_type(typename: str) -> str:
+    """type_hash_rihs01 of a resolved name, computed once per type."""
     store = get_typestore()
     if typename not in store.fielddefs:
         raise UnknownMessageTypeError(f"unknown message type {typename!r} (not in ROS 2 Jazzy)")

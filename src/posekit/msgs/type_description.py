@@ -40,11 +40,11 @@ FIELD_DEFAULTS: dict[str, dict[str, str]] = {
         "include_type_sources": "True"},
 }
 
-#: rosidl's base type ids (``FieldType.FIELD_TYPE_*``), by rosbags' base type name.
+#: rosidl's base type ids (``FieldType.FIELD_TYPE_*``), by rosbags' base type name (no
+#: ``char``: posekit's store holds it as ``uint8``, as rosidl's descriptions do).
 _BASE_IDS = {
     "int8": 2, "uint8": 3, "int16": 4, "uint16": 5, "int32": 6, "uint32": 7, "int64": 8,
-    "uint64": 9, "float32": 10, "float64": 11, "char": 13, "bool": 15, "byte": 16,
-    "string": 17,
+    "uint64": 9, "float32": 10, "float64": 11, "bool": 15, "byte": 16, "string": 17,
 }
 _NESTED, _BOUNDED_STRING = FieldType.FIELD_TYPE_NESTED_TYPE, FieldType.FIELD_TYPE_BOUNDED_STRING
 #: Added to the element's id: a fixed array, a bounded and an unbounded sequence.

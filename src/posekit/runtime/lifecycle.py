@@ -278,12 +278,7 @@ class LifecycleNodeMixin(ManagedEntity):
 
     def trigger_shutdown(self) -> TransitionCallbackReturn:
         """Take the shutdown transition of the current primary state (-> finalized)."""
-        by_state = {State.PRIMARY_STATE_UNCONFIGURED: Transition.TRANSITION_UNCONFIGURED_SHUTDOWN,
-                    State.PRIMARY_STATE_INACTIVE: Transition.TRANSITION_INACTIVE_SHUTDOWN,
-                    State.PRIMARY_STATE_ACTIVE: Transition.TRANSITION_ACTIVE_SHUTDOWN}
-        if self._state_id not in by_state:
-            raise RCLError(f"no shutdown transition from state '{STATE_LABELS[self._state_id]}'")
-        return self._change_state(by_state[self._state_id])
+        return self._change_state("shutdown")  # each primary state has one of that label
 
     def _take(self, key: int | str) -> None:
         """Move along the transition with id or label ``key`` from the current state."""
@@ -317,9 +312,10 @@ class LifecycleNodeMixin(ManagedEntity):
             return TransitionCallbackReturn.ERROR
         return result
 
-    def _change_state(self, transition_id: int) -> TransitionCallbackReturn:
+    def _change_state(self, transition: int | str) -> TransitionCallbackReturn:
+        """Take ``transition`` (an id or a label) and the callback's result transition."""
         previous = LifecycleState(STATE_LABELS[self._state_id], self._state_id)
-        self._take(transition_id)
+        self._take(transition)
         result = self._run_callback(previous)
         self._take(result.to_label())
         if result == TransitionCallbackReturn.ERROR:  # now in errorprocessing: on_error
@@ -387,18 +383,9 @@ class LifecycleNodeMixin(ManagedEntity):
     # -- services ---------------------------------------------------------------------
     def _on_change_state(self, request: ChangeState_Request,
                          response: ChangeState_Response) -> ChangeState_Response:
-        transition_id = request.transition.id
-        if request.transition.label:
-            found = [tid for tid, label, start, _ in TRANSITIONS
-                     if start == self._state_id and label == request.transition.label]
-            if not found:
-                get_logger("rcl_lifecycle").warning(
-                    f"No transition matching {request.transition.label} found for current "
-                    f"state {STATE_LABELS[self._state_id]}")
-                return response
-            transition_id = found[0]
+        transition = request.transition.label or request.transition.id  # the label decides
         try:
-            response.success = self._change_state(transition_id) == TransitionCallbackReturn.SUCCESS
+            response.success = self._change_state(transition) == TransitionCallbackReturn.SUCCESS
         except RCLError:
             response.success = False
         return response

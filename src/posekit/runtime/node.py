@@ -74,6 +74,7 @@ from posekit.runtime.transport import EndpointInfo, ServiceInfo, Transport
 if TYPE_CHECKING:
     from posekit.runtime.arguments import RosArguments
     from posekit.runtime.executors import Executor
+    from posekit.runtime.qos_overriding_options import QoSOverridingOptions
     from posekit.runtime.topic_endpoint_info import TopicEndpointInfo
 
 __all__ = ["Node", "NodeDefaults", "NodeNameNonExistentError", "node_defaults"]
@@ -380,7 +381,7 @@ class Node:
         *,
         callback_group: CallbackGroup | None = None,
         event_callbacks: object = None,
-        qos_overriding_options: object = None,
+        qos_overriding_options: QoSOverridingOptions | None = None,
         publisher_class: type[Publisher] | None = None,
     ) -> Publisher:
         """Publisher of ``msg_type`` on ``topic`` (relative names use the node namespace).
@@ -409,7 +410,7 @@ class Node:
         *,
         callback_group: CallbackGroup | None = None,
         event_callbacks: object = None,
-        qos_overriding_options: object = None,
+        qos_overriding_options: QoSOverridingOptions | None = None,
         raw: bool = False,
     ) -> Subscription:
         """Subscription calling ``callback(msg)`` from the executor for each message.
@@ -422,12 +423,13 @@ class Node:
         return self._subscribe(msg_type, topic, callback, qos_profile, callback_group, False,
                                qos_overriding_options)
 
-    def _qos_overrides(self, kind: str, topic: str, qos: QoSProfile, options: object) -> None:
+    def _qos_overrides(self, kind: str, topic: str, qos: QoSProfile,
+                       options: QoSOverridingOptions | None) -> None:
         """Apply ``qos_overrides.*`` parameters to ``qos`` when ``options`` asks for them."""
         if options is not None:
             from posekit.runtime.qos_overriding_options import declare_qos_parameters
 
-            declare_qos_parameters(self, kind, topic, qos, options)  # type: ignore[arg-type]
+            declare_qos_parameters(self, kind, topic, qos, options)
 
     def _subscribe(
         self,
@@ -437,7 +439,7 @@ class Node:
         qos_profile: QoSProfile | int,
         callback_group: CallbackGroup | None,
         with_source: bool,
-        qos_overriding_options: object = None,
+        qos_overriding_options: QoSOverridingOptions | None = None,
     ) -> Subscription:
         """create_subscription whose callback also gets the sending publisher's id.
 

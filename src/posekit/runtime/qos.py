@@ -497,7 +497,7 @@ def qos_check_compatible(publisher_qos: QoSProfile, subscription_qos: QoSProfile
              LivelinessPolicy.AUTOMATIC,
              "Subscription's liveliness is manual by topic, but publisher's is {p}",
              "Publisher's liveliness is automatic, but subscription's is {s}")):
-        keys = {"p": p.name.lower(), "s": s.name.lower()}
+        keys = {"p": p.short_key, "s": s.short_key}
         if _unknown(p) and _unknown(s):
             # rmw_dds_common's spelling, "durabilty" included
             label = "durabilty" if name == "durability" else name

@@ -51,7 +51,6 @@ class TypeDescriptionService:
     def __init__(self, node: Node, *, with_rosout: bool) -> None:
         self._node_ref = weakref.ref(node)
         self._with_rosout = with_rosout
-        self._hashes: dict[str, tuple[int, bytes]] = {}
         if not node.has_parameter(START_TYPE_DESCRIPTION_SERVICE_PARAM):
             node.declare_parameter(START_TYPE_DESCRIPTION_SERVICE_PARAM, True, ParameterDescriptor(
                 name=START_TYPE_DESCRIPTION_SERVICE_PARAM, type=Parameter.Type.BOOL.value,
@@ -77,14 +76,6 @@ class TypeDescriptionService:
             names.add("rcl_interfaces/msg/Log")
         return names
 
-    def _hash_of(self, type_name: str) -> tuple[int, bytes]:
-        found = self._hashes.get(type_name)
-        if found is None:
-            from posekit.msgs.cdr import type_hash_rihs01
-
-            found = self._hashes[type_name] = parse_type_hash(type_hash_rihs01(type_name))
-        return found
-
     def _answer(self, request: GetTypeDescription_Request,
                 response: GetTypeDescription_Response) -> GetTypeDescription_Response:
         node = self._node_ref()
@@ -97,8 +88,10 @@ class TypeDescriptionService:
             get_logger("rcl").error(f"Failed to parse type hash '{request.type_hash}'")
             response.failure_reason = "Failed to parse type hash"
             return response
+        from posekit.msgs.cdr import type_hash_rihs01
+
         for type_name in sorted(self._types_in_use(node)):
-            if self._hash_of(type_name) == wanted:
+            if parse_type_hash(type_hash_rihs01(type_name)) == wanted:
                 from posekit.msgs.type_description import describe_type
 
                 response.type_description = describe_type(type_name)
