@@ -46,22 +46,28 @@ node.get_logger().debug("x") if False else None
 rclpy.shutdown()
 '''
 
-_CLOCKS = re.compile(r"\|(\d+)\.(\d{9})\|(\d+)\|(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d)\.(\d{3})\|")
+_CLOCKS = re.compile(r"\|(\d+)\.(\d{9})\|(\d+)\|(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d)\.(\d{1,3})\|")
 
 
-def _blank_clocks(line: str) -> str:
+def _blank_clocks(line: str, *, rcutils: bool) -> str:
+    """The line with its clock tokens blanked, after checking they are one reading.
+
+    The milliseconds of ``{date_time_with_ms}``: posekit's are the reading's, zero-padded
+    (``.022`` for 0.0229 s); Jazzy's rcutils prints the first three digits of the unpadded
+    nanoseconds instead (``.228``), a difference kept on purpose (docs/runtime.md).
+    """
     match = _CLOCKS.search(line)
     assert match, line
     sec, nsec, ns, date_time, ms = match.groups()
     assert int(sec) * 10**9 + int(nsec) == int(ns)  # one reading, two spellings
     assert date_time == time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(int(sec)))
-    assert int(ms) == int(nsec) // 1_000_000
+    assert ms == (str(int(nsec))[:3] if rcutils else f"{int(nsec) // 1_000_000:03d}")
     return _CLOCKS.sub("|T|", line)
 
 
 def test_console_format_colour_and_stdout_as_rcutils() -> None:
     ref, ours = run_both(SOURCE, domain_id=171)
-    expected = [_blank_clocks(line) for line in ref.splitlines()]
-    got = [_blank_clocks(line) for line in ours.splitlines()]
+    expected = [_blank_clocks(line, rcutils=True) for line in ref.splitlines()]
+    got = [_blank_clocks(line, rcutils=False) for line in ours.splitlines()]
     assert len(expected) == 5, ref
     assert got == expected
